@@ -1,0 +1,101 @@
+# a2l: every target does its own set-up, idempotently and without questions.
+#   make demo    set up, then run the main job (a2l demo)
+#   make test    set up, then run the C++ tests (ctest) and the Python tests (pytest)
+#   make bench   set up, then run the benchmarks and rewrite BENCHMARKS.md
+#   make lint    ruff + clang-format --dry-run
+# Variables: VENV (virtual environment, default .venv), BUILD (build tree, default build),
+# JOBS (parallel compile jobs).
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := help
+
+VENV ?= .venv
+BUILD ?= build
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+PY := $(VENV)/bin/python
+PIP := $(PY) -m pip --disable-pip-version-check
+
+APT_PACKAGES := build-essential git libeigen3-dev libbullet-dev liborocos-kdl-dev liburdfdom-dev \
+  libompl-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev zlib1g-dev \
+  libboost-serialization-dev libboost-filesystem-dev libboost-system-dev clang libclang-rt-14-dev
+
+CXX_SOURCES := $(shell find cpp bindings -name '*.cpp' -o -name '*.hpp' 2>/dev/null) CMakeLists.txt
+CXX_TEST_SOURCES := $(shell find tests/cpp benchmarks/cpp -name '*.cpp' 2>/dev/null)
+STAMP_APT := $(BUILD)/.stamp-apt
+STAMP_VENV := $(VENV)/.stamp-venv
+STAMP_INSTALL := $(VENV)/.stamp-install
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+.PHONY: help setup demo test test-cpp test-python bench lint format clean
+
+help:
+	@sed -n '2,8p' Makefile | sed 's/^# \{0,1\}//'
+
+# --- set-up ---------------------------------------------------------------
+$(STAMP_APT):
+	@missing=$$(for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "[setup] installing Debian packages:" $$missing; \
+	  $(SUDO) apt-get update -qq; \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+	@python3 -c 'import venv, ensurepip' 2>/dev/null || { \
+	  echo "[setup] installing python3-venv python3-dev"; \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq python3-venv python3-dev; }
+	@mkdir -p $(BUILD) && touch $@
+
+$(STAMP_VENV): $(STAMP_APT)
+	@[ -x $(PY) ] || { echo "[setup] creating $(VENV)"; python3 -m venv $(VENV); }
+	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja
+	@touch $@
+
+$(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES)
+	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
+	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py -e ".[dev]"
+	@touch $@
+
+setup: $(STAMP_INSTALL)
+
+# --- main job ---------------------------------------------------------------
+demo: setup
+	@$(VENV)/bin/a2l demo
+
+# --- tests ----------------------------------------------------------------
+$(BUILD)/cpp/build.ninja: $(STAMP_VENV) CMakeLists.txt
+	@$(VENV)/bin/cmake -S . -B $(BUILD)/cpp -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON -DA2L_BUILD_BENCHMARKS=ON \
+	  -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
+
+test-cpp: setup $(BUILD)/cpp/build.ninja
+	@echo "[test] C++ (gtest via ctest)"
+	@$(VENV)/bin/cmake --build $(BUILD)/cpp -j $(JOBS)
+	@export A2L_ROBOTS_DIR=$$($(PY) -m a2l.robot --robots-dir); \
+	cd $(BUILD)/cpp && $(abspath $(VENV))/bin/ctest --output-on-failure -j $(JOBS) \
+	  | tee ctest.log | grep -vE '^ *[0-9]+/[0-9]+ Test +#[0-9]+: .* Passed' ; \
+	grep -E 'tests passed|tests failed' ctest.log >/dev/null
+
+test-python: setup
+	@echo "[test] Python (pytest)"
+	@$(PY) -m pytest -q tests/python
+
+test: test-cpp test-python
+	@echo "[test] C++:    $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
+	@echo "[test] all C++ and Python tests passed"
+
+# --- benchmarks -------------------------------------------------------------
+bench: setup $(BUILD)/cpp/build.ninja
+	@$(VENV)/bin/cmake --build $(BUILD)/cpp -j $(JOBS)
+	@A2L_BENCH_BIN=$(BUILD)/cpp $(PY) benchmarks/run.py --out BENCHMARKS.md
+
+# --- style ----------------------------------------------------------------
+lint: setup
+	@$(VENV)/bin/ruff check python tests benchmarks
+	@clang-format --dry-run --Werror $$(find cpp bindings tests/cpp benchmarks/cpp -name '*.cpp' -o -name '*.hpp')
+
+format: setup
+	@$(VENV)/bin/ruff check --fix python tests benchmarks || true
+	@$(VENV)/bin/ruff format python tests benchmarks
+	@clang-format -i $$(find cpp bindings tests/cpp benchmarks/cpp -name '*.cpp' -o -name '*.hpp')
+
+clean:
+	rm -rf $(BUILD) $(VENV)

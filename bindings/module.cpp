@@ -1,0 +1,17 @@
+// The pybind11 module a2l._core: one bind_<area>() per header area.
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+namespace a2l::bindings {
+void bind_status(py::module_& m);
+void bind_kinematics(py::module_& m);
+// New areas: declare bind_<area> here and call it below (one line each).
+}  // namespace a2l::bindings
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "a2l C++ core: kinematics, skills, runtime (see the a2l package for docs)";
+  m.attr("__version__") = A2L_VERSION;
+  a2l::bindings::bind_status(m);
+  a2l::bindings::bind_kinematics(m);
+}

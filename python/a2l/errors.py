@@ -1,0 +1,41 @@
+"""Exceptions raised by a2l (the C++ core raises these through :mod:`a2l._core`)."""
+
+from __future__ import annotations
+
+__all__ = [
+    "A2LError",
+    "A2LFileNotFoundError",
+    "A2LValueError",
+    "BundleError",
+    "IKError",
+    "URDFError",
+    "UnknownLinkError",
+]
+
+
+class A2LError(Exception):
+    """Base class of every a2l error."""
+
+
+class A2LFileNotFoundError(A2LError, FileNotFoundError):
+    """A file (URDF, bundle, dataset) is missing or unreadable."""
+
+
+class A2LValueError(A2LError, ValueError):
+    """An argument has the wrong size, NaN, or is out of its domain."""
+
+
+class URDFError(A2LError, ValueError):
+    """A URDF file is malformed."""
+
+
+class UnknownLinkError(A2LError, ValueError):
+    """A link name is not in the robot description."""
+
+
+class IKError(A2LError):
+    """Inverse kinematics found no solution within the joint limits."""
+
+
+class BundleError(A2LError, ValueError):
+    """A skill bundle is malformed, corrupted or of another schema version."""

@@ -1,0 +1,208 @@
+"""Locate robot descriptions and make PyBullet-loadable copies of them."""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.metadata
+import os
+import re
+import tempfile
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+from a2l.errors import A2LFileNotFoundError, URDFError
+
+__all__ = [
+    "BAXTER_ARMS",
+    "ArmSpec",
+    "arm_spec",
+    "baxter_urdf",
+    "panda_urdf",
+    "pybullet_urdf",
+    "resolve_urdf",
+    "robots_dir",
+    "urdf_sha256",
+]
+
+_PACKAGE = "example-robot-data"
+_ROBOTS_SUFFIX = ("share", "example-robot-data", "robots")
+
+
+@dataclass(frozen=True)
+class ArmSpec:
+    """One arm of a robot: the chain the kinematics and the skills use.
+
+    Attributes
+    ----------
+    urdf : Path
+        The robot's URDF.
+    base_link, tip_link : str
+        First and last links of the arm's chain.
+    neutral : tuple of float
+        A neutral joint configuration, shape (n,), used to seed IK.
+    """
+
+    urdf: Path
+    base_link: str
+    tip_link: str
+    neutral: tuple[float, ...]
+
+
+#: Baxter's arms: chains from the base to each gripper's end point, and a neutral pose
+#: (arm in front of the robot, gripper pointing down).
+BAXTER_ARMS: dict[str, tuple[str, str, tuple[float, ...]]] = {
+    "right": ("base", "right_gripper", (0.08, -1.0, 1.19, 1.94, -0.67, 1.03, 0.5)),
+    "left": ("base", "left_gripper", (-0.08, -1.0, -1.19, 1.94, 0.67, 1.03, -0.5)),
+}
+
+
+@lru_cache(maxsize=1)
+def robots_dir() -> Path:
+    """Directory ``robots/`` of the installed ``example-robot-data``.
+
+    Found through the package's installed file list (:mod:`importlib.metadata`), so it
+    works in any virtual environment or prefix.
+
+    Returns
+    -------
+    Path
+        The directory that holds ``baxter_description/``, ``panda_description/``, ...
+
+    Raises
+    ------
+    a2l.A2LFileNotFoundError
+        ``example-robot-data`` is not installed.
+    """
+    try:
+        dist = importlib.metadata.distribution(_PACKAGE)
+    except importlib.metadata.PackageNotFoundError as exc:
+        raise A2LFileNotFoundError(
+            f"the Python package '{_PACKAGE}' is not installed: pip install {_PACKAGE}"
+        ) from exc
+    for f in dist.files or ():
+        parts = Path(str(f)).parts
+        for i in range(len(parts) - len(_ROBOTS_SUFFIX) + 1):
+            if parts[i : i + len(_ROBOTS_SUFFIX)] == _ROBOTS_SUFFIX:
+                return Path(dist.locate_file(Path(*parts[: i + len(_ROBOTS_SUFFIX)]))).resolve()
+    raise A2LFileNotFoundError(f"'{_PACKAGE}' is installed but holds no robots/ directory")
+
+
+def _robot_urdf(description: str, file: str) -> Path:
+    path = robots_dir() / description / "urdf" / file
+    if not path.is_file():
+        raise A2LFileNotFoundError(f"'{path}' is missing from the installed '{_PACKAGE}'")
+    return path
+
+
+def baxter_urdf() -> Path:
+    """Path of Baxter's URDF inside the installed ``example-robot-data``.
+
+    Its meshes are ``package://`` URIs: use :func:`pybullet_urdf` to get a copy PyBullet
+    can load.
+    """
+    return _robot_urdf("baxter_description", "baxter.urdf")
+
+
+def panda_urdf() -> Path:
+    """Path of the Franka Panda URDF inside the installed ``example-robot-data``."""
+    return _robot_urdf("panda_description", "panda.urdf")
+
+
+def resolve_urdf(robot: str | os.PathLike[str]) -> Path:
+    """Turn a robot name (``"baxter"``, ``"panda"``) or a URDF path into a URDF path.
+
+    Raises
+    ------
+    a2l.A2LFileNotFoundError
+        The path does not exist.
+    """
+    if isinstance(robot, str) and robot in ("baxter", "panda"):
+        return baxter_urdf() if robot == "baxter" else panda_urdf()
+    path = Path(robot).expanduser()
+    if not path.is_file():
+        raise A2LFileNotFoundError(f"URDF file '{path}' does not exist")
+    return path.resolve()
+
+
+def arm_spec(robot: str | os.PathLike[str] = "baxter", arm: str = "right") -> ArmSpec:
+    """The arm chain of a known robot.
+
+    Parameters
+    ----------
+    robot : str or PathLike
+        ``"baxter"`` or ``"panda"``.
+    arm : str
+        ``"right"`` or ``"left"`` for Baxter; ignored for the Panda.
+    """
+    if robot == "baxter":
+        if arm not in BAXTER_ARMS:
+            raise ValueError(f"unknown Baxter arm '{arm}'; choose one of {sorted(BAXTER_ARMS)}")
+        base, tip, neutral = BAXTER_ARMS[arm]
+        return ArmSpec(baxter_urdf(), base, tip, neutral)
+    if robot == "panda":
+        return ArmSpec(panda_urdf(), "panda_link0", "panda_hand_tcp",
+                       (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785))
+    raise ValueError(f"no built-in arm for robot '{robot}'; build an ArmSpec from its URDF")
+
+
+def urdf_sha256(path: str | os.PathLike[str]) -> str:
+    """SHA-256 of a URDF file's bytes (hex), as stored in skill bundles."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+_PACKAGE_URI = re.compile(r'filename="package://([^/"]+)/([^"]*)"')
+
+
+def _cache_dir() -> Path:
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache")
+    return Path(root) / "a2l" / "urdf"
+
+
+def pybullet_urdf(path: str | os.PathLike[str] | None = None) -> Path:
+    """A copy of a URDF whose ``package://`` mesh URIs are absolute paths.
+
+    PyBullet resolves ``package://`` only next to the file; the copy is written once per
+    source content (atomically: temporary file, then rename) in ``~/.cache/a2l/urdf``.
+
+    Parameters
+    ----------
+    path : str or PathLike, optional
+        The URDF; Baxter's by default.
+
+    Returns
+    -------
+    Path
+        The rewritten copy (or `path` itself when it has no ``package://`` URIs).
+
+    Raises
+    ------
+    a2l.URDFError
+        A ``package://`` URI names a package that cannot be found.
+    """
+    src = baxter_urdf() if path is None else resolve_urdf(path)
+    text = src.read_text()
+    if "package://" not in text:
+        return src
+    robots = robots_dir()
+
+    def replace(m: re.Match[str]) -> str:
+        package, rest = m.group(1), m.group(2)
+        candidates = [robots.parent / rest] if package == _PACKAGE else []
+        candidates += [robots / package / rest, src.parent.parent / rest]
+        for c in candidates:
+            if c.is_file():
+                return f'filename="{c}"'
+        raise URDFError(f"URDF '{src}': cannot resolve mesh 'package://{package}/{rest}'")
+
+    rewritten = _PACKAGE_URI.sub(replace, text)
+    digest = hashlib.sha256(rewritten.encode()).hexdigest()[:16]
+    out_dir = _cache_dir()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    out = out_dir / f"{src.stem}-{digest}.urdf"
+    if not out.is_file():
+        fd, tmp = tempfile.mkstemp(dir=out_dir, suffix=".urdf.tmp")
+        with os.fdopen(fd, "w") as f:
+            f.write(rewritten)
+        os.replace(tmp, out)
+    return out
