@@ -1,0 +1,104 @@
+"""The in-memory form of a skill bundle (see ``docs/bundle_format.md``).
+
+:class:`SkillSpec` is what :func:`a2l.skills.save_bundle` writes and
+:func:`a2l.skills.load_bundle` returns; learning code builds it from a compiled policy table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["BUNDLE_SCHEMA_VERSION", "VARIABLE_KINDS", "SkillSpec", "VariableSpec"]
+
+#: Schema version written and read by this version of a2l.
+BUNDLE_SCHEMA_VERSION = 1
+
+#: Kinds of evidence variables a bundle may hold.
+VARIABLE_KINDS = ("effect", "distance", "orientation", "inclination", "high_level")
+
+
+@dataclass(frozen=True)
+class VariableSpec:
+    """One evidence variable of a compiled table (one axis of the posterior).
+
+    Attributes
+    ----------
+    name : str
+        Unique name (``"effect"``, ``"distance"``, ``"light"``, ...).
+    kind : str
+        One of :data:`VARIABLE_KINDS`.
+    n_bins : int
+        Number of bins (for ``effect`` and ``high_level``: number of values).
+    low, high : float or None
+        Range of a ``distance`` variable (m); None otherwise.
+    values : tuple of str
+        Value names of an ``effect`` or ``high_level`` variable; empty otherwise.
+    """
+
+    name: str
+    kind: str
+    n_bins: int
+    low: float | None = None
+    high: float | None = None
+    values: tuple[str, ...] = ()
+
+    def to_json(self) -> dict[str, Any]:
+        """The manifest entry of this variable."""
+        d: dict[str, Any] = {"name": self.name, "kind": self.kind}
+        if self.kind in ("effect", "high_level"):
+            d["values"] = list(self.values)
+        else:
+            d["n_bins"] = int(self.n_bins)
+        if self.kind == "distance":
+            d["low"] = float(self.low)  # type: ignore[arg-type]
+            d["high"] = float(self.high)  # type: ignore[arg-type]
+        return d
+
+
+@dataclass
+class SkillSpec:
+    """Everything a skill bundle holds.
+
+    Attributes
+    ----------
+    name : str
+        The skill's name (e.g. ``"push"``).
+    variables : list of VariableSpec
+        Evidence variables, in the axis order of `posterior`.
+    directions : ndarray of int, shape (n_moves, 3)
+        Movement repertoire: signs in {-1, 0, 1}, not all zero.
+    posterior : ndarray of float64, shape (*bins, n_moves)
+        P(move | evidence) for every evidence combination.
+    argmax : ndarray of int32, shape (*bins,)
+        Most probable movement, or -1 where the posterior is uniform.
+    step : float
+        Movement length (m).
+    labels : list of str
+        A name per movement.
+    step_cap : int
+        Most movements a run may take.
+    smoothing : bool
+        METHOD.md's neighbour smoothing.
+    uniform_tolerance : float
+        A row whose entries all lie within this of 1/n_moves is uniform.
+    robot : dict or None
+        ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
+    extra : dict
+        Free-form metadata kept in the manifest under ``"extra"``.
+    """
+
+    name: str
+    variables: list[VariableSpec]
+    directions: np.ndarray
+    posterior: np.ndarray
+    argmax: np.ndarray
+    step: float = 0.05
+    labels: list[str] = field(default_factory=list)
+    step_cap: int = 12
+    smoothing: bool = False
+    uniform_tolerance: float = 1e-9
+    robot: dict[str, str] | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
