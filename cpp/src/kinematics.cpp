@@ -47,6 +47,20 @@ void pose_error(const Eigen::Isometry3d& target, const Eigen::Isometry3d& pose, 
 
 }  // namespace
 
+// r <- r * Rot(axis, angle); a principal axis only mixes two columns.
+void Kinematics::rotate_about(Eigen::Matrix3d& r, const JointModel& jm, double angle) noexcept {
+  if (jm.principal_axis < 0) {
+    r = r * Eigen::AngleAxisd(angle, jm.axis).toRotationMatrix();
+    return;
+  }
+  const double c = std::cos(angle), s = jm.axis_sign * std::sin(angle);
+  // Columns (i, j) rotated about the third, in the right-handed order x->y->z->x.
+  const int i = (jm.principal_axis + 1) % 3, j = (jm.principal_axis + 2) % 3;
+  const Eigen::Vector3d ci = r.col(i), cj = r.col(j);
+  r.col(i) = c * ci + s * cj;
+  r.col(j) = c * cj - s * ci;
+}
+
 Result Kinematics::load(const std::string& urdf_path, const std::string& base_link,
                         const std::string& tip_link, Kinematics& out) {
   KDL::Tree tree;
@@ -146,6 +160,13 @@ Result Kinematics::from_tree(const KDL::Tree& tree, const std::string& base_link
     jm.prismatic = jnt.getType() == KDL::Joint::TransAxis ||
                    jnt.getType() == KDL::Joint::TransX || jnt.getType() == KDL::Joint::TransY ||
                    jnt.getType() == KDL::Joint::TransZ;
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(std::abs(jm.axis[a]) - 1.0) < 1e-12) {
+        jm.principal_axis = a;
+        jm.axis_sign = jm.axis[a] > 0 ? 1.0 : -1.0;
+        jm.axis = Eigen::Vector3d::Unit(a) * jm.axis_sign;
+      }
+    }
     out.joints_.push_back(jm);
     out.joint_names_.push_back(jnt.getName());
     acc_r.setIdentity();
@@ -194,7 +215,7 @@ void Kinematics::forward(const Eigen::Ref<const Eigen::VectorXd>& q, Eigen::Isom
     if (jm.prismatic) {
       p.noalias() += r * (jm.axis * q[k]);
     } else {
-      r = r * Eigen::AngleAxisd(q[k], jm.axis).toRotationMatrix();
+      rotate_about(r, jm, q[k]);
     }
   }
   p.noalias() += r * post_translation_;

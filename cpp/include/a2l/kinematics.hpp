@@ -123,9 +123,12 @@ class Kinematics {
     Eigen::Matrix3d pre_rotation;     // fixed frame from the previous joint to this joint
     Eigen::Vector3d pre_translation;
     Eigen::Vector3d axis;             // unit axis in this joint's frame
+    int principal_axis = -1;          // 0, 1, 2 if axis is +-x, +-y, +-z (fast path), else -1
+    double axis_sign = 1.0;           // the sign of that principal axis
     bool prismatic = false;
   };
   Status check(const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept;
+  static void rotate_about(Eigen::Matrix3d& r, const JointModel& jm, double angle) noexcept;
   template <bool WithJacobian>
   void forward(const Eigen::Ref<const Eigen::VectorXd>& q, Eigen::Isometry3d& pose,
                Jacobian* jac) const noexcept;
