@@ -42,7 +42,8 @@ Eigen::Isometry3d to_pose(const py::array_t<double, py::array::forcecast>& t) {
     for (int j = 0; j < 4; ++j) m(i, j) = r(i, j);
   if (!m.allFinite()) raise(Status::invalid_argument, "target contains NaN or inf");
   const Eigen::Matrix3d rot = m.topLeftCorner<3, 3>();
-  if (!(rot.transpose() * rot).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || rot.determinant() < 0) {
+  if (!(rot.transpose() * rot).isApprox(Eigen::Matrix3d::Identity(), 1e-6) ||
+      rot.determinant() < 0) {
     raise(Status::invalid_argument, "target's upper-left 3x3 block is not a rotation matrix");
   }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -106,13 +107,15 @@ rows (vx, vy, vz, wx, wy, wz), reference point at the tip, in the base frame.
       .def_property_readonly("n_joints", &Kinematics::n_joints, "Number of movable joints.")
       .def_property_readonly("joint_names", &Kinematics::joint_names,
                              "Names of the movable joints, base to tip.")
-      .def_property_readonly("lower", [](const Kinematics& k) { return to_numpy(k.lower()); },
-                             "Lower position limits, shape (n,); -inf for continuous joints.")
-      .def_property_readonly("upper", [](const Kinematics& k) { return to_numpy(k.upper()); },
-                             "Upper position limits, shape (n,); +inf for continuous joints.")
-      .def_property_readonly("velocity_limits",
-                             [](const Kinematics& k) { return to_numpy(k.velocity_limits()); },
-                             "Velocity limits, shape (n,); 0 where the URDF gives none.")
+      .def_property_readonly(
+          "lower", [](const Kinematics& k) { return to_numpy(k.lower()); },
+          "Lower position limits, shape (n,); -inf for continuous joints.")
+      .def_property_readonly(
+          "upper", [](const Kinematics& k) { return to_numpy(k.upper()); },
+          "Upper position limits, shape (n,); +inf for continuous joints.")
+      .def_property_readonly(
+          "velocity_limits", [](const Kinematics& k) { return to_numpy(k.velocity_limits()); },
+          "Velocity limits, shape (n,); 0 where the URDF gives none.")
       .def_property_readonly("base_link", &Kinematics::base_link)
       .def_property_readonly("tip_link", &Kinematics::tip_link)
       .def_property_readonly("robot_name", &Kinematics::robot_name)
@@ -173,11 +176,10 @@ rows (vx, vy, vz, wx, wy, wz), reference point at the tip, in the base frame.
             }
             if (report.status != Status::ok) {
               std::ostringstream ss;
-              ss << "IK found no solution within the joint limits of '" << k.base_link()
-                 << "' -> '" << k.tip_link() << "' for target position ("
-                 << pose.translation().transpose() << ") after " << report.attempts
-                 << " attempts; best error " << report.position_error << " m, "
-                 << report.orientation_error << " rad";
+              ss << "IK found no solution within the joint limits of '" << k.base_link() << "' -> '"
+                 << k.tip_link() << "' for target position (" << pose.translation().transpose()
+                 << ") after " << report.attempts << " attempts; best error "
+                 << report.position_error << " m, " << report.orientation_error << " rad";
               raise(report.status, ss.str());
             }
             return to_numpy(q);
@@ -196,8 +198,8 @@ ValueError
     Wrong shapes, NaN, or a target that is not a rigid transform.
 )doc")
       .def("__repr__", [](const Kinematics& k) {
-        return "<a2l.Kinematics '" + k.robot_name() + "' " + k.base_link() + " -> " +
-               k.tip_link() + ", " + std::to_string(k.n_joints()) + " joints>";
+        return "<a2l.Kinematics '" + k.robot_name() + "' " + k.base_link() + " -> " + k.tip_link() +
+               ", " + std::to_string(k.n_joints()) + " joints>";
       });
 }
 

@@ -17,15 +17,28 @@ namespace py = pybind11;
 [[noreturn]] inline void raise(Status status, const std::string& message) {
   const char* cls = "A2LError";
   switch (status) {
-    case Status::file_error: cls = "A2LFileNotFoundError"; break;
-    case Status::parse_error: cls = "URDFError"; break;
-    case Status::unknown_link: cls = "UnknownLinkError"; break;
+    case Status::file_error:
+      cls = "A2LFileNotFoundError";
+      break;
+    case Status::parse_error:
+      cls = "URDFError";
+      break;
+    case Status::unknown_link:
+      cls = "UnknownLinkError";
+      break;
     case Status::size_mismatch:
-    case Status::invalid_argument: cls = "A2LValueError"; break;
-    case Status::unreachable: cls = "IKError"; break;
+    case Status::invalid_argument:
+      cls = "A2LValueError";
+      break;
+    case Status::unreachable:
+      cls = "IKError";
+      break;
     case Status::checksum_mismatch:
-    case Status::version_mismatch: cls = "BundleError"; break;
-    default: break;
+    case Status::version_mismatch:
+      cls = "BundleError";
+      break;
+    default:
+      break;
   }
   py::object type = py::module_::import("a2l.errors").attr(cls);
   PyErr_SetString(type.ptr(), message.c_str());

@@ -14,7 +14,8 @@ namespace a2l {
 namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
-using SquareMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kMaxJoints>;
+using SquareMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kMaxJoints>;
 
 Eigen::Matrix3d to_eigen(const KDL::Rotation& r) {
   Eigen::Matrix3d m;
@@ -74,8 +75,8 @@ Result Kinematics::load(const std::string& urdf_path, const std::string& base_li
   for (int i = 0; i < k.n_; ++i) {
     const auto it = info.joints.find(k.joint_names_[i]);
     if (it == info.joints.end()) {
-      return Result::failure(Status::internal_error,
-                             "joint '" + k.joint_names_[i] + "' of the KDL chain is not in the URDF");
+      return Result::failure(Status::internal_error, "joint '" + k.joint_names_[i] +
+                                                         "' of the KDL chain is not in the URDF");
     }
     const UrdfJointInfo& j = it->second;
     k.lower_[i] = j.lower;
@@ -118,8 +119,8 @@ Result Kinematics::from_tree(const KDL::Tree& tree, const std::string& base_link
   for (const std::string* link : {&base_link, &tip_link}) {
     if (segments.find(*link) == segments.end()) {
       return Result::failure(Status::unknown_link, "unknown link '" + *link + "' in URDF " +
-                                                       source + "; its links are: " +
-                                                       list_links(tree));
+                                                       source +
+                                                       "; its links are: " + list_links(tree));
     }
   }
   KDL::Chain chain;
@@ -130,9 +131,8 @@ Result Kinematics::from_tree(const KDL::Tree& tree, const std::string& base_link
   if (static_cast<int>(chain.getNrOfJoints()) > kMaxJoints) {
     return Result::failure(Status::size_mismatch,
                            "the chain from '" + base_link + "' to '" + tip_link + "' has " +
-                               std::to_string(chain.getNrOfJoints()) +
-                               " movable joints; at most " + std::to_string(kMaxJoints) +
-                               " are supported");
+                               std::to_string(chain.getNrOfJoints()) + " movable joints; at most " +
+                               std::to_string(kMaxJoints) + " are supported");
   }
   out.chain_ = chain;
   out.base_link_ = base_link;
@@ -157,9 +157,8 @@ Result Kinematics::from_tree(const KDL::Tree& tree, const std::string& base_link
     jm.pre_translation = acc_t;
     // KDL gives the axis in the parent frame: bring it into the joint frame F.
     jm.axis = (fr.transpose() * to_eigen(jnt.JointAxis())).normalized();
-    jm.prismatic = jnt.getType() == KDL::Joint::TransAxis ||
-                   jnt.getType() == KDL::Joint::TransX || jnt.getType() == KDL::Joint::TransY ||
-                   jnt.getType() == KDL::Joint::TransZ;
+    jm.prismatic = jnt.getType() == KDL::Joint::TransAxis || jnt.getType() == KDL::Joint::TransX ||
+                   jnt.getType() == KDL::Joint::TransY || jnt.getType() == KDL::Joint::TransZ;
     for (int a = 0; a < 3; ++a) {
       if (std::abs(std::abs(jm.axis[a]) - 1.0) < 1e-12) {
         jm.principal_axis = a;
@@ -255,17 +254,17 @@ Status Kinematics::jacobian(const Eigen::Ref<const Eigen::VectorXd>& q,
   return Status::ok;
 }
 
-Status Kinematics::fk_jacobian(const Eigen::Ref<const Eigen::VectorXd>& q,
-                               Eigen::Isometry3d& pose, Jacobian& jac) const noexcept {
+Status Kinematics::fk_jacobian(const Eigen::Ref<const Eigen::VectorXd>& q, Eigen::Isometry3d& pose,
+                               Jacobian& jac) const noexcept {
   const Status s = check(q);
   if (s != Status::ok) return s;
   forward<true>(q, pose, &jac);
   return Status::ok;
 }
 
-Status Kinematics::ik(const Eigen::Isometry3d& target, const Eigen::Ref<const Eigen::VectorXd>& q_seed,
-                      JointVector& q_out, const IkOptions& options,
-                      IkReport* report) const noexcept {
+Status Kinematics::ik(const Eigen::Isometry3d& target,
+                      const Eigen::Ref<const Eigen::VectorXd>& q_seed, JointVector& q_out,
+                      const IkOptions& options, IkReport* report) const noexcept {
   IkReport local;
   IkReport& rep = report ? *report : local;
   rep = IkReport();

@@ -1,16 +1,16 @@
 #include "a2l/urdf_to_kdl.hpp"
 
 #include <console_bridge/console.h>
+#include <urdf_model/model.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <fstream>
-#include <limits>
 #include <kdl/frames.hpp>
 #include <kdl/joint.hpp>
 #include <kdl/segment.hpp>
+#include <limits>
 #include <mutex>
 #include <sstream>
-#include <urdf_model/model.h>
-#include <urdf_parser/urdf_parser.h>
 
 namespace a2l {
 namespace {
@@ -39,7 +39,9 @@ KDL::Rotation to_kdl(const urdf::Rotation& r) {
   return KDL::Rotation::Quaternion(r.x, r.y, r.z, r.w);
 }
 
-KDL::Frame to_kdl(const urdf::Pose& p) { return KDL::Frame(to_kdl(p.rotation), to_kdl(p.position)); }
+KDL::Frame to_kdl(const urdf::Pose& p) {
+  return KDL::Frame(to_kdl(p.rotation), to_kdl(p.position));
+}
 
 KDL::Joint to_kdl(const urdf::JointSharedPtr& jnt) {
   const KDL::Frame f = to_kdl(jnt->parent_to_joint_origin_transform);
@@ -95,10 +97,10 @@ Result urdf_string_to_kdl_tree(const std::string& urdf_xml, KDL::Tree& tree,
     messages = handler.messages;
   }
   if (!model) {
-    return Result::failure(Status::parse_error,
-                           "malformed URDF " + source + ": " +
-                               (messages.empty() ? std::string("urdfdom could not parse it")
-                                                 : messages));
+    return Result::failure(
+        Status::parse_error,
+        "malformed URDF " + source + ": " +
+            (messages.empty() ? std::string("urdfdom could not parse it") : messages));
   }
   const urdf::LinkConstSharedPtr root = model->getRoot();
   if (!root) {
@@ -134,8 +136,7 @@ Result urdf_string_to_kdl_tree(const std::string& urdf_xml, KDL::Tree& tree,
   return Result::success();
 }
 
-Result urdf_file_to_kdl_tree(const std::string& urdf_path, KDL::Tree& tree,
-                             UrdfInfo* info) {
+Result urdf_file_to_kdl_tree(const std::string& urdf_path, KDL::Tree& tree, UrdfInfo* info) {
   std::ifstream in(urdf_path, std::ios::in | std::ios::binary);
   if (!in) {
     return Result::failure(Status::file_error, "cannot open URDF file '" + urdf_path + "'");

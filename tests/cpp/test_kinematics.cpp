@@ -181,7 +181,8 @@ TEST(KinematicsErrors, MissingFileNamesTheFile) {
 
 TEST(KinematicsErrors, MalformedUrdfIsAParseError) {
   a2l::Kinematics kin;
-  a2l::Result r = a2l::Kinematics::load_from_string("<robot name='x'><link name='a'>", "a", "a", kin);
+  a2l::Result r =
+      a2l::Kinematics::load_from_string("<robot name='x'><link name='a'>", "a", "a", kin);
   EXPECT_EQ(r.status, a2l::Status::parse_error) << r.message;
   EXPECT_NE(r.message.find("malformed URDF"), std::string::npos) << r.message;
   r = a2l::Kinematics::load_from_string("not xml at all", "a", "b", kin);
@@ -189,7 +190,8 @@ TEST(KinematicsErrors, MalformedUrdfIsAParseError) {
   // A joint whose child link does not exist.
   r = a2l::Kinematics::load_from_string(
       "<robot name='x'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
-      "<child link='missing'/><limit lower='-1' upper='1' effort='1' velocity='1'/></joint></robot>",
+      "<child link='missing'/><limit lower='-1' upper='1' effort='1' "
+      "velocity='1'/></joint></robot>",
       "a", "missing", kin);
   EXPECT_EQ(r.status, a2l::Status::parse_error) << r.message;
 }

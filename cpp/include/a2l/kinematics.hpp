@@ -33,21 +33,21 @@ using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxJoints>;
 
 //! Options of Kinematics::ik().
 struct IkOptions {
-  int max_iterations = 60;               //!< Levenberg-Marquardt iterations per attempt
-  int max_attempts = 100;                //!< the seed first, then random restarts
-  double position_tolerance = 1e-5;      //!< m
-  double orientation_tolerance = 1e-5;   //!< rad
-  double orientation_weight = 0.5;       //!< weight of rad against m in the error
-  std::uint64_t seed = 0;                //!< seed of the random restarts (reproducible)
+  int max_iterations = 60;              //!< Levenberg-Marquardt iterations per attempt
+  int max_attempts = 100;               //!< the seed first, then random restarts
+  double position_tolerance = 1e-5;     //!< m
+  double orientation_tolerance = 1e-5;  //!< rad
+  double orientation_weight = 0.5;      //!< weight of rad against m in the error
+  std::uint64_t seed = 0;               //!< seed of the random restarts (reproducible)
 };
 
 //! What happened during one Kinematics::ik() call.
 struct IkReport {
   Status status = Status::not_initialized;  //!< ok or unreachable
-  int attempts = 0;                          //!< attempts made (1 = the seed sufficed)
-  int iterations = 0;                        //!< iterations over all attempts
-  double position_error = 0.0;               //!< m, of the returned configuration
-  double orientation_error = 0.0;            //!< rad, of the returned configuration
+  int attempts = 0;                         //!< attempts made (1 = the seed sufficed)
+  int iterations = 0;                       //!< iterations over all attempts
+  double position_error = 0.0;              //!< m, of the returned configuration
+  double orientation_error = 0.0;           //!< rad, of the returned configuration
 };
 
 //! Kinematics of the chain between two links of a URDF. Immutable once loaded; every const
@@ -117,14 +117,13 @@ class Kinematics {
 
  private:
   static Result from_tree(const KDL::Tree& tree, const std::string& base_link,
-                          const std::string& tip_link, const std::string& source,
-                          Kinematics& out);
+                          const std::string& tip_link, const std::string& source, Kinematics& out);
   struct JointModel {
-    Eigen::Matrix3d pre_rotation;     // fixed frame from the previous joint to this joint
+    Eigen::Matrix3d pre_rotation;  // fixed frame from the previous joint to this joint
     Eigen::Vector3d pre_translation;
-    Eigen::Vector3d axis;             // unit axis in this joint's frame
-    int principal_axis = -1;          // 0, 1, 2 if axis is +-x, +-y, +-z (fast path), else -1
-    double axis_sign = 1.0;           // the sign of that principal axis
+    Eigen::Vector3d axis;     // unit axis in this joint's frame
+    int principal_axis = -1;  // 0, 1, 2 if axis is +-x, +-y, +-z (fast path), else -1
+    double axis_sign = 1.0;   // the sign of that principal axis
     bool prismatic = false;
   };
   Status check(const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept;

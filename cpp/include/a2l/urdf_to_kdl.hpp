@@ -12,18 +12,18 @@ namespace a2l {
 
 //! What the URDF says of one joint beyond its kinematics.
 struct UrdfJointInfo {
-  bool movable = false;      //!< revolute, continuous or prismatic
-  bool continuous = false;   //!< a revolute joint without position limits
-  double lower = 0.0;        //!< lower position limit (rad or m); -inf when continuous
-  double upper = 0.0;        //!< upper position limit (rad or m); +inf when continuous
-  double velocity = 0.0;     //!< velocity limit (rad/s or m/s); 0 when the URDF gives none
-  double effort = 0.0;       //!< effort limit; 0 when the URDF gives none
+  bool movable = false;     //!< revolute, continuous or prismatic
+  bool continuous = false;  //!< a revolute joint without position limits
+  double lower = 0.0;       //!< lower position limit (rad or m); -inf when continuous
+  double upper = 0.0;       //!< upper position limit (rad or m); +inf when continuous
+  double velocity = 0.0;    //!< velocity limit (rad/s or m/s); 0 when the URDF gives none
+  double effort = 0.0;      //!< effort limit; 0 when the URDF gives none
 };
 
 //! What the URDF says of the robot beyond the KDL tree.
 struct UrdfInfo {
-  std::string robot_name;                         //!< the robot's name attribute
-  std::map<std::string, UrdfJointInfo> joints;    //!< by joint name
+  std::string robot_name;                       //!< the robot's name attribute
+  std::map<std::string, UrdfJointInfo> joints;  //!< by joint name
 };
 
 //! Parse a URDF file with urdfdom and convert it into a KDL tree, as kdl_parser does:
@@ -40,7 +40,6 @@ Result urdf_file_to_kdl_tree(const std::string& urdf_path, KDL::Tree& tree,
 //! Same as urdf_file_to_kdl_tree() for a URDF held in a string; `source` names it in
 //! error messages.
 Result urdf_string_to_kdl_tree(const std::string& urdf_xml, KDL::Tree& tree,
-                               const std::string& source = "<string>",
-                               UrdfInfo* info = nullptr);
+                               const std::string& source = "<string>", UrdfInfo* info = nullptr);
 
 }  // namespace a2l
