@@ -1,0 +1,64 @@
+"""Skills: discretization, Bayesian-network learning, compiled policy tables, bundles.
+
+From a raw interaction dataset to a skill bundle::
+
+    disc = Discretizer()
+    data = disc.discretize(raw)                      # categorical columns, every state known
+    net = learn_network(data, "hc-k2")               # hill-climbing + K2, BDeu parameters
+    table = compile_policy(net, "move", disc.evidence)
+    spec = make_skill_spec(table, disc, name="push")  # what save_bundle writes
+"""
+
+from __future__ import annotations
+
+from a2l.skills.compile import PolicyTable, compile_policy, relevant_evidence
+from a2l.skills.discretize import (
+    AXIS_EFFECTS,
+    DIAGONAL_EFFECTS,
+    Discretizer,
+    DistanceBins,
+    EffectDiscretizer,
+    HighLevelState,
+    InclinationBins,
+    MovementRepertoire,
+    OrientationBins,
+)
+from a2l.skills.export import make_skill_spec
+from a2l.skills.k2 import K2Score, k2_local_score
+from a2l.skills.learning import (
+    STRUCTURES,
+    hand_coded_structure,
+    learn_network,
+    learn_structure,
+)
+from a2l.skills.spec import BUNDLE_SCHEMA_VERSION, VARIABLE_KINDS, SkillSpec, VariableSpec
+from a2l.skills.synthetic import KnownStructure, known_structure_dataset, push_dataset
+
+__all__ = [
+    "AXIS_EFFECTS",
+    "BUNDLE_SCHEMA_VERSION",
+    "DIAGONAL_EFFECTS",
+    "Discretizer",
+    "DistanceBins",
+    "EffectDiscretizer",
+    "HighLevelState",
+    "InclinationBins",
+    "K2Score",
+    "KnownStructure",
+    "MovementRepertoire",
+    "OrientationBins",
+    "PolicyTable",
+    "STRUCTURES",
+    "SkillSpec",
+    "VARIABLE_KINDS",
+    "VariableSpec",
+    "compile_policy",
+    "hand_coded_structure",
+    "k2_local_score",
+    "known_structure_dataset",
+    "learn_network",
+    "learn_structure",
+    "make_skill_spec",
+    "push_dataset",
+    "relevant_evidence",
+]

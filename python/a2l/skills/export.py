@@ -1,0 +1,104 @@
+"""From a compiled policy table to a :class:`~a2l.skills.spec.SkillSpec` (what
+:func:`a2l.skills.save_bundle` writes)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from a2l.skills.compile import PolicyTable
+from a2l.skills.discretize import Discretizer
+from a2l.skills.spec import SkillSpec, VariableSpec
+
+__all__ = ["make_skill_spec"]
+
+
+def make_skill_spec(
+    table: PolicyTable,
+    discretizer: Discretizer,
+    *,
+    name: str,
+    robot: dict[str, str] | None = None,
+    step_cap: int = 12,
+    smoothing: bool = False,
+    extra: dict[str, Any] | None = None,
+) -> SkillSpec:
+    """Build the bundle content of a skill from its compiled table.
+
+    Each axis of the table becomes a bundle variable described by `discretizer` (its
+    kind, bins or value names); the table's target states must be movement labels of
+    ``discretizer.movements``, and give the repertoire's order in the bundle.
+
+    Parameters
+    ----------
+    table : PolicyTable
+        Compiled by :func:`~a2l.skills.compile_policy`; its target is the movement.
+    discretizer : Discretizer
+        The discretization the network was learned with.
+    name : str
+        Skill name (``"push"``).
+    robot : dict or None
+        ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None (virtual scene).
+    step_cap : int
+        Most movements per run.
+    smoothing : bool
+        METHOD.md's neighbour smoothing in the runtime.
+    extra : dict, optional
+        Free-form metadata; the discretizer's description is added under ``"discretizer"``.
+
+    Returns
+    -------
+    SkillSpec
+        With ``posterior`` of shape (*bins, n_moves), float64, C-contiguous, and ``argmax``
+        of shape (*bins,), int32.
+
+    Raises
+    ------
+    ValueError
+        A table variable unknown to the discretizer, states that are not the discretizer's
+        (in order), or a target state that is not a movement label.
+    """
+    if table.target != discretizer.movements.name:
+        raise ValueError(
+            f"table target {table.target!r} is not the movement variable "
+            f"{discretizer.movements.name!r}"
+        )
+    specs = discretizer.variable_specs()
+    expected = discretizer.state_names()
+    variables: list[VariableSpec] = []
+    for v in table.variables:
+        if v not in specs:
+            raise ValueError(
+                f"table variable {v!r} is not a variable of the discretizer ({sorted(specs)})"
+            )
+        if list(table.states[v]) != list(expected[v]):
+            raise ValueError(
+                f"variable {v!r}: table states {table.states[v]} differ from the "
+                f"discretizer's {expected[v]}; learn with the discretizer's state names"
+            )
+        variables.append(specs[v])
+    moves = discretizer.movements
+    pos = {label: i for i, label in enumerate(moves.labels)}
+    unknown = [s for s in table.target_states if s not in pos]
+    if unknown:
+        raise ValueError(f"target state(s) {unknown} are not movement labels {moves.labels}")
+    order = [pos[s] for s in table.target_states]
+    meta = dict(extra or {})
+    meta.setdefault("discretizer", discretizer.to_json())
+    if table.ignored:
+        meta.setdefault("ignored_evidence", list(table.ignored))
+    return SkillSpec(
+        name=name,
+        variables=variables,
+        directions=np.ascontiguousarray(moves.directions[order], dtype=np.int64),
+        posterior=np.ascontiguousarray(table.values, dtype=np.float64),
+        argmax=np.ascontiguousarray(table.argmax_indices, dtype=np.int32),
+        step=moves.step,
+        labels=[str(s) for s in table.target_states],
+        step_cap=step_cap,
+        smoothing=smoothing,
+        uniform_tolerance=table.uniform_tolerance,
+        robot=robot,
+        extra=meta,
+    )

@@ -1,0 +1,241 @@
+"""Synthetic datasets for tests and benchmarks.
+
+- :func:`push_dataset`: random babbling around a box with the kinematic push model of
+  ``docs/virtual_scene.md`` (a vectorised numpy copy kept only to *generate data*; the scene
+  that runs skills is the C++ ``VirtualScene``). It follows METHOD.md's acquisition: start
+  points on a circle around the object, up to `max_steps` random movements, keep a
+  trajectory only if it moved the box, label every step with the observed effect.
+- :func:`known_structure_dataset`: samples of a discrete network whose structure is known
+  (the parents of ``move`` are given), for testing structure recovery.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from a2l.skills.discretize import Discretizer, MovementRepertoire
+
+__all__ = ["KnownStructure", "known_structure_dataset", "push_dataset"]
+
+
+def push_dataset(
+    n_trajectories: int,
+    *,
+    seed: int = 0,
+    movements: MovementRepertoire | None = None,
+    radius: float = 0.2,
+    n_starts: int = 16,
+    max_steps: int = 7,
+    object_position: tuple[float, float, float] = (0.7, 0.0, 0.04),
+    half_size: tuple[float, float, float] = (0.035, 0.0425, 0.04),
+    eef_radius: float = 0.01,
+    min_displacement: float = 0.01,
+    max_tries: int | None = None,
+) -> pd.DataFrame:
+    """Random push babbling in the kinematic push model.
+
+    Parameters
+    ----------
+    n_trajectories : int
+        Number of kept trajectories (those that moved the box).
+    seed : int
+        Seed of the random generator.
+    movements : MovementRepertoire, optional
+        The movements babbled with (default: the 8 planar directions, step 0.05 m).
+    radius : float
+        Radius of the circle of start points around the object (m).
+    n_starts : int
+        Number of start points, evenly on the circle, at the object's height.
+    max_steps : int
+        Most random movements per trajectory; a trajectory ends when the box moves.
+    object_position : (3,) floats
+        Box centre at every start (m).
+    half_size : (3,) floats
+        Box half-extents (m).
+    eef_radius : float
+        The end-effector's radius (m): contact when inside the box grown by it.
+    min_displacement : float
+        A trajectory is kept when it moved the box at least this far (m); the default is
+        :class:`~a2l.skills.EffectDiscretizer`'s threshold, so every kept row has an effect.
+    max_tries : int, optional
+        Most trajectories tried (default 200 × `n_trajectories`).
+
+    Returns
+    -------
+    pandas.DataFrame, shape (n_steps, 15)
+        A raw dataset (:mod:`a2l.data.schema`): ``episode, step, eef_*, obj_*, move_d*,
+        effect_d*`` where ``effect_d*`` is the box displacement of the trajectory.
+
+    Raises
+    ------
+    RuntimeError
+        Fewer than `n_trajectories` kept after `max_tries`.
+    """
+    if n_trajectories < 1:
+        raise ValueError(f"n_trajectories must be >= 1, got {n_trajectories}")
+    rng = np.random.default_rng(seed)
+    moves = movements or MovementRepertoire(planar=True)
+    disp = moves.displacement(np.arange(moves.n_moves))  # (n_moves, 3)
+    obj0 = np.asarray(object_position, dtype=np.float64)
+    half = np.asarray(half_size, dtype=np.float64) + eef_radius
+    angles = np.arange(n_starts) * 2 * np.pi / n_starts
+    starts = obj0 + radius * np.stack([np.cos(angles), np.sin(angles), 0 * angles], axis=1)
+    max_tries = max_tries or 200 * n_trajectories
+
+    kept: list[pd.DataFrame] = []
+    n_kept = 0
+    tried = 0
+    batch = max(256, 4 * n_trajectories)
+    while n_kept < n_trajectories:
+        if tried >= max_tries:
+            raise RuntimeError(
+                f"only {n_kept} of {n_trajectories} trajectories moved the box in {tried} tries"
+            )
+        b = min(batch, max_tries - tried)
+        tried += b
+        eef = starts[rng.integers(0, n_starts, b)].copy()  # (b, 3)
+        obj = np.repeat(obj0[None], b, axis=0)
+        alive = np.ones(b, dtype=bool)
+        moved = np.zeros(b, dtype=bool)
+        rows_eef, rows_obj, rows_mv, rows_ep, rows_step = [], [], [], [], []
+        for t in range(max_steps):
+            m = rng.integers(0, moves.n_moves, b)
+            d = disp[m]
+            idx = np.flatnonzero(alive)
+            rows_eef.append(eef[idx].copy())
+            rows_obj.append(obj[idx].copy())
+            rows_mv.append(d[idx])
+            rows_ep.append(idx)
+            rows_step.append(np.full(idx.size, t))
+            new = eef + d
+            inside = np.all(np.abs(new - obj) <= half, axis=1) & alive
+            planar = (np.abs(d[:, 0]) > 0) | (np.abs(d[:, 1]) > 0)
+            push = inside & planar
+            k = np.where(np.abs(d[:, 0]) >= np.abs(d[:, 1]), 0, 1)
+            for axis in (0, 1):
+                sel = push & (k == axis)
+                sgn = np.sign(d[sel, axis])
+                obj[sel, axis] = new[sel, axis] + sgn * half[axis]
+            eef = np.where(alive[:, None], new, eef)
+            moved |= push
+            alive &= ~push
+        ep = np.concatenate(rows_ep)
+        far_enough = np.hypot(*(obj - obj0)[:, :2].T) >= min_displacement
+        keep_ep = np.flatnonzero(moved & far_enough)[: n_trajectories - n_kept]
+        sel = np.isin(ep, keep_ep)
+        effect = (obj - obj0)[ep[sel]]
+        episode = np.searchsorted(keep_ep, ep[sel]) + n_kept
+        e, o, mv = (np.concatenate(r)[sel] for r in (rows_eef, rows_obj, rows_mv))
+        kept.append(
+            pd.DataFrame(
+                {
+                    "episode": episode,
+                    "step": np.concatenate(rows_step)[sel],
+                    "eef_x": e[:, 0],
+                    "eef_y": e[:, 1],
+                    "eef_z": e[:, 2],
+                    "obj_x": o[:, 0],
+                    "obj_y": o[:, 1],
+                    "obj_z": o[:, 2],
+                    "move_dx": mv[:, 0],
+                    "move_dy": mv[:, 1],
+                    "move_dz": mv[:, 2],
+                    "effect_dx": effect[:, 0],
+                    "effect_dy": effect[:, 1],
+                    "effect_dz": effect[:, 2],
+                }
+            )
+        )
+        n_kept += keep_ep.size
+    df = pd.concat(kept, ignore_index=True)
+    return df.sort_values(["episode", "step"], kind="stable").reset_index(drop=True)
+
+
+@dataclass(frozen=True)
+class KnownStructure:
+    """A discrete network of known structure used to generate data.
+
+    Attributes
+    ----------
+    parents : dict of str to tuple of str
+        Parents of every variable (``move``'s are the ones to recover).
+    cards : dict of str to int
+        Number of states of every variable.
+    cpts : dict of str to ndarray
+        P(variable | parents), shape (*parent cards, card), in the order of `parents`.
+    """
+
+    parents: dict[str, tuple[str, ...]]
+    cards: dict[str, int]
+    cpts: dict[str, np.ndarray]
+
+
+def known_structure_dataset(
+    n_rows: int,
+    *,
+    seed: int = 0,
+    discretizer: Discretizer | None = None,
+    move_parents: tuple[str, ...] = ("effect", "orientation", "distance"),
+    concentration: float = 0.3,
+) -> tuple[pd.DataFrame, KnownStructure]:
+    """Samples of a network where ``move`` has `move_parents` and nothing else depends on
+    anything (the context variables are independent and uniform).
+
+    Each row of P(move | parents) is drawn from a symmetric Dirichlet(`concentration`):
+    small concentrations give peaked, learnable conditionals.
+
+    Parameters
+    ----------
+    n_rows : int
+        Number of samples.
+    seed : int
+        Seed of the CPTs and of the samples.
+    discretizer : Discretizer, optional
+        Gives the variables and their states (default: :class:`Discretizer` defaults, i.e.
+        effect 4, distance 3, orientation 16, inclination 8, move 26).
+    move_parents : tuple of str
+        The true parents of ``move``.
+    concentration : float
+        Dirichlet concentration of the rows of P(move | parents).
+
+    Returns
+    -------
+    df : pandas.DataFrame, shape (n_rows, n_variables)
+        Categorical columns with every state as a category.
+    truth : KnownStructure
+    """
+    disc = discretizer or Discretizer()
+    states = disc.state_names()
+    target = disc.movements.name
+    unknown = [p for p in move_parents if p not in states or p == target]
+    if unknown:
+        raise ValueError(f"move_parents {unknown} are not evidence variables of the discretizer")
+    rng = np.random.default_rng(seed)
+    cards = {v: len(s) for v, s in states.items()}
+    codes: dict[str, np.ndarray] = {}
+    cpts: dict[str, np.ndarray] = {}
+    parents: dict[str, tuple[str, ...]] = {}
+    for v in states:
+        if v == target:
+            continue
+        parents[v] = ()
+        cpts[v] = np.full(cards[v], 1.0 / cards[v])
+        codes[v] = rng.integers(0, cards[v], n_rows)
+    pshape = tuple(cards[p] for p in move_parents)
+    cpt = rng.dirichlet(np.full(cards[target], concentration), size=pshape)
+    cpts[target] = cpt
+    parents[target] = tuple(move_parents)
+    rows = (
+        cpt[tuple(codes[p] for p in move_parents)]
+        if move_parents
+        else np.broadcast_to(cpt, (n_rows, cards[target]))
+    )
+    u = rng.random(n_rows)[:, None]
+    codes[target] = np.minimum((rows.cumsum(axis=1) < u).sum(axis=1), cards[target] - 1)
+    df = pd.DataFrame(
+        {v: pd.Categorical.from_codes(codes[v], categories=states[v]) for v in disc.variable_names}
+    )
+    return df, KnownStructure(parents=parents, cards=cards, cpts=cpts)
