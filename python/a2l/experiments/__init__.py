@@ -1,0 +1,1 @@
+"""Reproduced experiments; each writes a run directory (DESIGN.md's contract)."""

@@ -1,0 +1,622 @@
+"""The A2L iterative framework: acquire interactions, generate skills, validate, repeat.
+
+METHOD.md's loop, for the push effects:
+
+1. **Interaction acquisition** by random motor babbling: from start positions evenly on a
+   circle around the object, up to ``max_babble_steps`` random movements; a trajectory is
+   kept only if the object moved, and every step is labelled with the observed effect.
+2. **Skill generation**: discretize, learn a Bayesian network (hill-climbing + K2, ``move``
+   has no children), compile the posterior over ``move`` into a table, save a skill bundle.
+3. **Interaction validation**: each effect from each start, in closed loop through the C++
+   skill step (:mod:`a2l._core`): success, false positive (the object moved with another
+   effect) or fail; the iteration's score is ``Σ(4·success + 1·false positive) /
+   (4 · n_effects · n_starts) · 100``.
+4. **Iteration**: extend the dataset (successful and false-positive trajectories cut back
+   and extended at random; effect-directed babbling for (start, effect) pairs stuck for
+   long), keep the new dataset only if the score did not drop, stop at score 100 or at the
+   iteration cap.
+
+Every random draw comes from a generator seeded by ``(seed, iteration, phase, index)``, so a
+run is reproducible, independent of the number of workers, and resumable from the
+checkpoint written after each iteration.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
+from a2l.experiments.rundir import latest_checkpoint, save_checkpoint
+from a2l.parallel import Executor
+
+__all__ = [
+    "FrameworkConfig",
+    "IterationResult",
+    "Rollout",
+    "run_framework",
+    "score_of",
+]
+
+#: Outcomes of one validation rollout.
+SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
+
+
+@dataclass
+class FrameworkConfig:
+    """Every parameter of an A2L run (METHOD.md defaults).
+
+    Attributes
+    ----------
+    scene : str
+        ``"virtual"`` (C++ kinematic push model) or ``"baxter"`` (PyBullet push scene).
+    n_effects : {4, 8}
+        Push effects to learn.
+    n_starts : int
+        Start positions, evenly on a circle around the object.
+    start_radius : float
+        Radius of that circle (m).
+    max_babble_steps : int
+        Most random movements of a babbling trajectory.
+    try_cap : int
+        Most babbling trajectories tried in one acquisition.
+    max_iterations : int
+        Iteration cap (iteration 0 included).
+    step_cap : int
+        Most movements a skill may take in validation.
+    planar : bool
+        8 planar movements instead of 26 in 3-D.
+    step : float
+        Movement length (m).
+    n_orient, n_dist, n_incl : int
+        Bins of the context variables (``n_incl = 0`` leaves inclination out).
+    dist_low, dist_high : float
+        Range of the distance bins (m).
+    effect_threshold : float
+        Smallest object displacement that counts as an effect (m).
+    structure : str
+        ``"hc-k2"`` or ``"hand-coded"``.
+    extension_cut : int
+        Steps cut from the end of a trajectory before extending it.
+    max_extensions : int
+        Most extension trajectories added per iteration.
+    stuck_after : int
+        Iterations a (start, effect) pair must fail before effect-directed babbling.
+    directed_per_pair : int
+        Effect-directed trajectories added for a stuck pair.
+    directed_try_cap : int
+        Most tries to find them.
+    seed : int
+        Seed of every random draw.
+    scene_config : dict
+        Extra keyword arguments for :func:`a2l.sim.make_scene`.
+    """
+
+    scene: str = "virtual"
+    n_effects: int = 4
+    n_starts: int = 8
+    start_radius: float = 0.2
+    max_babble_steps: int = 7
+    try_cap: int = 5000
+    max_iterations: int = 10
+    step_cap: int = 12
+    planar: bool = True
+    step: float = 0.05
+    n_orient: int = 16
+    n_dist: int = 3
+    n_incl: int = 0
+    dist_low: float = 0.05
+    dist_high: float = 0.20
+    effect_threshold: float = 0.01
+    structure: str = "hc-k2"
+    extension_cut: int = 1
+    max_extensions: int = 50
+    stuck_after: int = 1
+    directed_per_pair: int = 20
+    directed_try_cap: int = 400
+    seed: int = 0
+    scene_config: dict[str, Any] = field(default_factory=dict)
+
+    def validate(self) -> None:
+        """Raise ``ValueError`` naming the first field out of its domain."""
+        if self.scene not in ("virtual", "baxter"):
+            raise ValueError(f"scene: unknown scene {self.scene!r}; choose 'virtual' or 'baxter'")
+        if self.n_effects not in (4, 8):
+            raise ValueError(f"n_effects: must be 4 or 8, got {self.n_effects}")
+        positive_ints = ("n_starts", "max_babble_steps", "try_cap", "max_iterations",
+                         "step_cap", "n_orient", "n_dist", "max_extensions",
+                         "directed_per_pair", "directed_try_cap", "stuck_after")
+        for name in positive_ints:
+            v = getattr(self, name)
+            if not isinstance(v, int) or v < 1:
+                raise ValueError(f"{name}: must be a positive integer, got {v!r}")
+        for name in ("start_radius", "step", "effect_threshold"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise ValueError(f"{name}: must be a positive length, got {v!r}")
+        if not 0 < self.dist_low < self.dist_high:
+            raise ValueError(f"dist_low, dist_high: need 0 < low < high, got "
+                             f"{self.dist_low}, {self.dist_high}")
+        if self.n_incl < 0:
+            raise ValueError(f"n_incl: must be >= 0, got {self.n_incl}")
+        if self.extension_cut < 0:
+            raise ValueError(f"extension_cut: must be >= 0, got {self.extension_cut}")
+        if self.structure not in ("hc-k2", "hand-coded"):
+            raise ValueError(f"structure: unknown {self.structure!r}")
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> FrameworkConfig:
+        """Build from a dict (e.g. a run's ``config.json``); unknown keys are errors."""
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(d) - known)
+        if unknown:
+            raise ValueError(f"unknown config key(s) {unknown}; known: {sorted(known)}")
+        cfg = cls(**d)
+        cfg.validate()
+        return cfg
+
+    def start_offsets(self) -> np.ndarray:
+        """End-effector start positions relative to the object, shape (n_starts, 3)."""
+        a = 2 * np.pi * np.arange(self.n_starts) / self.n_starts
+        r = self.start_radius
+        return np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(a)], axis=1)
+
+
+# ---------------------------------------------------------------------------------------
+# Rollouts (module-level functions: they run in worker processes too)
+# ---------------------------------------------------------------------------------------
+
+@dataclass
+class Rollout:
+    """One trajectory of the end-effector from a start position.
+
+    Attributes
+    ----------
+    start : int
+        Index of the start position.
+    moves : list of int
+        Movement indices executed, in order.
+    eef : ndarray, shape (len(moves) + 1, 3)
+        End-effector positions before each movement and after the last.
+    obj : ndarray, shape (len(moves) + 1, 3)
+        Object positions at the same instants.
+    effect : int
+        Observed effect index (-1: the object did not move).
+    wanted : int
+        Wanted effect in validation (-1 in babbling).
+    outcome : str
+        ``success``, ``false_positive`` or ``fail`` (validation), ``""`` (babbling).
+    stop : str
+        Why the rollout ended (``moved``, ``step_cap``, ``unknown_context``,
+        ``unreachable``, ``exhausted``).
+    """
+
+    start: int
+    moves: list[int]
+    eef: np.ndarray
+    obj: np.ndarray
+    effect: int = -1
+    wanted: int = -1
+    outcome: str = ""
+    stop: str = ""
+
+    @property
+    def moved(self) -> bool:
+        """True if the object moved (an effect was observed)."""
+        return self.effect >= 0
+
+
+_ENV_CACHE: dict[str, Any] = {}
+
+
+def _env(cfg: FrameworkConfig) -> Any:
+    """The scene of this process for `cfg` (built once per process and reused)."""
+    from a2l.framework_env import make_env
+
+    key = repr((cfg.scene, sorted(cfg.scene_config.items()), cfg.step, cfg.seed))
+    env = _ENV_CACHE.get(key)
+    if env is None:
+        for old in _ENV_CACHE.values():
+            old.close()
+        _ENV_CACHE.clear()
+        env = make_env(cfg.scene, seed=cfg.seed, step=cfg.step, **cfg.scene_config)
+        _ENV_CACHE[key] = env
+    return env
+
+
+def _discretizers(cfg: FrameworkConfig) -> Any:
+    from a2l.skills.discretize import (
+        Discretizer,
+        DistanceBins,
+        EffectDiscretizer,
+        InclinationBins,
+        MovementRepertoire,
+        OrientationBins,
+    )
+
+    return Discretizer(
+        distance=DistanceBins(n_bins=cfg.n_dist, low=cfg.dist_low, high=cfg.dist_high),
+        orientation=OrientationBins(n_bins=cfg.n_orient),
+        inclination=InclinationBins(n_bins=cfg.n_incl) if cfg.n_incl > 0 else None,
+        movements=MovementRepertoire(planar=cfg.planar, step=cfg.step),
+        effects=EffectDiscretizer(n_effects=cfg.n_effects, threshold=cfg.effect_threshold),
+    )
+
+
+def _effect_of(disc: Any, displacement: np.ndarray) -> int:
+    return int(disc.effects.discretize(np.asarray(displacement, dtype=float))[0])
+
+
+def _play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],
+          choose: Callable[[np.ndarray, np.ndarray], int | None], max_steps: int) -> Rollout:
+    """Start at `offset`, replay `prefix`, then ``choose(eef, obj)`` until the object moves.
+
+    `choose` returns a movement index, or None to stop.
+    """
+    env.begin(offset)
+    obj0 = env.object().copy()
+    eefs, objs, moves = [env.eef().copy()], [obj0.copy()], []
+    stop = "exhausted"
+    effect = -1
+    for i in range(max_steps):
+        move = prefix[i] if i < len(prefix) else choose(eefs[-1], objs[-1])
+        if move is None:
+            stop = "stopped"
+            break
+        if not env.execute(tuple(int(s) for s in disc.movements.directions[move])):
+            stop = "unreachable"
+            break
+        moves.append(int(move))
+        eefs.append(env.eef().copy())
+        objs.append(env.object().copy())
+        effect = _effect_of(disc, objs[-1] - obj0)
+        if effect >= 0:
+            stop = "moved"
+            break
+    return Rollout(start, moves, np.array(eefs), np.array(objs), effect=effect, stop=stop)
+
+
+def babble_task(task: tuple[dict[str, Any], int, list[int], int, int]) -> Rollout:
+    """One babbling trajectory: ``(config, start, prefix, seed, wanted)``.
+
+    Random movements after `prefix` (METHOD.md: up to ``max_babble_steps``); with
+    ``wanted >= 0`` the movements are effect-directed: drawn among those whose planar
+    direction does not point against the wanted effect's direction.
+    """
+    cfg_d, start, prefix, seed, wanted = task
+    cfg = FrameworkConfig(**cfg_d)
+    disc = _discretizers(cfg)
+    rng = np.random.default_rng(seed)
+    n = disc.movements.n_moves
+    allowed = np.arange(n)
+    if wanted >= 0:
+        target = _effect_direction(disc.effects.values[wanted])
+        d = disc.movements.directions[:, :2].astype(float)
+        allowed = np.flatnonzero(d @ target > 0)
+
+    def choose(_eef: np.ndarray, _obj: np.ndarray) -> int:
+        return int(rng.choice(allowed))
+
+    offset = cfg.start_offsets()[start]
+    steps = len(prefix) + cfg.max_babble_steps
+    return _play(_env(cfg), disc, start, offset, prefix, choose, steps)
+
+
+def _effect_direction(name: str) -> np.ndarray:
+    """Planar unit direction of an effect name (``far`` = +x, ``left`` = +y, ...)."""
+    v = np.zeros(2)
+    for part in name.split("_"):
+        v += {"far": (1, 0), "close": (-1, 0), "left": (0, 1), "right": (0, -1)}[part]
+    return v / np.linalg.norm(v)
+
+
+def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
+    """One validation rollout: ``(config, bundle_path, start, wanted_effect)``.
+
+    The skill runs in closed loop through the C++ step until the object moves (success if
+    with the wanted effect, else false positive), or the step returns a stop status (step
+    cap, unknown context: fail).
+    """
+    from a2l.framework_env import CppSkillRunner
+
+    cfg_d, bundle, start, wanted = task
+    cfg = FrameworkConfig(**cfg_d)
+    disc = _discretizers(cfg)
+    runner = CppSkillRunner.cached(bundle)
+    runner.reset()
+    status: list[str] = []
+
+    def choose(eef: np.ndarray, obj: np.ndarray) -> int | None:
+        move, st = runner.step(eef, obj, wanted)
+        if move is None:
+            status.append(st)
+        return move
+
+    r = _play(_env(cfg), disc, start, cfg.start_offsets()[start], [], choose, cfg.step_cap + 1)
+    r.wanted = wanted
+    if r.moved:
+        r.outcome = SUCCESS if r.effect == wanted else FALSE_POSITIVE
+    else:
+        r.outcome = FAIL
+        if status:
+            r.stop = status[0]
+    return r
+
+
+# ---------------------------------------------------------------------------------------
+# Datasets
+# ---------------------------------------------------------------------------------------
+
+def rollouts_to_frame(rollouts: Sequence[Rollout], disc: Any, first_episode: int = 0
+                      ) -> pd.DataFrame:
+    """Raw dataset rows (:mod:`a2l.data.schema`) of rollouts that moved the object.
+
+    Every step of a trajectory is labelled with the trajectory's observed effect (the
+    object's displacement from the start to the end).
+
+    Returns
+    -------
+    pandas.DataFrame, shape (total steps, 16)
+    """
+    rows: list[dict[str, Any]] = []
+    ep = first_episode
+    for r in rollouts:
+        if not r.moved:
+            continue
+        disp = r.obj[-1] - r.obj[0]
+        for k, move in enumerate(r.moves):
+            d = disc.movements.displacement(move)
+            row = {"episode": ep, "step": k, "start": r.start}
+            row.update(zip(EEF_COLUMNS, r.eef[k], strict=True))
+            row.update(zip(OBJECT_COLUMNS, r.obj[k], strict=True))
+            row.update(zip(MOVE_COLUMNS, d, strict=True))
+            row.update(zip(EFFECT_DISPLACEMENT_COLUMNS, disp, strict=True))
+            rows.append(row)
+        ep += 1
+    cols = ["episode", "step", "start", *EEF_COLUMNS, *OBJECT_COLUMNS, *MOVE_COLUMNS,
+            *EFFECT_DISPLACEMENT_COLUMNS]
+    return pd.DataFrame(rows, columns=cols)
+
+
+def _seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
+    ss = np.random.SeedSequence([cfg.seed, iteration, phase, index])
+    return int(ss.generate_state(1, dtype=np.uint64)[0] >> 1)
+
+
+def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
+            progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
+    """Random babbling until ``n_starts · n_effects`` trajectories moved the object.
+
+    Tries are made in batches (in parallel) and cut, in try order, at the point where the
+    target count is reached: the result is the same for any number of workers.
+    """
+    target = cfg.n_starts * cfg.n_effects
+    cfg_d = asdict(cfg)
+    kept: list[Rollout] = []
+    tried = 0
+    batch = max(16, 8 * executor.workers)
+    while len(kept) < target and tried < cfg.try_cap:
+        n = min(batch, cfg.try_cap - tried)
+        tasks = [(cfg_d, (tried + i) % cfg.n_starts, [], _seed(cfg, iteration, 0, tried + i), -1)
+                 for i in range(n)]
+        for r in executor.map(babble_task, tasks):
+            tried += 1
+            if r.moved and len(kept) < target:
+                kept.append(r)
+        if progress:
+            progress("acquire", len(kept), target)
+    return kept
+
+
+def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
+           validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> list[Rollout]:
+    """New trajectories for iteration `iteration` (METHOD.md's dataset extension).
+
+    - successful and false-positive validation trajectories, cut back ``extension_cut``
+      steps and extended with random movements (at most ``max_extensions``);
+    - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
+      ``directed_per_pair`` effect-directed trajectories that produce that effect.
+    """
+    cfg_d = asdict(cfg)
+    tasks = []
+    for i, r in enumerate(v for v in validation if v.outcome in (SUCCESS, FALSE_POSITIVE)):
+        if len(tasks) >= cfg.max_extensions:
+            break
+        prefix = r.moves[: max(0, len(r.moves) - cfg.extension_cut)]
+        tasks.append((cfg_d, r.start, prefix, _seed(cfg, iteration, 1, i), -1))
+    out = [r for r in executor.map(babble_task, tasks) if r.moved]
+    pairs = sorted(p for p, n in stuck.items() if n >= cfg.stuck_after)
+    for j, (start, effect) in enumerate(pairs):
+        found: list[Rollout] = []
+        tried = 0
+        while len(found) < cfg.directed_per_pair and tried < cfg.directed_try_cap:
+            n = min(32, cfg.directed_try_cap - tried)
+            tasks = [(cfg_d, start, [], _seed(cfg, iteration, 2 + j, tried + i), effect)
+                     for i in range(n)]
+            for r in executor.map(babble_task, tasks):
+                tried += 1
+                if r.effect == effect and len(found) < cfg.directed_per_pair:
+                    found.append(r)
+        out.extend(found)
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# Skills and validation
+# ---------------------------------------------------------------------------------------
+
+def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,
+                   robot: dict[str, str] | None = None) -> Any:
+    """Learn the network from `dataset`, compile it, and save the skill bundle.
+
+    Returns
+    -------
+    a2l.skills.PolicyTable
+        The compiled table (the bundle holds the same numbers).
+    """
+    from a2l.skills import compile_policy, learn_network, make_skill_spec, save_bundle
+
+    disc = _discretizers(cfg)
+    discrete = disc.discretize(dataset)
+    if len(discrete) == 0:
+        raise ValueError("the dataset has no usable row: nothing moved the object")
+    network = learn_network(discrete, structure=cfg.structure, state_names=disc.state_names())
+    table = compile_policy(network, target="move", evidence=disc.evidence)
+    spec = make_skill_spec(table, disc, name="push", robot=robot, step_cap=cfg.step_cap,
+                           extra={"framework": asdict(cfg)})
+    save_bundle(spec, bundle_path)
+    return table
+
+
+def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
+             progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
+    """Run the skill for every (start, effect) pair; results in (start, effect) order."""
+    cfg_d = asdict(cfg)
+    tasks = [(cfg_d, str(bundle_path), s, e)
+             for s in range(cfg.n_starts) for e in range(cfg.n_effects)]
+    total = len(tasks)
+    return executor.map(validate_task, tasks,
+                        on_done=(lambda k: progress("validate", k, total)) if progress else None)
+
+
+def score_of(rollouts: Sequence[Rollout], n_effects: int, n_starts: int) -> float:
+    """METHOD.md's score: Σ(4·success + 1·false positive) / (4·n_effects·n_starts) · 100."""
+    points = sum(4 if r.outcome == SUCCESS else 1 if r.outcome == FALSE_POSITIVE else 0
+                 for r in rollouts)
+    return 100.0 * points / (4 * n_effects * n_starts)
+
+
+@dataclass
+class IterationResult:
+    """Metrics of one iteration (one entry of ``metrics.json``'s ``iterations``)."""
+
+    iteration: int
+    score: float
+    success_rate: dict[str, float]
+    false_positives: int
+    mean_movements: float
+    dataset_size: int
+    accepted: bool
+    wall_s: float
+
+
+def _metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], size: int,
+             accepted: bool, wall: float) -> IterationResult:
+    names = _discretizers(cfg).effects.values
+    rate = {names[e]: float(np.mean([r.outcome == SUCCESS for r in val if r.wanted == e]))
+            for e in range(cfg.n_effects)}
+    moves = [len(r.moves) for r in val if r.outcome == SUCCESS]
+    return IterationResult(
+        iteration=it, score=score_of(val, cfg.n_effects, cfg.n_starts), success_rate=rate,
+        false_positives=sum(r.outcome == FALSE_POSITIVE for r in val),
+        mean_movements=float(np.mean(moves)) if moves else float("nan"),
+        dataset_size=size, accepted=accepted, wall_s=wall)
+
+
+def _rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
+    """Validation rollouts as a table (one row per rollout; positions as lists)."""
+    return pd.DataFrame({
+        "start": [r.start for r in rollouts], "wanted": [r.wanted for r in rollouts],
+        "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
+        "stop": [r.stop for r in rollouts], "moves": [list(r.moves) for r in rollouts],
+        "eef": [r.eef.ravel().tolist() for r in rollouts],
+        "obj": [r.obj.ravel().tolist() for r in rollouts],
+    })
+
+
+def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
+    out = []
+    for row in df.itertuples(index=False):
+        out.append(Rollout(int(row.start), [int(m) for m in row.moves],
+                           np.asarray(row.eef, dtype=float).reshape(-1, 3),
+                           np.asarray(row.obj, dtype=float).reshape(-1, 3),
+                           effect=int(row.effect), wanted=int(row.wanted),
+                           outcome=str(row.outcome), stop=str(row.stop)))
+    return out
+
+
+def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
+                  progress: Callable[[str, int, int], None] | None = None,
+                  on_iteration: Callable[[IterationResult], None] | None = None,
+                  robot: dict[str, str] | None = None) -> dict[str, Any]:
+    """The whole iterative loop; resumes from the newest checkpoint in `run_dir`.
+
+    Parameters
+    ----------
+    cfg : FrameworkConfig
+        The run's parameters.
+    run_dir : Path
+        Where checkpoints (``checkpoints/iter_NNN``) and bundles (``skills/``) go.
+    executor : a2l.parallel.Executor
+        Where rollouts run.
+    progress : callable, optional
+        ``progress(phase, done, total)`` during acquisition and validation.
+    on_iteration : callable, optional
+        Called with each finished iteration's metrics.
+    robot : dict, optional
+        Robot entry of the bundles.
+
+    Returns
+    -------
+    dict
+        ``{"iterations": [...], "final_score": float, "bundle": str, "validation":
+        DataFrame of the accepted iteration's rollouts}``.
+    """
+    cfg.validate()
+    skills_dir = run_dir / "skills"
+    skills_dir.mkdir(parents=True, exist_ok=True)
+    disc = _discretizers(cfg)
+    ck = latest_checkpoint(run_dir)
+    if ck is not None:
+        last, state, frames = ck
+        dataset = frames["dataset"]
+        best_val = _frame_rollouts(frames["validation"])
+        history = state["iterations"]
+        best_score = float(state["best_score"])
+        stuck = {(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
+                 for k, v in state["stuck"].items()}
+        start_it = last + 1
+    else:
+        dataset, best_val, history, best_score, stuck, start_it = None, [], [], -1.0, {}, 0
+    for it in range(start_it, cfg.max_iterations):
+        if best_score >= 100.0:
+            break
+        t0 = time.perf_counter()
+        if dataset is None:
+            new = rollouts_to_frame(acquire(cfg, executor, it, progress), disc)
+            candidate = new
+        else:
+            extra = extend(cfg, executor, it, best_val, stuck)
+            first = int(dataset["episode"].max()) + 1 if len(dataset) else 0
+            candidate = pd.concat([dataset, rollouts_to_frame(extra, disc, first)],
+                                  ignore_index=True)
+        bundle = skills_dir / f"iter_{it:03d}.a2lb"
+        generate_skill(cfg, candidate, bundle, robot)
+        val = validate(cfg, executor, bundle, progress)
+        score = score_of(val, cfg.n_effects, cfg.n_starts)
+        accepted = score >= best_score
+        if accepted:
+            dataset, best_val, best_score = candidate, val, score
+            (skills_dir / "accepted.txt").write_text(bundle.name + "\n")
+        for r in val:
+            key = (r.start, r.wanted)
+            stuck[key] = 0 if r.outcome == SUCCESS else stuck.get(key, 0) + 1
+        m = _metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0)
+        history.append(asdict(m))
+        save_checkpoint(run_dir, it, {
+            "iterations": history, "best_score": best_score,
+            "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()},
+        }, {"dataset": dataset, "validation": _rollouts_frame(best_val)})
+        if on_iteration:
+            on_iteration(m)
+    accepted_name = (skills_dir / "accepted.txt").read_text().strip()
+    return {"iterations": history, "final_score": best_score,
+            "bundle": str(skills_dir / accepted_name), "dataset": dataset,
+            "validation": _rollouts_frame(best_val)}
