@@ -95,8 +95,6 @@ class K2Score(BaseStructureScore):
         self, data: pd.DataFrame, state_names: Mapping[str, Sequence] | None = None
     ) -> None:
         names = as_state_names(data, state_names)
-        super().__init__(data, state_names=names)
-        self.state_names = names
         self._codes: dict[str, np.ndarray] = {}
         for var in data.columns:
             col = data[var]
@@ -107,6 +105,8 @@ class K2Score(BaseStructureScore):
                 bad = sorted(map(str, set(col[codes < 0])))
                 raise ValueError(f"column {var!r} has value(s) {bad} not in its state names")
             self._codes[var] = codes
+        super().__init__(data, state_names=names)
+        self.state_names = names
 
     def local_score(self, variable: str, parents: tuple[str, ...]) -> float:
         """Cached K2 local score of `variable` given `parents` (any order)."""
