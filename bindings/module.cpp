@@ -6,6 +6,8 @@ namespace py = pybind11;
 namespace a2l::bindings {
 void bind_status(py::module_& m);
 void bind_kinematics(py::module_& m);
+void bind_skill(py::module_& m);
+void bind_scene(py::module_& m);
 // New areas: declare bind_<area> here and call it below (one line each).
 }  // namespace a2l::bindings
 
@@ -14,4 +16,6 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = A2L_VERSION;
   a2l::bindings::bind_status(m);
   a2l::bindings::bind_kinematics(m);
+  a2l::bindings::bind_skill(m);
+  a2l::bindings::bind_scene(m);
 }

@@ -11,6 +11,7 @@ From a raw interaction dataset to a skill bundle::
 
 from __future__ import annotations
 
+from a2l.skills.bundle import load_bundle, save_bundle
 from a2l.skills.compile import PolicyTable, compile_policy, relevant_evidence
 from a2l.skills.discretize import (
     AXIS_EFFECTS,
@@ -58,7 +59,9 @@ __all__ = [
     "known_structure_dataset",
     "learn_network",
     "learn_structure",
+    "load_bundle",
     "make_skill_spec",
     "push_dataset",
     "relevant_evidence",
+    "save_bundle",
 ]

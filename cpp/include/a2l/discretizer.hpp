@@ -1,0 +1,105 @@
+//! \file discretizer.hpp
+//! \brief Context -> bins: the evidence variables of a skill and their bin math.
+//!
+//! The bin formulas are those of docs/bundle_format.md (and METHOD.md's discretization):
+//! distance saturating at both ends, orientation in sections offset by half a section,
+//! inclination from the vertical. Discrete variables (the wanted effect, high-level states)
+//! are given by the caller as value indices. A non-finite position or a discrete index out
+//! of range is an *unknown context*: the discretizer reports it, it never guesses a bin.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "a2l/status.hpp"
+
+namespace a2l {
+
+//! Most evidence variables a skill may have (capacity of the fixed-size buffers).
+constexpr int kMaxVariables = 16;
+//! Most bins (or values) one variable may have.
+constexpr int kMaxBins = 1024;
+
+//! What an evidence variable measures.
+enum class VariableKind : int {
+  effect = 0,       //!< the wanted effect; index given by the caller
+  distance = 1,     //!< ||object - eef|| (3-D, m)
+  orientation = 2,  //!< atan2(dy, dx) of (eef - object) in the table plane
+  inclination = 3,  //!< angle of (eef - object) from the vertical, in [0, pi]
+  high_level = 4,   //!< a discrete state (light, gripper, colour); index given by the caller
+};
+
+//! The manifest name of a kind ("effect", "distance", ...). Never allocates.
+const char* variable_kind_name(VariableKind kind) noexcept;
+
+//! Parse a manifest kind name; false if `name` is not a kind.
+bool parse_variable_kind(const std::string& name, VariableKind& kind) noexcept;
+
+//! One evidence variable: one axis of a skill's policy table.
+struct Variable {
+  std::string name;                            //!< unique name, e.g. "distance", "light"
+  VariableKind kind = VariableKind::distance;  //!< what it measures
+  int n_bins = 1;                              //!< number of bins (values for effect / high_level)
+  double low = 0.0;                            //!< distance only: lower end of the range (m)
+  double high = 0.0;                           //!< distance only: upper end of the range (m)
+  std::vector<std::string> values;             //!< effect / high_level only: value names
+};
+
+//! The current situation, as the runtime sees it at one instant. Fixed size, no allocation.
+struct Context {
+  Eigen::Vector3d eef = Eigen::Vector3d::Zero();     //!< end-effector position (m)
+  Eigen::Vector3d object = Eigen::Vector3d::Zero();  //!< object centre (m)
+  int effect = 0;  //!< index of the wanted effect in the skill's effect variable's values
+  //! Value index of each high-level variable, by the variable's axis in the skill (entries of
+  //! other axes are ignored).
+  std::array<int, kMaxVariables> high_level{};
+  //! Set by the caller once it observed that the object moved (the effect was produced): the
+  //! next step() then ends the run with Status::effect_produced.
+  bool effect_produced = false;
+};
+
+//! Context -> bin of every evidence variable, in axis order. Immutable once created.
+class Discretizer {
+ public:
+  //! An empty discretizer (no variables).
+  Discretizer() = default;
+
+  //! Validate `variables` and build a discretizer.
+  //! \return `invalid_argument` naming the variable and the check (duplicate name, bin count
+  //!         outside [1, kMaxBins], low >= high, more than one variable of a geometric kind
+  //!         or of kind effect, more than kMaxVariables variables), else `ok`.
+  static Result create(std::vector<Variable> variables, Discretizer& out);
+
+  //! Number of variables (axes).
+  int n_variables() const noexcept { return static_cast<int>(variables_.size()); }
+  //! The variables, in axis order.
+  const std::vector<Variable>& variables() const noexcept { return variables_; }
+  //! The variable of axis `i`.
+  const Variable& variable(int i) const { return variables_.at(static_cast<size_t>(i)); }
+  //! Axis of the variable called `name`, or -1.
+  int find(const std::string& name) const noexcept;
+  //! Axis of the effect variable, or -1 if the skill has none.
+  int effect_axis() const noexcept { return effect_axis_; }
+
+  //! Distance bin: clamp(floor((d - low) / (high - low) * n), 0, n - 1); -1 if d is not finite.
+  static int distance_bin(double d, double low, double high, int n) noexcept;
+  //! Orientation bin of theta (rad): floor(((theta + pi + w/2) mod 2pi) / w) mod n, w = 2pi/n;
+  //! -1 if theta is not finite.
+  static int orientation_bin(double theta, int n) noexcept;
+  //! Inclination bin of phi in [0, pi]: min(floor(phi / pi * n), n - 1), clamped at 0;
+  //! -1 if phi is not finite.
+  static int inclination_bin(double phi, int n) noexcept;
+
+  //! The bins of `context`, one per variable, into `bins[0 .. n_variables())`.
+  //! \return `unknown_context` if a position is not finite or a discrete index is out of
+  //!         range (bins then holds -1 at that axis), else `ok`. Allocates nothing.
+  Status discretize(const Context& context, int* bins) const noexcept;
+
+ private:
+  std::vector<Variable> variables_;
+  int effect_axis_ = -1;
+};
+
+}  // namespace a2l

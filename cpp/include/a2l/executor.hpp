@@ -1,0 +1,93 @@
+//! \file executor.hpp
+//! \brief Turns end-effector steps into joint commands, one control tick at a time, by
+//! differential (Jacobian) inverse kinematics on a2l::Kinematics, with safety checks.
+//!
+//! Each tick moves a reference point toward the target by at most max_speed * period, and
+//! solves the damped least-squares problem dq = J^T (J J^T + lambda^2 I)^-1 [dp; w] for the
+//! position error dp and the orientation error w (the orientation of the first tick is held).
+//! Before a command is issued, it is checked against the joint velocity limits, the joint
+//! position limits and the workspace bounds; a target that is not reached within the
+//! watchdog's tick budget stops with `unreachable`. tick() allocates nothing and throws
+//! nothing (fixed-capacity Eigen objects).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <limits>
+
+#include "a2l/kinematics.hpp"
+#include "a2l/status.hpp"
+
+namespace a2l {
+
+//! Options of an Executor.
+struct ExecutorOptions {
+  double period = 1e-3;              //!< control period (s); Baxter's is 1 ms
+  double max_speed = 0.25;           //!< most end-effector speed (m/s)
+  double damping = 1e-2;             //!< damped least-squares lambda
+  double orientation_gain = 0.5;     //!< share of the orientation error corrected per tick
+  double position_tolerance = 2e-4;  //!< a target is reached within this distance (m)
+  double velocity_margin = 1.0;      //!< allowed share of the URDF joint velocity limits
+  double limit_margin = 0.0;         //!< commands must stay this far inside the limits (rad)
+  //! Workspace bounds of the end-effector target in the base frame (m).
+  Eigen::Vector3d workspace_min =
+      Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  //! Workspace bounds of the end-effector target in the base frame (m).
+  Eigen::Vector3d workspace_max =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  int watchdog_ticks = 20000;  //!< most ticks toward one target before `unreachable`
+};
+
+//! Differential-IK executor of end-effector position targets for one arm.
+class Executor {
+ public:
+  //! An unusable executor; call init().
+  Executor() = default;
+
+  //! Bind to `kinematics` (kept by pointer: it must outlive the executor) and reset to q0.
+  //! \return `not_initialized`, `size_mismatch`, `invalid_argument` (options or q0 outside
+  //!         the limits) naming the problem, else `ok`.
+  Result init(const Kinematics& kinematics, const Eigen::Ref<const Eigen::VectorXd>& q0,
+              const ExecutorOptions& options = ExecutorOptions());
+
+  //! Put the arm at q0, hold its current orientation, no target. No allocation.
+  Status reset(const Eigen::Ref<const Eigen::VectorXd>& q0) noexcept;
+
+  //! Aim at `position` (base frame, m). `workspace_limit` if outside the workspace bounds or
+  //! not finite (the target is then unchanged).
+  Status set_target(const Eigen::Vector3d& position) noexcept;
+
+  //! One control tick: the next joint command into q() (unchanged on failure).
+  //! \return `ok`, or `velocity_limit` / `joint_limit` (the command was refused),
+  //!         `unreachable` (watchdog), `not_initialized`, `internal_error` (kinematics).
+  Status tick() noexcept;
+
+  //! True when the end-effector is within position_tolerance of the target.
+  bool reached() const noexcept { return reached_; }
+  //! The current joint command (rad).
+  const JointVector& q() const noexcept { return q_; }
+  //! The end-effector position at q() (base frame, m).
+  Eigen::Vector3d position() const noexcept { return pose_.translation(); }
+  //! The end-effector pose at q().
+  const Eigen::Isometry3d& pose() const noexcept { return pose_; }
+  //! The current target (base frame, m).
+  const Eigen::Vector3d& target() const noexcept { return target_; }
+  //! Ticks since the last set_target().
+  int ticks() const noexcept { return ticks_; }
+  //! The options.
+  const ExecutorOptions& options() const noexcept { return options_; }
+
+ private:
+  const Kinematics* kin_ = nullptr;
+  ExecutorOptions options_;
+  JointVector q_, lower_, upper_, max_step_;
+  Jacobian jac_;
+  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d hold_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reference_ = Eigen::Vector3d::Zero();
+  int ticks_ = 0;
+  bool reached_ = true;
+};
+
+}  // namespace a2l

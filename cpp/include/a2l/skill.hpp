@@ -1,0 +1,178 @@
+//! \file skill.hpp
+//! \brief A skill (immutable, loaded from a bundle), its preallocated run state, and step().
+//!
+//! As Pinocchio's Model/Data split: a `Skill` is read-only after loading and may be shared by
+//! threads; a `SkillState` holds everything that changes during a run (step counter, scratch
+//! buffers, the trace ring buffer), allocated once by its constructor. `step()` maps the
+//! current context to the next movement through the compiled table: it allocates nothing,
+//! throws nothing and does no I/O (tests/cpp/test_skill_noalloc.cpp proves it).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "a2l/discretizer.hpp"
+#include "a2l/movement_repertoire.hpp"
+#include "a2l/policy_table.hpp"
+#include "a2l/status.hpp"
+
+namespace a2l {
+
+//! The robot a skill was learned for (the bundle's "robot" entry).
+struct RobotInfo {
+  bool present = false;     //!< false when the bundle's robot is null (virtual scene)
+  std::string name;         //!< robot name, e.g. "baxter"
+  std::string urdf_sha256;  //!< SHA-256 (hex) of the URDF's bytes
+  std::string base_link;    //!< first link of the arm chain
+  std::string tip_link;     //!< last link of the arm chain
+};
+
+//! How step() chooses among the movements of a known context.
+struct SkillSettings {
+  int step_cap = 12;                //!< most movements a run may take
+  bool smoothing = false;           //!< METHOD.md's chapter-6 neighbour smoothing
+  double uniform_tolerance = 1e-9;  //!< a row within this of uniform carries no information
+};
+
+//! A skill: discretizer, policy table and movement repertoire, loaded from a bundle.
+//! Immutable: every method is const and may be called from several threads at once.
+class Skill {
+ public:
+  //! An empty skill; load one with load_bundle().
+  Skill() = default;
+
+  //! Assemble a skill from its parts, checking that they agree (table axes = variables'
+  //! bins, table movements = repertoire size).
+  //! \return `size_mismatch` or `invalid_argument` naming the check, else `ok`.
+  static Result create(std::string name, Discretizer discretizer, PolicyTable table,
+                       MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
+                       Skill& out);
+
+  //! True once loaded.
+  bool loaded() const noexcept { return table_.n_moves() > 0; }
+  //! The skill's name.
+  const std::string& name() const noexcept { return name_; }
+  //! The evidence variables and their bin math.
+  const Discretizer& discretizer() const noexcept { return discretizer_; }
+  //! The compiled table.
+  const PolicyTable& table() const noexcept { return table_; }
+  //! The movement repertoire.
+  const MovementRepertoire& movements() const noexcept { return movements_; }
+  //! Step cap, smoothing and uniform tolerance.
+  const SkillSettings& settings() const noexcept { return settings_; }
+  //! The robot it was learned for.
+  const RobotInfo& robot() const noexcept { return robot_; }
+  //! Number of evidence variables.
+  int n_variables() const noexcept { return discretizer_.n_variables(); }
+  //! Number of movements.
+  int n_moves() const noexcept { return table_.n_moves(); }
+
+ private:
+  std::string name_;
+  Discretizer discretizer_;
+  PolicyTable table_;
+  MovementRepertoire movements_;
+  SkillSettings settings_;
+  RobotInfo robot_;
+};
+
+//! One step of a skill as the trace records it (METHOD.md: context bins, movement,
+//! probability). Fixed size.
+struct TraceRecord {
+  std::int64_t step = 0;  //!< index of the step() call since the last reset
+  int n_variables = 0;    //!< valid entries of `bins`
+  std::array<std::int16_t, kMaxVariables> bins{};  //!< bin per variable, -1 = unknown
+  int movement = -1;                               //!< chosen movement, -1 if none
+  double probability = 0.0;                        //!< its (smoothed) probability, 0 if none
+  Status status = Status::not_initialized;         //!< what the step returned
+};
+
+//! What one step() returns.
+struct StepOutput {
+  Status status = Status::not_initialized;                 //!< ok, or why the run stops
+  int movement = -1;                                       //!< chosen movement (ok only), else -1
+  double probability = 0.0;                                //!< its probability (ok only), else 0
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  //!< its displacement (m)
+  TraceRecord record;                                      //!< what was pushed into the trace
+};
+
+//! Smoothing choice of a run: the bundle's setting or an override.
+enum class Smoothing : int {
+  from_skill = 0,  //!< use the skill's `execution.smoothing`
+  off = 1,         //!< never smooth
+  on = 2,          //!< always smooth
+};
+
+//! The mutable state of one run of a skill. Everything is allocated by the constructor;
+//! step() and reset() allocate nothing.
+class SkillState {
+ public:
+  //! An unusable state (step() returns not_initialized).
+  SkillState() = default;
+  //! A state sized for `skill`, with a trace ring buffer of `trace_capacity` records
+  //! (at least 1).
+  explicit SkillState(const Skill& skill, std::size_t trace_capacity = 1024);
+
+  //! Start a new run: step counter to 0. Keeps the trace (see clear_trace()). No allocation.
+  void reset() noexcept {
+    steps_ = 0;
+    calls_ = 0;
+  }
+  //! Movements taken since the last reset.
+  int steps() const noexcept { return steps_; }
+  //! Smoothing choice for the next steps.
+  Smoothing smoothing = Smoothing::from_skill;
+
+  //! Records held (at most the capacity).
+  std::size_t trace_size() const noexcept { return trace_size_; }
+  //! Capacity of the ring buffer.
+  std::size_t trace_capacity() const noexcept { return trace_.size(); }
+  //! Records overwritten because the buffer was full.
+  std::uint64_t trace_dropped() const noexcept { return dropped_; }
+  //! Record i, oldest first (i < trace_size()).
+  const TraceRecord& trace(std::size_t i) const noexcept {
+    return trace_[(trace_head_ + i) % trace_.size()];
+  }
+  //! Empty the trace. No allocation.
+  void clear_trace() noexcept {
+    trace_head_ = trace_size_ = 0;
+    dropped_ = 0;
+  }
+
+ private:
+  friend Status step(const Skill&, SkillState&, const Context&, StepOutput&) noexcept;
+  void push(const TraceRecord& r) noexcept;
+
+  int n_variables_ = -1;
+  int n_moves_ = 0;
+  int steps_ = 0;
+  std::int64_t calls_ = 0;
+  std::array<int, kMaxVariables> bins_{};
+  std::vector<double> average_;  // n_moves: smoothing's averaged posterior
+  std::vector<int> votes_;       // n_moves: smoothing's argmax counts
+  std::vector<TraceRecord> trace_;
+  std::size_t trace_head_ = 0, trace_size_ = 0;
+  std::uint64_t dropped_ = 0;
+};
+
+//! One step of a skill: context -> bins -> table -> movement.
+//!
+//! Stops (returns a status other than `ok`, movement -1) when:
+//! - `context.effect_produced` is set: `effect_produced`;
+//! - `state.steps()` reached the skill's step cap: `step_cap`;
+//! - the context is unknown (a non-finite position, an effect or high-level index out of
+//!   range, or a uniform table row = argmax -1): `unknown_context`. It never guesses.
+//! With smoothing (METHOD.md chapter 6), the posterior is averaged over the current point and
+//! its 6 neighbours (eef +- step/2 along x, y, z), uniform (uninformative) neighbours left
+//! out; the top movement is taken if it is alone, has p > 0.95, or the second is below 0.75
+//! times the first; otherwise the one of the two that is the argmax at more of the 7 points
+//! (the first on a tie). An unknown current point is still an unknown context.
+//! Every call pushes one TraceRecord into the state's ring buffer.
+//! \return the status, also in `out.status`. Allocates nothing, throws nothing.
+Status step(const Skill& skill, SkillState& state, const Context& context,
+            StepOutput& out) noexcept;
+
+}  // namespace a2l

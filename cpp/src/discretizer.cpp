@@ -1,0 +1,164 @@
+#include "a2l/discretizer.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace a2l {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2.0 * kPi;
+}  // namespace
+
+const char* variable_kind_name(VariableKind kind) noexcept {
+  switch (kind) {
+    case VariableKind::effect:
+      return "effect";
+    case VariableKind::distance:
+      return "distance";
+    case VariableKind::orientation:
+      return "orientation";
+    case VariableKind::inclination:
+      return "inclination";
+    case VariableKind::high_level:
+      return "high_level";
+  }
+  return "unknown_kind";
+}
+
+bool parse_variable_kind(const std::string& name, VariableKind& kind) noexcept {
+  for (int i = 0; i <= static_cast<int>(VariableKind::high_level); ++i) {
+    const auto k = static_cast<VariableKind>(i);
+    if (name == variable_kind_name(k)) {
+      kind = k;
+      return true;
+    }
+  }
+  return false;
+}
+
+Result Discretizer::create(std::vector<Variable> variables, Discretizer& out) {
+  if (variables.size() > static_cast<size_t>(kMaxVariables)) {
+    return Result::failure(Status::invalid_argument,
+                           "variables: " + std::to_string(variables.size()) +
+                               " variables, at most " + std::to_string(kMaxVariables) +
+                               " are supported");
+  }
+  std::set<std::string> names;
+  int count[5] = {0, 0, 0, 0, 0};
+  int effect_axis = -1;
+  for (size_t i = 0; i < variables.size(); ++i) {
+    Variable& v = variables[i];
+    const std::string where = "variables[" + std::to_string(i) + "] ('" + v.name + "')";
+    if (v.name.empty()) return Result::failure(Status::invalid_argument, where + ": empty name");
+    if (!names.insert(v.name).second) {
+      return Result::failure(Status::invalid_argument, where + ": duplicate name");
+    }
+    const int k = static_cast<int>(v.kind);
+    if (k < 0 || k > static_cast<int>(VariableKind::high_level)) {
+      return Result::failure(Status::invalid_argument, where + ": unknown kind");
+    }
+    if (v.kind == VariableKind::effect || v.kind == VariableKind::high_level) {
+      if (v.values.empty() || v.values.size() > static_cast<size_t>(kMaxBins)) {
+        return Result::failure(Status::invalid_argument,
+                               where + ".values: needs 1 to " + std::to_string(kMaxBins) +
+                                   " values, got " + std::to_string(v.values.size()));
+      }
+      std::set<std::string> seen(v.values.begin(), v.values.end());
+      if (seen.size() != v.values.size()) {
+        return Result::failure(Status::invalid_argument, where + ".values: duplicate value");
+      }
+      v.n_bins = static_cast<int>(v.values.size());
+    } else if (v.n_bins < 1 || v.n_bins > kMaxBins) {
+      return Result::failure(Status::invalid_argument, where + ".n_bins: must be in [1, " +
+                                                           std::to_string(kMaxBins) + "], got " +
+                                                           std::to_string(v.n_bins));
+    }
+    if (v.kind == VariableKind::distance) {
+      if (!std::isfinite(v.low) || !std::isfinite(v.high) || !(v.low < v.high)) {
+        std::ostringstream ss;
+        ss << where << ".low/high: need finite low < high, got low=" << v.low << " high=" << v.high;
+        return Result::failure(Status::invalid_argument, ss.str());
+      }
+    }
+    if (v.kind != VariableKind::high_level && ++count[k] > 1) {
+      return Result::failure(Status::invalid_argument, where + ": a second variable of kind '" +
+                                                           variable_kind_name(v.kind) +
+                                                           "' (at most one is supported)");
+    }
+    if (v.kind == VariableKind::effect) effect_axis = static_cast<int>(i);
+  }
+  out.variables_ = std::move(variables);
+  out.effect_axis_ = effect_axis;
+  return Result::success();
+}
+
+int Discretizer::find(const std::string& name) const noexcept {
+  for (size_t i = 0; i < variables_.size(); ++i) {
+    if (variables_[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int Discretizer::distance_bin(double d, double low, double high, int n) noexcept {
+  if (!std::isfinite(d)) return -1;
+  const double x = std::floor((d - low) / (high - low) * n);
+  if (!(x >= 0.0)) return 0;
+  if (x >= n - 1) return n - 1;
+  return static_cast<int>(x);
+}
+
+int Discretizer::orientation_bin(double theta, int n) noexcept {
+  if (!std::isfinite(theta)) return -1;
+  const double w = kTwoPi / n;
+  double r = std::fmod(theta + kPi + 0.5 * w, kTwoPi);
+  if (r < 0.0) r += kTwoPi;
+  int b = static_cast<int>(std::floor(r / w));
+  b %= n;
+  if (b < 0) b += n;
+  return b;
+}
+
+int Discretizer::inclination_bin(double phi, int n) noexcept {
+  if (!std::isfinite(phi)) return -1;
+  const double x = std::floor(phi / kPi * n);
+  if (!(x >= 0.0)) return 0;
+  if (x >= n - 1) return n - 1;
+  return static_cast<int>(x);
+}
+
+Status Discretizer::discretize(const Context& c, int* bins) const noexcept {
+  const bool finite = c.eef.allFinite() && c.object.allFinite();
+  const Eigen::Vector3d rel = c.eef - c.object;  // eef relative to the object
+  Status status = Status::ok;
+  const int n = n_variables();
+  for (int i = 0; i < n; ++i) {
+    const Variable& v = variables_[static_cast<size_t>(i)];
+    int b = -1;
+    switch (v.kind) {
+      case VariableKind::effect:
+        b = (c.effect >= 0 && c.effect < v.n_bins) ? c.effect : -1;
+        break;
+      case VariableKind::high_level: {
+        const int x = c.high_level[static_cast<size_t>(i)];
+        b = (x >= 0 && x < v.n_bins) ? x : -1;
+        break;
+      }
+      case VariableKind::distance:
+        if (finite) b = distance_bin(rel.norm(), v.low, v.high, v.n_bins);
+        break;
+      case VariableKind::orientation:
+        if (finite) b = orientation_bin(std::atan2(rel.y(), rel.x()), v.n_bins);
+        break;
+      case VariableKind::inclination:
+        if (finite) b = inclination_bin(std::atan2(rel.head<2>().norm(), rel.z()), v.n_bins);
+        break;
+    }
+    bins[i] = b;
+    if (b < 0) status = Status::unknown_context;
+  }
+  return status;
+}
+
+}  // namespace a2l

@@ -1,0 +1,121 @@
+#include "a2l/executor.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <sstream>
+
+namespace a2l {
+
+Result Executor::init(const Kinematics& kinematics, const Eigen::Ref<const Eigen::VectorXd>& q0,
+                      const ExecutorOptions& options) {
+  if (!kinematics.loaded() || kinematics.n_joints() < 1) {
+    return Result::failure(Status::not_initialized, "executor: the kinematics are not loaded");
+  }
+  if (q0.size() != kinematics.n_joints()) {
+    return Result::failure(Status::size_mismatch, "executor: q0 has " + std::to_string(q0.size()) +
+                                                      " entries, the chain " +
+                                                      std::to_string(kinematics.n_joints()) +
+                                                      " joints");
+  }
+  if (!(options.period > 0.0) || !(options.max_speed > 0.0) || !(options.damping >= 0.0) ||
+      !(options.position_tolerance > 0.0) || !(options.velocity_margin > 0.0) ||
+      !(options.limit_margin >= 0.0) || options.watchdog_ticks < 1 ||
+      !(options.orientation_gain >= 0.0 && options.orientation_gain <= 1.0)) {
+    return Result::failure(Status::invalid_argument,
+                           "executor: options out of their domain (period, max_speed, "
+                           "position_tolerance and velocity_margin > 0; damping, limit_margin "
+                           ">= 0; orientation_gain in [0, 1]; watchdog_ticks >= 1)");
+  }
+  kin_ = &kinematics;
+  options_ = options;
+  const int n = kinematics.n_joints();
+  lower_ = kinematics.lower().array() + options.limit_margin;
+  upper_ = kinematics.upper().array() - options.limit_margin;
+  max_step_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double v = kinematics.velocity_limits()[i];
+    max_step_[i] = v > 0.0 ? v * options.velocity_margin * options.period
+                           : std::numeric_limits<double>::infinity();
+  }
+  const Status s = reset(q0);
+  if (s != Status::ok) {
+    std::ostringstream ss;
+    ss << "executor: q0 = (" << q0.transpose() << ") is not a valid start: " << status_name(s);
+    kin_ = nullptr;
+    return Result::failure(Status::invalid_argument, ss.str());
+  }
+  return Result::success();
+}
+
+Status Executor::reset(const Eigen::Ref<const Eigen::VectorXd>& q0) noexcept {
+  if (kin_ == nullptr) return Status::not_initialized;
+  if (q0.size() != kin_->n_joints()) return Status::size_mismatch;
+  if (!q0.allFinite()) return Status::invalid_argument;
+  for (int i = 0; i < q0.size(); ++i) {
+    if (q0[i] < lower_[i] || q0[i] > upper_[i]) return Status::joint_limit;
+  }
+  q_ = q0;
+  const Status s = kin_->fk_jacobian(q_, pose_, jac_);
+  if (s != Status::ok) return s;
+  hold_ = pose_.linear();
+  target_ = reference_ = pose_.translation();
+  ticks_ = 0;
+  reached_ = true;
+  return Status::ok;
+}
+
+Status Executor::set_target(const Eigen::Vector3d& position) noexcept {
+  if (kin_ == nullptr) return Status::not_initialized;
+  if (!position.allFinite() || (position.array() < options_.workspace_min.array()).any() ||
+      (position.array() > options_.workspace_max.array()).any()) {
+    return Status::workspace_limit;
+  }
+  target_ = position;
+  reference_ = pose_.translation();
+  ticks_ = 0;
+  reached_ = (target_ - reference_).norm() <= options_.position_tolerance;
+  return Status::ok;
+}
+
+Status Executor::tick() noexcept {
+  if (kin_ == nullptr) return Status::not_initialized;
+  if (++ticks_ > options_.watchdog_ticks && !reached_) return Status::unreachable;
+  // Advance the reference toward the target at most max_speed * period.
+  const double max_move = options_.max_speed * options_.period;
+  Eigen::Vector3d to_target = target_ - reference_;
+  const double dist = to_target.norm();
+  if (dist > max_move) to_target *= max_move / dist;
+  const Eigen::Vector3d reference = reference_ + to_target;
+
+  Eigen::Matrix<double, 6, 1> err;
+  err.head<3>() = reference - pose_.translation();
+  const Eigen::AngleAxisd aa(hold_ * pose_.linear().transpose());
+  err.tail<3>() = options_.orientation_gain * aa.angle() * aa.axis();
+
+  Eigen::Matrix<double, 6, 6> a = jac_ * jac_.transpose();
+  a.diagonal().array() += options_.damping * options_.damping;
+  const Eigen::Matrix<double, 6, 1> y = a.ldlt().solve(err);
+  JointVector dq = jac_.transpose() * y;
+  if (!dq.allFinite()) return Status::internal_error;
+  const int n = kin_->n_joints();
+  for (int i = 0; i < n; ++i) {
+    if (std::abs(dq[i]) > max_step_[i]) return Status::velocity_limit;
+  }
+  JointVector q = q_ + dq;
+  for (int i = 0; i < n; ++i) {
+    if (q[i] < lower_[i] || q[i] > upper_[i]) return Status::joint_limit;
+  }
+  Eigen::Isometry3d pose;
+  Jacobian jac;
+  const Status s = kin_->fk_jacobian(q, pose, jac);
+  if (s != Status::ok) return Status::internal_error;
+  q_ = q;
+  pose_ = pose;
+  jac_ = jac;
+  reference_ = reference;
+  reached_ = (target_ - pose_.translation()).norm() <= options_.position_tolerance &&
+             (target_ - reference_).norm() <= options_.position_tolerance;
+  return Status::ok;
+}
+
+}  // namespace a2l

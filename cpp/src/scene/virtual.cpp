@@ -1,0 +1,40 @@
+#include "a2l/scene/virtual.hpp"
+
+#include <cmath>
+
+namespace a2l {
+
+int classify_effect(const Eigen::Vector3d& d, int n_effects, double threshold,
+                    double ratio) noexcept {
+  if (n_effects != 4 && n_effects != 8) return -1;
+  const double dx = d.x(), dy = d.y();
+  if (!std::isfinite(dx) || !std::isfinite(dy)) return -1;
+  if (!(std::hypot(dx, dy) >= threshold)) return -1;
+  const double ax = std::abs(dx), ay = std::abs(dy);
+  const int x_axis = dx > 0 ? 3 : 2;  // far / close
+  const int y_axis = dy > 0 ? 0 : 1;  // left / right
+  int out = ax >= ay ? x_axis : y_axis;
+  if (n_effects == 8 && !(ax > ratio * ay || ay > ratio * ax)) {
+    out = 4 + (dx > 0 ? 2 : 0) + (dy > 0 ? 0 : 1);
+  }
+  return out;
+}
+
+bool VirtualScene::in_contact(const Eigen::Vector3d& p) const noexcept {
+  const Eigen::Vector3d rel = (p - object_).cwiseAbs();
+  const Eigen::Vector3d grown = options_.half_size.array() + options_.eef_radius;
+  return (rel.array() < grown.array()).all();
+}
+
+bool VirtualScene::move(const Eigen::Vector3d& d) {
+  const Eigen::Vector3d p = eef_ + d;
+  eef_ = p;
+  if (!p.allFinite() || (d.x() == 0.0 && d.y() == 0.0) || !in_contact(p)) return false;
+  const int k = std::abs(d.x()) >= std::abs(d.y()) ? 0 : 1;
+  const double reach = options_.half_size[k] + options_.eef_radius;
+  const double before = object_[k];
+  object_[k] = d[k] > 0 ? p[k] + reach : p[k] - reach;
+  return object_[k] != before;
+}
+
+}  // namespace a2l

@@ -1,0 +1,182 @@
+#include "a2l/skill.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace a2l {
+
+Result Skill::create(std::string name, Discretizer discretizer, PolicyTable table,
+                     MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
+                     Skill& out) {
+  if (table.n_axes() != discretizer.n_variables()) {
+    return Result::failure(Status::size_mismatch,
+                           "skill: the table has " + std::to_string(table.n_axes()) +
+                               " evidence axes for " + std::to_string(discretizer.n_variables()) +
+                               " variables");
+  }
+  for (int i = 0; i < table.n_axes(); ++i) {
+    const Variable& v = discretizer.variable(i);
+    if (table.shape()[static_cast<size_t>(i)] != v.n_bins) {
+      return Result::failure(Status::size_mismatch,
+                             "skill: table axis " + std::to_string(i) + " has " +
+                                 std::to_string(table.shape()[static_cast<size_t>(i)]) +
+                                 " bins, variable '" + v.name + "' has " +
+                                 std::to_string(v.n_bins));
+    }
+  }
+  if (table.n_moves() != movements.size()) {
+    return Result::failure(Status::size_mismatch,
+                           "skill: the table has " + std::to_string(table.n_moves()) +
+                               " movements, the repertoire " + std::to_string(movements.size()));
+  }
+  if (settings.step_cap < 1) {
+    return Result::failure(Status::invalid_argument, "execution.step_cap: must be >= 1, got " +
+                                                         std::to_string(settings.step_cap));
+  }
+  if (!std::isfinite(settings.uniform_tolerance) || settings.uniform_tolerance < 0.0) {
+    return Result::failure(Status::invalid_argument,
+                           "execution.uniform_tolerance: must be finite and >= 0");
+  }
+  out.name_ = std::move(name);
+  out.discretizer_ = std::move(discretizer);
+  out.table_ = std::move(table);
+  out.movements_ = std::move(movements);
+  out.settings_ = settings;
+  out.robot_ = std::move(robot);
+  return Result::success();
+}
+
+SkillState::SkillState(const Skill& skill, std::size_t trace_capacity)
+    : n_variables_(skill.loaded() ? skill.n_variables() : -1),
+      n_moves_(skill.n_moves()),
+      average_(static_cast<size_t>(std::max(skill.n_moves(), 1)), 0.0),
+      votes_(static_cast<size_t>(std::max(skill.n_moves(), 1)), 0),
+      trace_(std::max<std::size_t>(trace_capacity, 1)) {}
+
+void SkillState::push(const TraceRecord& r) noexcept {
+  if (trace_.empty()) return;
+  const std::size_t cap = trace_.size();
+  if (trace_size_ < cap) {
+    trace_[(trace_head_ + trace_size_) % cap] = r;
+    ++trace_size_;
+  } else {
+    trace_[trace_head_] = r;
+    trace_head_ = (trace_head_ + 1) % cap;
+    ++dropped_;
+  }
+}
+
+namespace {
+
+// The top two movements of `p` (lowest index on ties).
+void top_two(const double* p, int n, int& first, int& second) noexcept {
+  first = 0;
+  second = -1;
+  for (int m = 1; m < n; ++m) {
+    if (p[m] > p[first]) {
+      second = first;
+      first = m;
+    } else if (second < 0 || p[m] > p[second]) {
+      second = m;
+    }
+  }
+}
+
+}  // namespace
+
+Status step(const Skill& skill, SkillState& state, const Context& context,
+            StepOutput& out) noexcept {
+  out.movement = -1;
+  out.probability = 0.0;
+  out.displacement.setZero();
+  TraceRecord& rec = out.record;
+  rec.step = state.calls_;
+  rec.movement = -1;
+  rec.probability = 0.0;
+  rec.n_variables = 0;
+
+  auto finish = [&](Status s) noexcept {
+    out.status = s;
+    rec.status = s;
+    if (state.n_variables_ >= 0) {
+      state.push(rec);
+      ++state.calls_;
+    }
+    return s;
+  };
+
+  if (!skill.loaded() || state.n_variables_ < 0) return finish(Status::not_initialized);
+  if (state.n_variables_ != skill.n_variables() || state.n_moves_ != skill.n_moves()) {
+    return finish(Status::size_mismatch);
+  }
+  const int nv = skill.n_variables();
+  const Discretizer& disc = skill.discretizer();
+  const PolicyTable& table = skill.table();
+  int* bins = state.bins_.data();
+  Status s = disc.discretize(context, bins);
+  rec.n_variables = nv;
+  for (int i = 0; i < nv; ++i)
+    rec.bins[static_cast<size_t>(i)] = static_cast<std::int16_t>(bins[i]);
+
+  if (context.effect_produced) return finish(Status::effect_produced);
+  if (state.steps_ >= skill.settings().step_cap) return finish(Status::step_cap);
+  if (s != Status::ok || !table.in_range(bins)) return finish(Status::unknown_context);
+
+  const std::size_t row = table.row_index(bins);
+  const int am = table.argmax(row);
+  if (am < 0) return finish(Status::unknown_context);
+
+  const bool smooth = state.smoothing == Smoothing::on ||
+                      (state.smoothing == Smoothing::from_skill && skill.settings().smoothing);
+  int chosen = am;
+  double prob = table.posterior_row(row)[am];
+  if (smooth) {
+    const int nm = skill.n_moves();
+    double* avg = state.average_.data();
+    int* votes = state.votes_.data();
+    for (int m = 0; m < nm; ++m) {
+      avg[m] = table.posterior_row(row)[m];
+      votes[m] = 0;
+    }
+    votes[am] = 1;
+    int informative = 1;
+    const double h = 0.5 * skill.movements().step();
+    Context nb = context;
+    std::array<int, kMaxVariables> nbins{};
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int sign = -1; sign <= 1; sign += 2) {
+        nb.eef = context.eef;
+        nb.eef[axis] += sign * h;
+        if (disc.discretize(nb, nbins.data()) != Status::ok || !table.in_range(nbins.data())) {
+          continue;
+        }
+        const std::size_t r = table.row_index(nbins.data());
+        const int a = table.argmax(r);
+        if (a < 0) continue;  // uniform: no information
+        const double* p = table.posterior_row(r);
+        for (int m = 0; m < nm; ++m) avg[m] += p[m];
+        ++votes[a];
+        ++informative;
+      }
+    }
+    for (int m = 0; m < nm; ++m) avg[m] /= informative;
+    int first = 0, second = -1;
+    top_two(avg, nm, first, second);
+    chosen = first;
+    if (second >= 0 && avg[second] > 0.0 && avg[first] <= 0.95 &&
+        avg[second] >= 0.75 * avg[first] && votes[second] > votes[first]) {
+      chosen = second;
+    }
+    prob = avg[chosen];
+  }
+
+  ++state.steps_;
+  out.movement = chosen;
+  out.probability = prob;
+  out.displacement = skill.movements().displacement(chosen);
+  rec.movement = chosen;
+  rec.probability = prob;
+  return finish(Status::ok);
+}
+
+}  // namespace a2l
