@@ -1,0 +1,568 @@
+"""The PyBullet scenes: Baxter on its pedestal, a table, and the scene's objects."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+import a2l
+from a2l.errors import A2LValueError
+from a2l.robot import BAXTER_ARMS, arm_spec, pybullet_urdf
+from a2l.sim._pybullet import p, quiet
+from a2l.sim.assets import collision_render_urdf
+from a2l.sim.config import GraspConfig, PressConfig, PushConfig, SceneConfig
+from a2l.sim.perception import Camera, ColorTarget, Perception
+from a2l.sim.scene import MoveResult, Observation, Scene
+
+__all__ = ["BulletScene", "GraspScene", "PressScene", "PushScene", "GRIPPER_DOWN"]
+
+
+
+#: Orientation of the gripper frame when it points down: z to the floor, fingers closing
+#: along the world y axis.
+GRIPPER_DOWN: NDArray[np.float64] = np.diag([-1.0, 1.0, -1.0])
+
+_FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
+_FINGER_OPEN = 0.020833
+_PARK = np.array([-2.0, 2.0])
+
+
+@dataclass
+class _Object:
+    name: str
+    body: int
+    size: tuple[float, float, float]
+    rgba: tuple[float, float, float, float]
+    xy: tuple[float, float]  # configured position
+    movable: bool = True
+    link: int = -1  # link whose position is the object's (button: the cap)
+
+
+class BulletScene(Scene):
+    """A PyBullet scene; subclasses add the objects. Use :func:`a2l.sim.make_scene`."""
+
+    config: SceneConfig
+
+    def __init__(self, config: SceneConfig, seed: int = 0) -> None:
+        super().__init__(config, seed)
+        self._client = -1
+        cfg = config
+        self._client = p.connect(p.GUI if cfg.gui else p.DIRECT)
+        c = self._client
+        if cfg.gui:
+            p.configureDebugVisualizer(p.COV_ENABLE_GUI, 0, physicsClientId=c)
+            p.resetDebugVisualizerCamera(1.6, 120, -25, (0.65, -0.15, -0.15), physicsClientId=c)
+        p.setGravity(0, 0, -9.81, physicsClientId=c)
+        p.setTimeStep(cfg.time_step, physicsClientId=c)
+        self._tick = 0
+        self._perceived_cache: tuple[int, Observation] | None = None
+        self._objects: dict[str, _Object] = {}
+        self._states: dict[str, str] = cfg.initial_states()
+        self._build_world()
+        self._build_robot()
+        self._build_objects()
+        self.camera = Camera(c, cfg.camera_width, cfg.camera_height, cfg.camera_eye,
+                             cfg.camera_target, cfg.camera_fov)
+        self.perception = Perception(
+            self.camera,
+            [ColorTarget(o.name, o.rgba, o.size[2] / 2) for o in self._objects.values()],
+            lamp_rgba=self._lamp_rgba())
+        self._saved = p.saveState(physicsClientId=c)
+        self.reset()
+
+    # --- construction -------------------------------------------------------------
+    def _build_world(self) -> None:
+        c, cfg = self._client, self.config
+        floor = p.createCollisionShape(p.GEOM_PLANE, physicsClientId=c)
+        # the software renderer fills a large floor slowly (16 ms of a 30 ms frame): the
+        # floor is drawn only in the GUI, the camera sees the background colour around the
+        # table instead
+        floor_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(3, 3, 0.001),
+                                        rgbaColor=(0.45, 0.45, 0.47, 1),
+                                        physicsClientId=c) if cfg.gui else -1
+        p.createMultiBody(0, floor, floor_vis, (0, 0, _FLOOR_Z), physicsClientId=c)
+        (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
+        top_h = 0.04
+        top = p.createCollisionShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
+                                     physicsClientId=c)
+        top_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
+                                      rgbaColor=(0.78, 0.76, 0.72, 1), physicsClientId=c)
+        leg_len = cfg.table_z - top_h - _FLOOR_Z
+        legs = []
+        if leg_len > 0:
+            leg_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(0.025, 0.025, leg_len / 2),
+                                          rgbaColor=(0.35, 0.33, 0.3, 1), physicsClientId=c)
+            for ix in (-1, 1):
+                for iy in (-1, 1):
+                    legs.append((leg_vis, (ix * (sx / 2 - 0.05), iy * (sy / 2 - 0.05),
+                                           -top_h / 2 - leg_len / 2)))
+        self._table = p.createMultiBody(
+            0, top, top_vis, (cx, cy, cfg.table_z - top_h / 2),
+            linkMasses=[0] * len(legs), linkCollisionShapeIndices=[-1] * len(legs),
+            linkVisualShapeIndices=[v for v, _ in legs], linkPositions=[q for _, q in legs],
+            linkOrientations=[(0, 0, 0, 1)] * len(legs),
+            linkInertialFramePositions=[(0, 0, 0)] * len(legs),
+            linkInertialFrameOrientations=[(0, 0, 0, 1)] * len(legs),
+            linkParentIndices=[0] * len(legs), linkJointTypes=[p.JOINT_FIXED] * len(legs),
+            linkJointAxis=[(0, 0, 1)] * len(legs), physicsClientId=c)
+        p.changeDynamics(self._table, -1, lateralFriction=0.5, physicsClientId=c)
+
+    def _build_robot(self) -> None:
+        c, cfg = self._client, self.config
+        urdf = pybullet_urdf()
+        if cfg.robot_visual == "collision":
+            urdf = collision_render_urdf(urdf)
+        with quiet():
+            self._robot = p.loadURDF(str(urdf), (0, 0, 0), useFixedBase=True,
+                                     flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=c)
+        self._joint_index: dict[str, int] = {}
+        self._link_index: dict[str, int] = {}
+        self._movable: list[int] = []
+        self._effort: list[float] = []
+        for j in range(p.getNumJoints(self._robot, physicsClientId=c)):
+            info = p.getJointInfo(self._robot, j, physicsClientId=c)
+            self._joint_index[info[1].decode()] = j
+            self._link_index[info[12].decode()] = j
+            if info[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC):
+                self._movable.append(j)
+                self._effort.append(float(info[10]) if info[10] > 0 else 50.0)
+        spec = arm_spec("baxter", cfg.arm)
+        self.kinematics = a2l.Kinematics(spec.urdf, spec.base_link, spec.tip_link)
+        self._arm = [self._joint_index[n] for n in self.kinematics.joint_names]
+        self._neutral_q = np.asarray(spec.neutral, dtype=float)
+        prefix = cfg.arm[0]
+        self._fingers = [self._joint_index[f"{prefix}_gripper_l_finger_joint"],
+                         self._joint_index[f"{prefix}_gripper_r_finger_joint"]]
+        self._finger_links = set(self._fingers)
+        for name in (f"{prefix}_gripper_l_finger_tip", f"{prefix}_gripper_r_finger_tip"):
+            self._finger_links.add(self._link_index[name])
+            p.changeDynamics(self._robot, self._link_index[name], lateralFriction=1.5,
+                             physicsClientId=c)
+        for j in self._fingers:
+            p.changeDynamics(self._robot, j, lateralFriction=1.5, physicsClientId=c)
+        # the joint targets every movable joint holds: both arms neutral, head straight
+        self._targets = {j: 0.0 for j in self._movable}
+        for arm, (_, _, neutral) in BAXTER_ARMS.items():
+            for name, q in zip(
+                    [f"{arm}_{s}" for s in ("s0", "s1", "e0", "e1", "w0", "w1", "w2")],
+                    neutral, strict=True):
+                self._targets[self._joint_index[name]] = q
+        for arm in ("l", "r"):
+            self._targets[self._joint_index[f"{arm}_gripper_l_finger_joint"]] = _FINGER_OPEN
+            self._targets[self._joint_index[f"{arm}_gripper_r_finger_joint"]] = -_FINGER_OPEN
+
+    def _build_objects(self) -> None:
+        """Create the scene's objects (subclasses)."""
+
+    def _add_box(self, name: str, size: tuple[float, float, float], mass: float,
+                 friction: float, xy: tuple[float, float], rgba: tuple[float, ...]) -> None:
+        c = self._client
+        half = [s / 2 for s in size]
+        col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=c)
+        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=rgba,
+                                  physicsClientId=c)
+        body = p.createMultiBody(mass, col, vis, (xy[0], xy[1], self.config.table_z + half[2]),
+                                 physicsClientId=c)
+        p.changeDynamics(body, -1, lateralFriction=friction, physicsClientId=c)
+        self._objects[name] = _Object(name, body, tuple(size), tuple(rgba), tuple(xy))
+
+    def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
+        return None
+
+    # --- low level ----------------------------------------------------------------
+    def _arm_q(self) -> NDArray[np.float64]:
+        states = p.getJointStates(self._robot, self._arm, physicsClientId=self._client)
+        return np.array([s[0] for s in states])
+
+    def eef_position(self) -> NDArray[np.float64]:
+        return self.kinematics.fk(self._arm_q())[:3, 3].copy()
+
+    def joint_positions(self) -> NDArray[np.float64]:
+        """Joint positions (7,) of the acting arm, base to tip."""
+        return self._arm_q()
+
+    def _command(self) -> None:
+        idx = list(self._targets)
+        p.setJointMotorControlArray(
+            self._robot, idx, p.POSITION_CONTROL,
+            targetPositions=[self._targets[j] for j in idx],
+            forces=self._effort, physicsClientId=self._client)
+
+    def _sim_step(self) -> None:
+        p.stepSimulation(physicsClientId=self._client)
+        self._tick += 1
+        self._after_sim_step()
+        if self.config.gui:
+            time.sleep(self.config.time_step)
+
+    def _after_sim_step(self) -> None:
+        """Hook run after every physics step (the press scene watches its button)."""
+
+    def _set_arm_targets(self, q: NDArray[np.float64]) -> None:
+        for j, v in zip(self._arm, q, strict=True):
+            self._targets[j] = float(v)
+
+    def _set_fingers(self, closed: bool) -> None:
+        l_, r_ = self._fingers
+        self._targets[l_] = 0.0 if closed else _FINGER_OPEN
+        self._targets[r_] = 0.0 if closed else -_FINGER_OPEN
+
+    def _pose(self, xyz: ArrayLike) -> NDArray[np.float64]:
+        t = np.eye(4)
+        t[:3, :3] = GRIPPER_DOWN
+        t[:3, 3] = np.asarray(xyz, dtype=float)
+        return t
+
+    # --- Scene interface ------------------------------------------------------------
+    def reset(self, eef: ArrayLike | None = None,
+              objects: dict[str, ArrayLike] | None = None) -> None:
+        c, cfg = self._client, self.config
+        p.restoreState(self._saved, physicsClientId=c)
+        self._removed = set()
+        self._hold = 0
+        self._states = cfg.initial_states()
+        q_arm = self._neutral_q.copy()
+        if eef is not None:
+            target = np.asarray(eef, dtype=float).reshape(3)
+            q_arm, rep = self.kinematics.ik_report(self._pose(target), self._neutral_q)
+            if rep.status != a2l.Status.ok:
+                raise A2LValueError(f"reset: eef {tuple(np.round(target, 4))} is unreachable "
+                                    f"with the gripper pointing down "
+                                    f"({a2l._core.status_name(rep.status)})")
+        self._set_arm_targets(q_arm)
+        self._set_fingers(self._states["gripper"] == "closed")
+        for j, v in self._targets.items():
+            p.resetJointState(self._robot, j, v, 0.0, physicsClientId=c)
+        self._command()
+        placed = dict(objects or {})
+        for name in placed:
+            if name not in self._objects:
+                raise A2LValueError(f"reset: unknown object '{name}'; this scene has "
+                                    f"{sorted(self._objects)}")
+        for o in self._objects.values():
+            xy = np.asarray(placed.get(o.name, o.xy), dtype=float).reshape(2)
+            if o.movable and cfg.object_jitter > 0:
+                xy = xy + self._rng.uniform(-cfg.object_jitter, cfg.object_jitter, 2)
+            if o.name in placed or (o.movable and cfg.object_jitter > 0):
+                cfg.check_on_table(f"{o.name} position", (float(xy[0]), float(xy[1])),
+                                   (o.size[0] / 2, o.size[1] / 2))
+                self._place_base(o, xy)
+        self._reset_extra()
+        self._tick += 1
+        self._perceived_cache = None
+        self._episode_start = self._snapshot()
+        self._step_start = self._episode_start
+
+    def _place_base(self, o: _Object, xy: NDArray[np.float64]) -> None:
+        pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=self._client)
+        if o.link == -1:
+            z = self.config.table_z + o.size[2] / 2
+        else:
+            z = pos[2]
+        self._teleport(o.body, (float(xy[0]), float(xy[1]), z),
+                       orn if o.link != -1 else (0, 0, 0, 1))
+
+    def _teleport(self, body: int, pos: Any, orn: Any) -> None:
+        c = self._client
+        p.resetBasePositionAndOrientation(body, pos, orn, physicsClientId=c)
+        p.resetBaseVelocity(body, (0, 0, 0), (0, 0, 0), physicsClientId=c)
+
+    def _reset_extra(self) -> None:
+        """Scene-specific reset (light, button)."""
+
+    def _object_names(self) -> list[str]:
+        return list(self._objects)
+
+    def _object_position(self, o: _Object) -> tuple[float, float, float]:
+        c = self._client
+        if o.link == -1:
+            pos = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[0]
+        else:
+            pos = p.getLinkState(o.body, o.link, computeForwardKinematics=True,
+                                 physicsClientId=c)[4]
+        return (float(pos[0]), float(pos[1]), float(pos[2]))
+
+    def _ground_truth(self) -> Observation:
+        objs = {n: self._object_position(o) for n, o in self._objects.items()
+                if n not in self._removed}
+        return Observation(objs, dict(self._states), self.eef_position(),
+                           self._states["gripper"] == "closed")
+
+    def _perceive(self) -> Observation:
+        if self._perceived_cache is not None and self._perceived_cache[0] == self._tick:
+            return self._perceived_cache[1]
+        rgb, depth = self.camera.render()
+        objs, lamp = self.perception.locate(rgb, depth)
+        states = dict(self._states)
+        if "light_on" in lamp:
+            states["light"] = "on" if lamp["light_on"] else "off"
+        obs = Observation(objs, states, self.eef_position(), self._states["gripper"] == "closed")
+        self._perceived_cache = (self._tick, obs)
+        return obs
+
+    def render(self) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
+        """One camera frame: RGB (H, W, 3) uint8 and the depth buffer (H, W) float32."""
+        return self.camera.render()
+
+    def _move(self, disp: NDArray[np.float64]) -> MoveResult:
+        cfg = self.config
+        start = self.eef_position()
+        target = start + disp
+        lo = np.array(cfg.workspace_min) + np.array([0, 0, cfg.table_z])
+        hi = np.array(cfg.workspace_max) + np.array([0, 0, cfg.table_z])
+        if np.any(target < lo) or np.any(target > hi):
+            axis = "xyz"[int(np.argmax((target < lo) | (target > hi)))]
+            return MoveResult(False, "workspace_limit",
+                              f"target {tuple(np.round(target, 3))} leaves the workspace along "
+                              f"{axis} ([{tuple(np.round(lo, 3))}, {tuple(np.round(hi, 3))}])",
+                              target, start)
+        n = max(1, math.ceil(np.linalg.norm(disp) / cfg.waypoint_spacing - 1e-9))
+        q = self._arm_q()
+        plan = []
+        for i in range(1, n + 1):
+            wp = start + disp * (i / n)
+            qi, rep = self.kinematics.ik_report(self._pose(wp), q)
+            if rep.status != a2l.Status.ok:
+                status = a2l._core.status_name(rep.status)
+                return MoveResult(False, "unreachable" if status != "joint_limit" else status,
+                                  f"IK found no solution within the joint limits for waypoint "
+                                  f"{i}/{n} at {tuple(np.round(wp, 3))} ({status}; error "
+                                  f"{rep.position_error:.4f} m, {rep.orientation_error:.4f} rad)",
+                                  target, start)
+            jump = float(np.max(np.abs(qi - q)))
+            if jump > cfg.max_joint_jump:
+                return MoveResult(False, "unreachable",
+                                  f"the IK solution for waypoint {i}/{n} at "
+                                  f"{tuple(np.round(wp, 3))} is {jump:.2f} rad away in joint "
+                                  f"space (> max_joint_jump {cfg.max_joint_jump}): the arm "
+                                  "would swing around", target, start)
+            plan.append(qi)
+            q = qi
+        steps_per_wp = max(1, round(np.linalg.norm(disp) / n / cfg.speed / cfg.time_step))
+        for qi in plan:
+            self._set_arm_targets(qi)
+            self._command()
+            for _ in range(steps_per_wp):
+                self._sim_step()
+        settle_max = max(1, round(0.3 / cfg.time_step))
+        for i in range(settle_max):
+            self._sim_step()
+            if i >= 4 and np.linalg.norm(self.eef_position() - target) < 0.002:
+                break
+        reached = self.eef_position()
+        err = float(np.linalg.norm(reached - target))
+        if err > cfg.reach_tolerance:
+            return MoveResult(False, "blocked", f"the end-effector stopped {err:.3f} m short "
+                              f"of its target {tuple(np.round(target, 3))}", target, reached)
+        return MoveResult(True, "ok", "", target, reached)
+
+    def _idle(self) -> None:
+        cfg = self.config
+        n = max(1, round(cfg.step / cfg.speed / cfg.time_step))
+        for _ in range(n):
+            self._sim_step()
+
+    def settle(self, seconds: float = 0.2) -> None:
+        """Let the physics run for `seconds` with the current joint targets."""
+        for _ in range(max(1, round(seconds / self.config.time_step))):
+            self._sim_step()
+
+    def open_gripper(self) -> None:
+        """Open the gripper and let the fingers move (0.4 s)."""
+        self._states["gripper"] = "open"
+        self._set_fingers(False)
+        self._command()
+        self.settle(0.4)
+
+    def close_gripper(self) -> None:
+        """Close the gripper and let the fingers move (0.4 s); an object between the finger
+        tips is squeezed with the fingers' effort limit."""
+        self._states["gripper"] = "closed"
+        self._set_fingers(True)
+        self._command()
+        self.settle(0.4)
+
+    def _place(self, name: str, xyz: NDArray[np.float64]) -> None:
+        o = self._objects[name]
+        self.config.check_on_table("delta", (float(xyz[0]), float(xyz[1])),
+                                   (o.size[0] / 2, o.size[1] / 2))
+        c = self._client
+        pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)
+        shift = np.asarray(xyz, dtype=float) - np.asarray(self._object_position(o))
+        self._teleport(o.body, tuple(np.asarray(pos) + shift), orn)
+        self._tick += 1
+
+    def _park(self, name: str) -> None:
+        o = self._objects[name]
+        c = self._client
+        orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[1]
+        k = list(self._objects).index(name)
+        self._teleport(o.body, (_PARK[0], _PARK[1] + 0.5 * k, _FLOOR_Z + o.size[2] / 2 + 0.05),
+                       orn)
+        self._tick += 1
+
+    def _toggle(self, state: str) -> None:
+        if state == "gripper":
+            closed = self._states["gripper"] != "closed"
+            self._states["gripper"] = "closed" if closed else "open"
+            self._set_fingers(closed)
+            self._command()
+        self._tick += 1
+
+    def contacts(self, name: str) -> bool:
+        """Whether object `name` touches one of the gripper's fingers (ground truth)."""
+        o = self._objects[name]
+        pts = p.getContactPoints(self._robot, o.body, physicsClientId=self._client)
+        return any(pt[3] in self._finger_links for pt in pts)
+
+    def close(self) -> None:
+        if getattr(self, "_client", -1) >= 0:
+            try:
+                p.disconnect(physicsClientId=self._client)
+            except p.error:
+                pass
+            self._client = -1
+
+    @property
+    def client(self) -> int:
+        """The PyBullet physics client id of this scene."""
+        return self._client
+
+
+class PushScene(BulletScene):
+    """A box on the table to push (config: :class:`a2l.sim.PushConfig`)."""
+
+    name = "push"
+    primary_object = "box"
+    config: PushConfig
+
+    def _build_objects(self) -> None:
+        cfg = self.config
+        self._add_box("box", cfg.box_size, cfg.box_mass, cfg.box_friction, cfg.box_position,
+                      cfg.box_color)
+
+
+class GraspScene(BulletScene):
+    """A narrow block the gripper can grasp and lift (config: :class:`a2l.sim.GraspConfig`)."""
+
+    name = "grasp"
+    primary_object = "block"
+    config: GraspConfig
+
+    def _build_objects(self) -> None:
+        cfg = self.config
+        self._add_box("block", cfg.block_size, cfg.block_mass, cfg.block_friction,
+                      cfg.block_position, cfg.block_color)
+
+
+_LAMP_ON = (1.0, 0.85, 0.05, 1.0)
+_LAMP_OFF = (0.22, 0.22, 0.22, 1.0)
+
+
+class PressScene(BulletScene):
+    """A button that toggles a light, and a box (config: :class:`a2l.sim.PressConfig`).
+
+    The button's cap slides down on a prismatic joint held up by a spring (a position
+    motor of limited force); each time it goes down more than ``button_trigger`` the light
+    toggles. The lamp is a sphere on the table, yellow when lit, dark grey when not.
+    """
+
+    name = "press"
+    primary_object = "button"
+    config: PressConfig
+
+    def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
+        return _LAMP_ON
+
+    def _build_objects(self) -> None:
+        cfg, c = self.config, self._client
+        self._add_box("box", cfg.box_size, cfg.box_mass, cfg.box_friction, cfg.box_position,
+                      cfg.box_color)
+        bx, by = cfg.button_position
+        sx, sy, sz = cfg.button_size
+        hb = cfg.button_base_height
+        base_half = (sx / 2 + 0.01, sy / 2 + 0.01, hb / 2)
+        cap_half = (sx / 2, sy / 2, sz / 2)
+        base_col = p.createCollisionShape(p.GEOM_BOX, halfExtents=base_half, physicsClientId=c)
+        base_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=base_half,
+                                       rgbaColor=(0.3, 0.3, 0.3, 1), physicsClientId=c)
+        cap_col = p.createCollisionShape(p.GEOM_BOX, halfExtents=cap_half, physicsClientId=c)
+        cap_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=cap_half,
+                                      rgbaColor=cfg.button_color, physicsClientId=c)
+        # the cap rests with its top button_travel above the housing: it can go down by
+        # button_travel before touching it
+        cap_z = hb / 2 + cfg.button_travel + sz / 2 - 0.004
+        body = p.createMultiBody(
+            0, base_col, base_vis, (bx, by, cfg.table_z + hb / 2),
+            linkMasses=[0.05], linkCollisionShapeIndices=[cap_col],
+            linkVisualShapeIndices=[cap_vis], linkPositions=[(0, 0, cap_z)],
+            linkOrientations=[(0, 0, 0, 1)], linkInertialFramePositions=[(0, 0, 0)],
+            linkInertialFrameOrientations=[(0, 0, 0, 1)], linkParentIndices=[0],
+            linkJointTypes=[p.JOINT_PRISMATIC], linkJointAxis=[(0, 0, 1)],
+            physicsClientId=c)
+        p.changeDynamics(body, 0, jointLowerLimit=-cfg.button_travel, jointUpperLimit=0.0,
+                         physicsClientId=c)
+        self._button = body
+        self._objects["button"] = _Object("button", body, (sx, sy, sz), tuple(cfg.button_color),
+                                          (bx, by), movable=False, link=0)
+        lr = cfg.lamp_radius
+        lamp_col = p.createCollisionShape(p.GEOM_SPHERE, radius=lr, physicsClientId=c)
+        lamp_vis = p.createVisualShape(p.GEOM_SPHERE, radius=lr, rgbaColor=_LAMP_OFF,
+                                       physicsClientId=c)
+        lx, ly = cfg.lamp_position
+        self._lamp = p.createMultiBody(0, lamp_col, lamp_vis, (lx, ly, cfg.table_z + lr),
+                                       physicsClientId=c)
+        self._presses = 0
+        self._button_down = False
+
+    def _spring(self) -> None:
+        p.setJointMotorControl2(self._button, 0, p.POSITION_CONTROL, targetPosition=0.0,
+                                force=6.0, physicsClientId=self._client)
+
+    def _show_light(self) -> None:
+        p.changeVisualShape(self._lamp, -1,
+                            rgbaColor=_LAMP_ON if self._states["light"] == "on" else _LAMP_OFF,
+                            physicsClientId=self._client)
+
+    def _reset_extra(self) -> None:
+        p.resetJointState(self._button, 0, 0.0, 0.0, physicsClientId=self._client)
+        self._spring()
+        self._presses = 0
+        self._button_down = False
+        self._show_light()
+
+    def button_depth(self) -> float:
+        """How far the button's cap is pushed down (m, >= 0)."""
+        return -float(p.getJointState(self._button, 0, physicsClientId=self._client)[0])
+
+    @property
+    def presses(self) -> int:
+        """Number of presses since the last reset."""
+        return self._presses
+
+    def _after_sim_step(self) -> None:
+        depth = self.button_depth()
+        cfg = self.config
+        if not self._button_down and depth > cfg.button_trigger:
+            self._button_down = True
+            self._presses += 1
+            self._states["light"] = "off" if self._states["light"] == "on" else "on"
+            self._show_light()
+        elif self._button_down and depth < cfg.button_trigger / 2:
+            self._button_down = False
+
+    def _toggle(self, state: str) -> None:
+        if state == "light":
+            self._states["light"] = "off" if self._states["light"] == "on" else "on"
+            self._show_light()
+            self._tick += 1
+            return
+        super()._toggle(state)
+
+
+

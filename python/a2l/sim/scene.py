@@ -1,0 +1,362 @@
+"""The scene interface shared by the PyBullet scenes and the virtual scene."""
+
+from __future__ import annotations
+
+import itertools
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from a2l.errors import A2LValueError
+from a2l.sim.context import Context, low_level_state
+from a2l.sim.effects import push_effect
+
+__all__ = ["DIRECTIONS", "MoveResult", "Observation", "Scene", "as_direction"]
+
+#: The 26 discrete movement directions of METHOD.md: every sign vector but (0, 0, 0),
+#: in lexicographic order.
+DIRECTIONS: tuple[tuple[int, int, int], ...] = tuple(
+    d for d in itertools.product((-1, 0, 1), repeat=3) if d != (0, 0, 0)  # type: ignore[misc]
+)
+
+
+def as_direction(movement: Any) -> NDArray[np.float64]:
+    """Validate a movement (3 signs in {-1, 0, 1}, not all 0); return it as floats (3,)."""
+    try:
+        d = tuple(movement)
+    except TypeError as exc:
+        raise A2LValueError(f"a movement is a 3-tuple of signs in {{-1, 0, 1}}, got "
+                            f"{movement!r}") from exc
+    if len(d) != 3 or any(v not in (-1, 0, 1) for v in d) or d == (0, 0, 0):
+        raise A2LValueError(f"a movement is a 3-tuple of signs in {{-1, 0, 1}}, not all 0; "
+                            f"got {movement!r}")
+    return np.asarray(d, dtype=float)
+
+
+@dataclass(frozen=True)
+class MoveResult:
+    """Outcome of :meth:`Scene.execute`; true when the movement was carried out.
+
+    Attributes
+    ----------
+    carried_out : bool
+        The end-effector reached the target within the tolerance.
+    status : str
+        ``"ok"``, ``"unreachable"`` (no IK solution within the joint limits or the arm
+        would swing around), ``"joint_limit"``, ``"workspace_limit"`` (target outside the
+        workspace bounds: nothing moved), ``"blocked"`` (the arm moved but something
+        stopped it short of the target) or ``"held"`` (a hold perturbation kept it still).
+    message : str
+        Why, for a human; empty when ``ok``.
+    target : ndarray, shape (3,)
+        Where the end-effector was sent.
+    reached : ndarray, shape (3,)
+        Where it is after the movement.
+    """
+
+    carried_out: bool
+    status: str
+    message: str
+    target: NDArray[np.float64]
+    reached: NDArray[np.float64]
+
+    def __bool__(self) -> bool:
+        return self.carried_out
+
+
+@dataclass
+class Observation:
+    """Object positions and high-level states at one instant (perceived or true)."""
+
+    objects: dict[str, tuple[float, float, float]] = field(default_factory=dict)
+    states: dict[str, str] = field(default_factory=dict)
+    eef: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
+    gripper_closed: bool = False
+
+    def as_dict(self) -> dict[str, dict[str, Any]]:
+        return {"objects": dict(self.objects), "states": dict(self.states)}
+
+
+_PERTURB_PARAMS: dict[str, set[str]] = {
+    "move_object": {"delta", "name"},
+    "hold": {"steps"},
+    "toggle": {"state"},
+    "remove_object": {"name"},
+}
+
+
+class Scene(ABC):
+    """A tabletop scene the robot acts in; see :func:`a2l.sim.make_scene`.
+
+    Positions are in the world frame (Baxter's ``base`` frame: x forward, y left, z up),
+    in metres; this is the table frame of every scene (the table top is ``z = table_z``).
+    """
+
+    #: Scene name (``"push"``, ...).
+    name: str = ""
+    #: Name of the object perturbations act on by default.
+    primary_object: str = ""
+
+    def __init__(self, config: Any, seed: int) -> None:
+        self.config = config
+        self.seed = int(seed)
+        self._rng = np.random.default_rng(self.seed)
+        self._step_start: dict[str, Observation] = {}
+        self._episode_start: dict[str, Observation] = {}
+        self._hold = 0
+        self._removed: set[str] = set()
+
+    # --- to implement ---------------------------------------------------------------
+    @abstractmethod
+    def reset(self, eef: ArrayLike | None = None,
+              objects: dict[str, ArrayLike] | None = None) -> None:
+        """Put the scene back in its initial state (a new draw of the object jitter).
+
+        Parameters
+        ----------
+        eef : array_like, shape (3,), optional
+            Start the end-effector here instead of at the neutral pose.
+        objects : dict of str to (x, y), optional
+            Place these objects here instead of their configured positions.
+        """
+
+    @abstractmethod
+    def eef_position(self) -> NDArray[np.float64]:
+        """End-effector point (3,) in the world frame."""
+
+    @abstractmethod
+    def _ground_truth(self) -> Observation: ...
+
+    @abstractmethod
+    def _perceive(self) -> Observation: ...
+
+    @abstractmethod
+    def _move(self, displacement: NDArray[np.float64]) -> MoveResult: ...
+
+    @abstractmethod
+    def _idle(self) -> None:
+        """Let the time of one movement pass without moving the arm."""
+
+    @abstractmethod
+    def _place(self, name: str, xyz: NDArray[np.float64]) -> None:
+        """Teleport object `name` to `xyz` (keeping its orientation), at rest."""
+
+    @abstractmethod
+    def _toggle(self, state: str) -> None: ...
+
+    @abstractmethod
+    def _park(self, name: str) -> None:
+        """Take object `name` out of the scene until the next reset."""
+
+    def close(self) -> None:  # noqa: B027 - nothing to release by default
+        """Release the scene's resources (idempotent)."""
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """Names of the scene's high-level states."""
+        return tuple(self.ground_truth()["states"])
+
+    @property
+    def object_names(self) -> tuple[str, ...]:
+        """Names of the scene's objects (present or removed)."""
+        return tuple(self._object_names())
+
+    @abstractmethod
+    def _object_names(self) -> list[str]: ...
+
+    # --- public interface -------------------------------------------------------------
+    @property
+    def step_length(self) -> float:
+        """Length of one discrete movement (m)."""
+        return float(self.config.step)
+
+    def execute(self, movement: ArrayLike) -> MoveResult:
+        """Carry out one discrete movement of the end-effector.
+
+        Parameters
+        ----------
+        movement : tuple of 3 int
+            Signs in {-1, 0, 1}, not all 0; the end-effector moves by ``step * d / ||d||``.
+
+        Returns
+        -------
+        MoveResult
+            True when carried out; otherwise ``status`` says why. A movement that cannot be
+            carried out is never replaced by another one.
+        """
+        d = as_direction(movement)
+        self._step_start = self._snapshot()
+        disp = self.step_length * d / np.linalg.norm(d)
+        if self._hold > 0:
+            self._hold -= 1
+            here = self.eef_position()
+            self._idle()
+            return MoveResult(False, "held", f"end-effector held still ({self._hold} more "
+                              "steps)", here + disp, self.eef_position())
+        return self._move(disp)
+
+    def ground_truth(self) -> dict[str, dict[str, Any]]:
+        """True object positions and high-level states.
+
+        Returns
+        -------
+        dict
+            ``{"objects": {name: (x, y, z)}, "states": {name: value}}``; a removed object
+            is absent.
+        """
+        return self._ground_truth().as_dict()
+
+    def perceive(self) -> dict[str, dict[str, Any]]:
+        """Object positions and high-level states as the camera sees them.
+
+        Same layout as :meth:`ground_truth`; an object the camera does not see is absent.
+        """
+        return self._perceive().as_dict()
+
+    def _observe(self, source: str | None) -> Observation:
+        src = self._source(source)
+        return self._perceive() if src == "perceived" else self._ground_truth()
+
+    def _source(self, source: str | None) -> str:
+        src = source or getattr(self.config, "context_source", "ground_truth")
+        if src not in ("perceived", "ground_truth"):
+            raise A2LValueError(f"source must be 'perceived' or 'ground_truth', got {src!r}")
+        return src
+
+    def _snapshot(self) -> dict[str, Observation]:
+        snap = {"ground_truth": self._ground_truth()}
+        if self._source(None) == "perceived":
+            snap["perceived"] = self._perceive()
+        return snap
+
+    def context(self, source: str | None = None) -> Context:
+        """Read the context: low-level states of every object and the high-level states.
+
+        Parameters
+        ----------
+        source : {"perceived", "ground_truth"}, optional
+            Default: the config's ``context_source``.
+        """
+        obs = self._observe(source)
+        eef = self.eef_position()
+        objects = {n: low_level_state(eef, pos) for n, pos in obs.objects.items()}
+        return Context(eef=eef, objects=objects, states=dict(obs.states),
+                       source=self._source(source))
+
+    def observe_effect(self, since: str = "step", source: str | None = None) -> str:
+        """Name the effect between an earlier instant and now.
+
+        Parameters
+        ----------
+        since : {"step", "episode"}
+            From the start of the last :meth:`execute`, or from the last :meth:`reset`.
+        source : {"perceived", "ground_truth"}, optional
+            Default: the config's ``context_source``.
+
+        Returns
+        -------
+        str
+            ``"pressed"`` (the light toggled), ``"grasped"`` (an object lifted in the
+            closed gripper), a push effect (``"far"``, ``"close_left"``, ... see
+            :mod:`a2l.sim.effects`) or ``"none"``.
+        """
+        if since not in ("step", "episode"):
+            raise A2LValueError(f"since must be 'step' or 'episode', got {since!r}")
+        src = self._source(source)
+        start = (self._step_start if since == "step" else self._episode_start).get(src)
+        if start is None:
+            raise A2LValueError(f"no '{src}' observation was recorded at the start of the "
+                                f"{since}; use source='ground_truth' or set context_source")
+        return self._effect(start, self._observe(src))
+
+    def _effect(self, before: Observation, after: Observation) -> str:
+        cfg = self.config
+        if "light" in before.states and before.states.get("light") != after.states.get("light"):
+            return "pressed"
+        best, best_d = None, -1.0
+        for name in self._movable_names():
+            if name not in before.objects or name not in after.objects:
+                continue
+            b = np.asarray(before.objects[name])
+            a = np.asarray(after.objects[name])
+            if (a[2] - b[2] > cfg.lift_threshold and after.gripper_closed
+                    and np.linalg.norm(a - after.eef) < 0.08):
+                return "grasped"
+            dist = float(np.hypot(*(a - b)[:2]))
+            if dist > best_d:
+                best, best_d = a - b, dist
+        if best is None:
+            return "none"
+        return push_effect(best, cfg.n_push_effects, cfg.effect_threshold, cfg.effect_ratio)
+
+    def _movable_names(self) -> list[str]:
+        return [n for n in self._object_names() if n != "button"]
+
+    def perturb(self, kind: str, **params: Any) -> None:
+        """Perturb the scene between two steps.
+
+        Parameters
+        ----------
+        kind : str
+            ``"move_object"`` (``delta=(dx, dy)``, ``name=`` optional: teleport an object
+            by delta on the table), ``"hold"`` (``steps=N``: the next N movements leave the
+            end-effector where it is), ``"toggle"`` (``state=name``: flip a high-level
+            state) or ``"remove_object"`` (``name=`` optional: the object leaves the scene
+            until the next reset).
+        """
+        if kind not in _PERTURB_PARAMS:
+            raise A2LValueError(f"unknown perturbation kind '{kind}'; choose one of "
+                                f"{sorted(_PERTURB_PARAMS)}")
+        for key in params:
+            if key not in _PERTURB_PARAMS[kind]:
+                raise A2LValueError(f"unknown parameter '{key}' for perturbation '{kind}'; "
+                                    f"known: {sorted(_PERTURB_PARAMS[kind])}")
+        if kind == "hold":
+            steps = params.get("steps")
+            if not isinstance(steps, (int, np.integer)) or isinstance(steps, bool) or steps < 0:
+                raise A2LValueError(f"hold: 'steps' must be an integer >= 0, got {steps!r}")
+            self._hold = int(steps)
+            return
+        if kind == "toggle":
+            state = params.get("state")
+            known = self.state_names
+            if state not in known:
+                raise A2LValueError(f"toggle: unknown high-level state '{state}'; this scene "
+                                    f"has {sorted(known)}")
+            self._toggle(str(state))
+            return
+        name = params.get("name") or self.primary_object
+        if name not in self._object_names():
+            raise A2LValueError(f"{kind}: unknown object '{name}'; this scene has "
+                                f"{sorted(self._object_names())}")
+        if name in self._removed:
+            raise A2LValueError(f"{kind}: object '{name}' was removed")
+        if kind == "remove_object":
+            self._park(name)
+            self._removed.add(name)
+            return
+        delta = params.get("delta")
+        try:
+            dxy = np.asarray(delta, dtype=float).reshape(2)
+        except (TypeError, ValueError) as exc:
+            raise A2LValueError(f"move_object: 'delta' must be (dx, dy), got {delta!r}") from exc
+        if not np.all(np.isfinite(dxy)):
+            raise A2LValueError(f"move_object: 'delta' must be finite, got {delta!r}")
+        pos = np.asarray(self._ground_truth().objects[name], dtype=float)
+        pos[:2] += dxy
+        self._place(name, pos)
+
+    def __enter__(self) -> Scene:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown
+            pass
