@@ -13,23 +13,27 @@ __all__ = ["p", "quiet"]
 
 @contextlib.contextmanager
 def quiet() -> Iterator[None]:
-    """Silence the C-level stdout of PyBullet (build banner, URDF importer warnings)."""
-    try:
-        fd = sys.stdout.fileno()
-    except (AttributeError, OSError, ValueError):
-        yield
-        return
-    sys.stdout.flush()
-    saved = os.dup(fd)
+    """Silence PyBullet's C-level output (build banner, URDF importer warnings) on the
+    process's stdout and stderr file descriptors."""
+    fds = []
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+            fds.append(stream.fileno())
+        except (AttributeError, OSError, ValueError):
+            pass
+    saved = [os.dup(fd) for fd in fds]
     try:
         with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), fd)
+            for fd in fds:
+                os.dup2(null.fileno(), fd)
             yield
     finally:
         with contextlib.suppress(Exception):
             ctypes.CDLL(None).fflush(None)  # C stdio buffers go to /dev/null too
-        os.dup2(saved, fd)
-        os.close(saved)
+        for fd, s in zip(fds, saved, strict=True):
+            os.dup2(s, fd)
+            os.close(s)
 
 
 with quiet():

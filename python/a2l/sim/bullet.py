@@ -29,7 +29,7 @@ GRIPPER_DOWN: NDArray[np.float64] = np.diag([-1.0, 1.0, -1.0])
 
 _FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
 _FINGER_OPEN = 0.020833
-_PARK = np.array([-2.0, 2.0])
+_PARK = np.array([3.5, 2.0])  # where removed objects rest on the floor: behind the camera
 
 
 @dataclass
@@ -82,9 +82,11 @@ class BulletScene(Scene):
         # the software renderer fills a large floor slowly (16 ms of a 30 ms frame): the
         # floor is drawn only in the GUI, the camera sees the background colour around the
         # table instead
-        floor_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(3, 3, 0.001),
-                                        rgbaColor=(0.45, 0.45, 0.47, 1),
-                                        physicsClientId=c) if cfg.gui else -1
+        # (a body without a visual shape is drawn with its collision shape: a small box
+        # hidden under the pedestal stands in for the floor's visual outside the GUI)
+        floor_vis = p.createVisualShape(
+            p.GEOM_BOX, halfExtents=(3, 3, 0.001) if cfg.gui else (0.01, 0.01, 0.001),
+            rgbaColor=(0.45, 0.45, 0.47, 1), physicsClientId=c)
         p.createMultiBody(0, floor, floor_vis, (0, 0, _FLOOR_Z), physicsClientId=c)
         (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
         top_h = 0.04
@@ -130,7 +132,9 @@ class BulletScene(Scene):
             self._link_index[info[12].decode()] = j
             if info[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC):
                 self._movable.append(j)
-                self._effort.append(float(info[10]) if info[10] > 0 else 50.0)
+                effort = float(info[10]) if info[10] > 0 else 50.0
+                finger = "finger" in info[1].decode()
+                self._effort.append(effort if finger else effort * cfg.motor_force_scale)
         spec = arm_spec("baxter", cfg.arm)
         self.kinematics = a2l.Kinematics(spec.urdf, spec.base_link, spec.tip_link)
         self._arm = [self._joint_index[n] for n in self.kinematics.joint_names]

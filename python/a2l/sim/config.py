@@ -89,6 +89,11 @@ class SceneConfig:
     reach_tolerance : float
         A movement is carried out when the end-effector ends this close to its target (m);
         otherwise it is reported as ``blocked``.
+    motor_force_scale : float
+        The position motors of the arm and head joints may apply this multiple of the
+        URDF's effort limits (50 Nm at the shoulder). The real Baxter holds its arms
+        against gravity with springs and a gravity-compensating controller; with the bare
+        limits the stretched arm sags under its own weight.
     workspace_min, workspace_max : tuple of 3 float
         Bounds of the end-effector point; a movement whose target leaves them is reported
         as ``workspace_limit``. ``workspace_min[2]`` is relative to the table top.
@@ -102,7 +107,8 @@ class SceneConfig:
     camera_width, camera_height : int
         Camera image size (pixels).
     camera_eye, camera_target : tuple of 3 float
-        Camera position and the point it looks at (m).
+        Camera position and the point it looks at (m): by default a camera facing the robot
+        from beyond the table, high enough to see the whole table top.
     camera_fov : float
         Vertical field of view (degrees).
     context_source : str
@@ -131,7 +137,8 @@ class SceneConfig:
     waypoint_spacing: float = 0.01
     max_joint_jump: float = 0.5
     reach_tolerance: float = 0.01
-    workspace_min: tuple[float, float, float] = (0.35, -0.75, 0.02)
+    motor_force_scale: float = 4.0
+    workspace_min: tuple[float, float, float] = (0.35, -0.75, 0.01)
     workspace_max: tuple[float, float, float] = (0.95, 0.45, 0.45)
     table_z: float = -0.20
     table_center: tuple[float, float] = (0.75, -0.15)
@@ -139,8 +146,8 @@ class SceneConfig:
     robot_visual: str = "collision"
     camera_width: int = 320
     camera_height: int = 240
-    camera_eye: tuple[float, float, float] = (1.45, -0.15, 0.45)
-    camera_target: tuple[float, float, float] = (0.7, -0.15, -0.2)
+    camera_eye: tuple[float, float, float] = (1.55, -0.15, 0.85)
+    camera_target: tuple[float, float, float] = (0.75, -0.15, -0.2)
     camera_fov: float = 55.0
     context_source: str = "perceived"
     n_push_effects: int = 8
@@ -164,8 +171,8 @@ class SceneConfig:
             if not isinstance(getattr(self, name), bool):
                 raise _err(name, f"must be True or False, got {getattr(self, name)!r}")
         for name in ("time_step", "step", "speed", "waypoint_spacing", "max_joint_jump",
-                     "reach_tolerance", "camera_fov", "effect_threshold", "effect_ratio",
-                     "lift_threshold"):
+                     "reach_tolerance", "motor_force_scale", "camera_fov", "effect_threshold",
+                     "effect_ratio", "lift_threshold"):
             _positive(self, name)
         _positive(self, "object_jitter", allow_zero=True)
         if self.time_step > 0.05:
@@ -256,14 +263,14 @@ class PushConfig(SceneConfig):
     box_position : tuple of 2 float
         Centre (x, y) of the box on the table.
     box_color : tuple of 4 float
-        RGBA colour; perception segments it by hue.
+        RGBA colour; perception segments it by hue (purple: Baxter's own meshes are red).
     """
 
     box_size: tuple[float, float, float] = (0.07, 0.085, 0.08)
     box_mass: float = 0.3
     box_friction: float = 0.4
     box_position: tuple[float, float] = (0.62, -0.25)
-    box_color: _RGBA = (0.85, 0.1, 0.1, 1.0)
+    box_color: _RGBA = (0.6, 0.15, 0.85, 1.0)
 
     def _validate_objects(self) -> None:
         self._check_object("box")
@@ -317,7 +324,7 @@ class PressConfig(SceneConfig):
     box_mass: float = 0.3
     box_friction: float = 0.4
     box_position: tuple[float, float] = (0.62, -0.35)
-    box_color: _RGBA = (0.85, 0.1, 0.1, 1.0)
+    box_color: _RGBA = (0.6, 0.15, 0.85, 1.0)
 
     def state_values(self) -> dict[str, tuple[str, ...]]:
         return {"gripper": ("open", "closed"), "light": ("off", "on")}
@@ -354,6 +361,8 @@ class VirtualConfig:
         Initial end-effector position.
     n_push_effects, effect_threshold, effect_ratio, object_jitter :
         As in :class:`SceneConfig`.
+    context_source : str
+        Accepted for uniformity; both sources give the true state (no camera).
     """
 
     step: float = 0.05
@@ -366,9 +375,11 @@ class VirtualConfig:
     effect_threshold: float = 0.01
     effect_ratio: float = 3.0
     object_jitter: float = 0.0
+    context_source: str = "ground_truth"
     states: dict[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        _choice(self, "context_source", ("perceived", "ground_truth"))
         for name in ("step", "eef_radius", "effect_threshold", "effect_ratio"):
             _positive(self, name)
         _positive(self, "object_jitter", allow_zero=True)

@@ -1,9 +1,15 @@
-"""Effects: the discrete change of an object between two instants (METHOD.md)."""
+"""Effects: the discrete change of an object between two instants (METHOD.md).
+
+Push effects are classified by the C++ ``a2l._core.classify_effect`` (the function the C++
+runtime and the skills use), so that there is one definition of them.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+from a2l import _core
 
 __all__ = ["PUSH_EFFECTS_4", "PUSH_EFFECTS_8", "push_effect"]
 
@@ -14,6 +20,10 @@ PUSH_EFFECTS_4: tuple[str, ...] = ("far", "close", "left", "right")
 PUSH_EFFECTS_8: tuple[str, ...] = PUSH_EFFECTS_4 + (
     "far_left", "far_right", "close_left", "close_right",
 )
+
+#: Effect names in the order of ``a2l._core.classify_effect``'s indices.
+_CORE_NAMES: tuple[str, ...] = ("left", "right", "close", "far", "close_left", "close_right",
+                                "far_left", "far_right")
 
 
 def push_effect(displacement: ArrayLike, n_effects: int = 8, threshold: float = 0.01,
@@ -42,15 +52,7 @@ def push_effect(displacement: ArrayLike, n_effects: int = 8, threshold: float = 
         raise ValueError(f"displacement must be 2 or 3 finite numbers, got {displacement!r}")
     if n_effects not in (4, 8):
         raise ValueError(f"n_effects must be 4 or 8, got {n_effects}")
-    dx, dy = float(d[0]), float(d[1])
-    if np.hypot(dx, dy) < threshold:
-        return "none"
-    x_name = "far" if dx > 0 else "close"
-    y_name = "left" if dy > 0 else "right"
-    if n_effects == 4:
-        return x_name if abs(dx) >= abs(dy) else y_name
-    if abs(dx) > ratio * abs(dy):
-        return x_name
-    if abs(dy) > ratio * abs(dx):
-        return y_name
-    return f"{x_name}_{y_name}"
+    d3 = np.zeros(3)
+    d3[: d.shape[0]] = d
+    index = _core.classify_effect(d3, n_effects, threshold, ratio)
+    return "none" if index < 0 else _CORE_NAMES[index]

@@ -282,7 +282,7 @@ class Scene(ABC):
                 continue
             b = np.asarray(before.objects[name])
             a = np.asarray(after.objects[name])
-            if (a[2] - b[2] > cfg.lift_threshold and after.gripper_closed
+            if (a[2] - b[2] > getattr(cfg, "lift_threshold", np.inf) and after.gripper_closed
                     and np.linalg.norm(a - after.eef) < 0.08):
                 return "grasped"
             dist = float(np.hypot(*(a - b)[:2]))

@@ -1,0 +1,30 @@
+"""The demo job: Baxter pushes the box with the C++ IK and the demo says how far it moved."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from a2l.cli import main
+from a2l.demo import run_demo
+
+
+def test_demo_moves_the_box(capsys: pytest.CaptureFixture[str]) -> None:
+    assert run_demo(seed=0, gui=False) == 0
+    out = capsys.readouterr().out
+    m = re.search(r"box moved ([0-9.]+) cm \(ground truth\)", out)
+    assert m is not None, out
+    assert float(m.group(1)) >= 1.0
+    assert "OK: the box moved" in out
+
+
+def test_demo_fails_loudly_when_the_box_is_not_reached(capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    assert run_demo(seed=0, gui=False, max_moves=1) == 1  # one move stops short of the box
+    assert "FAILED" in capsys.readouterr().out
+
+
+def test_cli_runs_the_demo(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["demo", "--seed", "1"]) == 0
+    assert "box moved" in capsys.readouterr().out

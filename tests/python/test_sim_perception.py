@@ -1,0 +1,58 @@
+"""Camera perception against ground truth."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from a2l.sim import make_scene
+from a2l.sim.bullet import PushScene
+
+
+def perception_errors(scene: PushScene, n: int, seed: int) -> np.ndarray:
+    """Perceived - true box centre (n, 3) over `n` random box positions on the table."""
+    rng = np.random.default_rng(seed)
+    cfg = scene.config
+    (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
+    hx, hy = cfg.box_size[0] / 2 + 0.02, cfg.box_size[1] / 2 + 0.02
+    errors = []
+    for _ in range(n):
+        xy = rng.uniform([cx - sx / 2 + hx, cy - sy / 2 + hy], [cx + sx / 2 - hx, cy + sy / 2 - hy])
+        scene.reset(objects={"box": xy})
+        truth = np.asarray(scene.ground_truth()["objects"]["box"])
+        seen = scene.perceive()["objects"].get("box")
+        assert seen is not None, f"box not seen at {xy}"
+        errors.append(np.asarray(seen) - truth)
+    return np.asarray(errors)
+
+
+def test_perception_error_over_200_random_positions() -> None:
+    with make_scene("push") as scene:
+        err = np.linalg.norm(perception_errors(scene, 200, seed=0), axis=1)
+    print(f"perception error over 200 positions: median {np.median(err) * 1000:.2f} mm, "
+          f"max {err.max() * 1000:.2f} mm")
+    assert np.median(err) <= 0.005
+    assert err.max() <= 0.015
+
+
+def test_perceives_every_object_and_the_light() -> None:
+    with make_scene("press", states={"light": "on"}) as scene:
+        truth = scene.ground_truth()
+        seen = scene.perceive()
+        assert set(seen["objects"]) == set(truth["objects"]) == {"box", "button"}
+        for name, pos in truth["objects"].items():
+            assert np.linalg.norm(np.subtract(seen["objects"][name], pos)) < 0.005
+        assert seen["states"]["light"] == "on"
+    with make_scene("grasp") as scene:
+        truth = scene.ground_truth()["objects"]["block"]
+        seen = scene.perceive()["objects"]["block"]
+        assert np.linalg.norm(np.subtract(seen, truth)) < 0.005
+
+
+def test_rendering_with_collision_shapes_changes_the_robot_not_the_result() -> None:
+    with make_scene("push", robot_visual="mesh") as scene:
+        rgb, depth = scene.render()
+        assert rgb.shape == (scene.config.camera_height, scene.config.camera_width, 3)
+        assert depth.shape == rgb.shape[:2]
+        truth = np.asarray(scene.ground_truth()["objects"]["box"])
+        seen = np.asarray(scene.perceive()["objects"]["box"])
+        assert np.linalg.norm(seen - truth) < 0.005
