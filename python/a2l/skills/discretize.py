@@ -19,6 +19,10 @@ high-level state          index of its value name
 ========================  ================================================================
 
 A non-finite input (NaN, inf) gives bin ``-1`` (the runtime's *unknown context*).
+
+The angles use the C library's ``atan2`` (through :func:`math.atan2`), the function the C++
+runtime calls: numpy's vectorised ``arctan2`` may differ from it in the last bit, which is
+enough to move a point lying exactly on a bin boundary into the neighbouring bin.
 """
 
 from __future__ import annotations
@@ -66,6 +70,14 @@ def _as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
     if arr.ndim != 2 or arr.shape[1] != 3:
         raise ValueError(f"{what} must have shape (n, 3) or (3,), got {np.shape(a)}")
     return arr
+
+
+_atan2_ufunc = np.frompyfunc(math.atan2, 2, 1)
+
+
+def _atan2(y: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Element-wise C-library atan2 (bit-identical to ``std::atan2`` in the runtime)."""
+    return np.asarray(_atan2_ufunc(y, x), dtype=np.float64).reshape(np.shape(y))
 
 
 def _relative(eef: np.ndarray, obj: np.ndarray) -> np.ndarray:
@@ -163,7 +175,7 @@ class OrientationBins:
         """
         r = _relative(eef, obj)
         w = 2.0 * math.pi / self.n_bins
-        theta = np.arctan2(r[:, 1], r[:, 0])
+        theta = _atan2(r[:, 1], r[:, 0])
         with np.errstate(invalid="ignore"):
             # theta + pi + w/2 > 0, so numpy's mod equals C's fmod here.
             x = np.floor(np.mod(theta + math.pi + w / 2.0, 2.0 * math.pi) / w)
@@ -210,7 +222,7 @@ class InclinationBins:
             Bin in [0, n_bins), or -1 where an input is not finite.
         """
         r = _relative(eef, obj)
-        phi = np.arctan2(np.sqrt(r[:, 0] * r[:, 0] + r[:, 1] * r[:, 1]), r[:, 2])
+        phi = _atan2(np.sqrt(r[:, 0] * r[:, 0] + r[:, 1] * r[:, 1]), r[:, 2])
         with np.errstate(invalid="ignore"):
             x = np.minimum(np.floor(phi / math.pi * self.n_bins), self.n_bins - 1)
         ok = np.isfinite(r).all(axis=1)

@@ -212,6 +212,13 @@ def learn_network(
     model = DiscreteBayesianNetwork(dag.edges())
     model.add_nodes_from(dag.nodes())
     data = pd.DataFrame({c: pd.Categorical(df[c], categories=names[c]) for c in df.columns})
+    for c in df.columns:
+        bad = data[c].isna().to_numpy()
+        if bad.any():
+            values = sorted(map(str, set(df[c][bad])))
+            raise ValueError(
+                f"column {c!r} has missing value(s) or value(s) not in its states: {values}"
+            )
     estimator = DiscreteBayesianEstimator(
         state_names=names, prior_type=prior_type, equivalent_sample_size=equivalent_sample_size
     )
