@@ -35,12 +35,19 @@ def run_demo(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
     Returns
     -------
     int
-        0 when the box moved at least :data:`MIN_DISPLACEMENT`, 1 otherwise.
+        0 when the box moved at least :data:`MIN_DISPLACEMENT`, 1 when it did not, 2 when
+        the scene could not be built (e.g. the GUI without a display).
     """
+    from a2l.errors import A2LError
     from a2l.sim import make_scene
 
     t0 = time.perf_counter()
-    with make_scene("push", seed=seed, gui=gui) as scene:
+    try:
+        scene = make_scene("push", seed=seed, gui=gui)
+    except A2LError as exc:
+        print(f"FAILED: cannot build the scene: {exc}")
+        return 2
+    with scene:
         box0 = np.asarray(scene.ground_truth()["objects"]["box"])
         seen0 = scene.perceive()["objects"].get("box")
         start = box0 + np.array([-0.15, 0.0, -0.01])

@@ -28,3 +28,10 @@ def test_demo_fails_loudly_when_the_box_is_not_reached(capsys: pytest.CaptureFix
 def test_cli_runs_the_demo(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["demo", "--seed", "1"]) == 0
     assert "box moved" in capsys.readouterr().out
+
+
+def test_demo_gui_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    monkeypatch.delenv("DISPLAY", raising=False)
+    assert run_demo(seed=0, gui=True) == 2
+    assert "needs a display" in capsys.readouterr().out

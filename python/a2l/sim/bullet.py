@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import os
+import sys
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -11,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import a2l
-from a2l.errors import A2LValueError
+from a2l.errors import A2LError, A2LValueError
 from a2l.robot import BAXTER_ARMS, arm_spec, pybullet_urdf
 from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
@@ -52,7 +54,14 @@ class BulletScene(Scene):
         super().__init__(config, seed)
         self._client = -1
         cfg = config
+        if cfg.gui and sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+            # PyBullet would print "cannot connect to X server" and end the process
+            raise A2LError("gui=True needs a display (DISPLAY is not set); run without the "
+                           "GUI or under xvfb-run")
         self._client = p.connect(p.GUI if cfg.gui else p.DIRECT)
+        if self._client < 0:
+            raise A2LError("cannot connect to PyBullet" + (" in GUI mode: is there a display?"
+                                                           if cfg.gui else ""))
         c = self._client
         if cfg.gui:
             p.configureDebugVisualizer(p.COV_ENABLE_GUI, 0, physicsClientId=c)
@@ -195,7 +204,8 @@ class BulletScene(Scene):
         p.setJointMotorControlArray(
             self._robot, idx, p.POSITION_CONTROL,
             targetPositions=[self._targets[j] for j in idx],
-            forces=self._effort, physicsClientId=self._client)
+            forces=self._effort, positionGains=[self.config.position_gain] * len(idx),
+            physicsClientId=self._client)
 
     def _sim_step(self) -> None:
         p.stepSimulation(physicsClientId=self._client)

@@ -94,6 +94,9 @@ class SceneConfig:
         URDF's effort limits (50 Nm at the shoulder). The real Baxter holds its arms
         against gravity with springs and a gravity-compensating controller; with the bare
         limits the stretched arm sags under its own weight.
+    position_gain : float
+        Position gain of PyBullet's joint position motors (its default, 0.1, leaves the
+        end-effector about 2 mm short under gravity; 0.3 brings it within 0.1 mm).
     workspace_min, workspace_max : tuple of 3 float
         Bounds of the end-effector point; a movement whose target leaves them is reported
         as ``workspace_limit``. ``workspace_min[2]`` is relative to the table top.
@@ -138,6 +141,7 @@ class SceneConfig:
     max_joint_jump: float = 0.5
     reach_tolerance: float = 0.01
     motor_force_scale: float = 4.0
+    position_gain: float = 0.3
     workspace_min: tuple[float, float, float] = (0.35, -0.75, 0.01)
     workspace_max: tuple[float, float, float] = (0.95, 0.45, 0.45)
     table_z: float = -0.20
@@ -171,8 +175,8 @@ class SceneConfig:
             if not isinstance(getattr(self, name), bool):
                 raise _err(name, f"must be True or False, got {getattr(self, name)!r}")
         for name in ("time_step", "step", "speed", "waypoint_spacing", "max_joint_jump",
-                     "reach_tolerance", "motor_force_scale", "camera_fov", "effect_threshold",
-                     "effect_ratio", "lift_threshold"):
+                     "reach_tolerance", "motor_force_scale", "position_gain", "camera_fov",
+                     "effect_threshold", "effect_ratio", "lift_threshold"):
             _positive(self, name)
         _positive(self, "object_jitter", allow_zero=True)
         if self.time_step > 0.05:
