@@ -1,0 +1,138 @@
+// Test helper: build skill bundle bytes in C++ (docs/bundle_format.md), to test the loader
+// and the runtime without Python. Not a test file itself (no test_ prefix).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "a2l/bundle.hpp"
+
+namespace a2l::testing {
+
+using json = nlohmann::json;
+
+//! The parts of a bundle before serialisation.
+struct BundleParts {
+  json manifest;                    //!< without "arrays" (filled by build())
+  std::vector<std::int64_t> shape;  //!< evidence bins
+  int n_moves = 0;
+  std::vector<double> posterior;
+  std::vector<std::int32_t> argmax;
+};
+
+inline std::size_t rows_of(const std::vector<std::int64_t>& shape) {
+  std::size_t r = 1;
+  for (auto s : shape) r *= static_cast<std::size_t>(s);
+  return r;
+}
+
+//! A skill with effect(4), distance(3), orientation(8), inclination(4), light(2) and the 8
+//! planar movements; random posteriors, about `uniform_share` of the rows uniform (argmax -1).
+inline BundleParts sample_parts(std::uint64_t seed = 1, double uniform_share = 0.2,
+                                bool smoothing = false) {
+  BundleParts p;
+  p.manifest = {
+      {"schema_version", 1},
+      {"kind", "skill"},
+      {"name", "push"},
+      {"created_by", "a2l tests"},
+      {"robot", nullptr},
+      {"target", "move"},
+      {"variables",
+       json::array(
+           {{{"name", "effect"}, {"kind", "effect"}, {"values", {"left", "right", "close", "far"}}},
+            {{"name", "distance"},
+             {"kind", "distance"},
+             {"n_bins", 3},
+             {"low", 0.05},
+             {"high", 0.20}},
+            {{"name", "orientation"}, {"kind", "orientation"}, {"n_bins", 8}},
+            {{"name", "inclination"}, {"kind", "inclination"}, {"n_bins", 4}},
+            {{"name", "light"}, {"kind", "high_level"}, {"values", {"off", "on"}}}})},
+      {"movements",
+       {{"step", 0.05},
+        {"directions",
+         {{1, 0, 0},
+          {-1, 0, 0},
+          {0, 1, 0},
+          {0, -1, 0},
+          {1, 1, 0},
+          {1, -1, 0},
+          {-1, 1, 0},
+          {-1, -1, 0}}},
+        {"labels", {"+x", "-x", "+y", "-y", "+x+y", "+x-y", "-x+y", "-x-y"}}}},
+      {"execution", {{"step_cap", 12}, {"smoothing", smoothing}, {"uniform_tolerance", 1e-9}}},
+      {"extra", {{"note", "unknown keys are ignored"}}}};
+  p.shape = {4, 3, 8, 4, 2};
+  p.n_moves = 8;
+  const std::size_t rows = rows_of(p.shape);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  p.posterior.resize(rows * static_cast<std::size_t>(p.n_moves));
+  p.argmax.resize(rows);
+  for (std::size_t r = 0; r < rows; ++r) {
+    double* row = p.posterior.data() + r * static_cast<std::size_t>(p.n_moves);
+    if (u(rng) < uniform_share) {
+      for (int m = 0; m < p.n_moves; ++m) row[m] = 1.0 / p.n_moves;
+      p.argmax[r] = -1;
+      continue;
+    }
+    double sum = 0.0;
+    for (int m = 0; m < p.n_moves; ++m) sum += (row[m] = std::pow(u(rng), 3.0) + 1e-3);
+    int best = 0;
+    for (int m = 0; m < p.n_moves; ++m) {
+      row[m] /= sum;
+      if (row[m] > row[best]) best = m;
+    }
+    p.argmax[r] = best;
+  }
+  return p;
+}
+
+//! Serialise `p`. The "arrays" entry is computed (offsets, nbytes, CRCs) and then patched with
+//! `arrays_patch` (JSON merge patch) so that tests can corrupt it.
+inline std::vector<std::uint8_t> build(const BundleParts& p, const json& arrays_patch = json(),
+                                       std::uint32_t header_version = 1) {
+  json m = p.manifest;
+  std::vector<std::int64_t> pshape = p.shape;
+  pshape.push_back(p.n_moves);
+  const std::size_t post_bytes = p.posterior.size() * 8, amax_bytes = p.argmax.size() * 4;
+  const std::size_t amax_off = (post_bytes + 7) / 8 * 8;
+  m["arrays"] = {{"posterior",
+                  {{"dtype", "float64"},
+                   {"shape", pshape},
+                   {"offset", 0},
+                   {"nbytes", post_bytes},
+                   {"crc32", bundle_crc32(p.posterior.data(), post_bytes)}}},
+                 {"argmax",
+                  {{"dtype", "int32"},
+                   {"shape", p.shape},
+                   {"offset", amax_off},
+                   {"nbytes", amax_bytes},
+                   {"crc32", bundle_crc32(p.argmax.data(), amax_bytes)}}}};
+  if (!arrays_patch.is_null()) m["arrays"].merge_patch(arrays_patch);
+  const std::string text = m.dump();
+  std::vector<std::uint8_t> out(24, 0);
+  std::memcpy(out.data(), kBundleMagic, 8);
+  auto put = [&](std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i)
+      out[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
+  };
+  put(8, header_version);
+  put(12, static_cast<std::uint32_t>(text.size()));
+  put(16, bundle_crc32(text.data(), text.size()));
+  out.insert(out.end(), text.begin(), text.end());
+  out.resize((out.size() + 7) / 8 * 8, 0);
+  const std::size_t blob = out.size();
+  out.resize(blob + amax_off + amax_bytes, 0);
+  std::memcpy(out.data() + blob, p.posterior.data(), post_bytes);
+  std::memcpy(out.data() + blob + amax_off, p.argmax.data(), amax_bytes);
+  return out;
+}
+
+}  // namespace a2l::testing

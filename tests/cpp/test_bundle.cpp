@@ -1,0 +1,260 @@
+// Bundle loading: a valid bundle loads; every corruption gives a clear error naming the field
+// or the check (truncation, checksums, versions, shapes, keys, types, values, random bytes).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include "a2l/bundle.hpp"
+#include "bundle_builder.hpp"
+
+namespace {
+
+using a2l::Status;
+using a2l::testing::build;
+using a2l::testing::BundleParts;
+using a2l::testing::json;
+using a2l::testing::sample_parts;
+
+a2l::Result load(const std::vector<std::uint8_t>& b) {
+  a2l::Skill s;
+  return a2l::load_bundle_from_memory(b.data(), b.size(), s, "corrupt.a2lb");
+}
+
+void expect_error(const a2l::Result& r, Status status, const std::string& needle) {
+  EXPECT_EQ(r.status, status) << r.message;
+  EXPECT_NE(r.message.find(needle), std::string::npos)
+      << "message '" << r.message << "' does not name '" << needle << "'";
+  EXPECT_NE(r.message.find("corrupt.a2lb"), std::string::npos) << r.message;
+}
+
+// Parts with one manifest change (the arrays stay consistent).
+std::vector<std::uint8_t> with(const std::function<void(json&)>& edit) {
+  BundleParts p = sample_parts();
+  edit(p.manifest);
+  return build(p);
+}
+
+TEST(Bundle, ValidBundleLoadsFromMemoryAndFile) {
+  const auto b = build(sample_parts());
+  a2l::Skill s;
+  const a2l::Result r = a2l::load_bundle_from_memory(b.data(), b.size(), s);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(s.name(), "push");
+  EXPECT_EQ(s.n_variables(), 5);
+  EXPECT_EQ(s.n_moves(), 8);
+  EXPECT_FALSE(s.robot().present);
+  EXPECT_EQ(s.settings().step_cap, 12);
+  const std::string path = ::testing::TempDir() + "/a2l_test_bundle.a2lb";
+  {
+    std::ofstream f(path, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+  }
+  a2l::Skill s2;
+  ASSERT_TRUE(a2l::load_bundle(path, s2).ok());
+  EXPECT_EQ(s2.table().posterior(), s.table().posterior());
+  std::remove(path.c_str());
+}
+
+TEST(Bundle, RobotEntryIsRead) {
+  const auto b = with([](json& m) {
+    m["robot"] = {{"name", "baxter"},
+                  {"urdf_sha256", "ab"},
+                  {"base_link", "base"},
+                  {"tip_link", "right_gripper"}};
+  });
+  a2l::Skill s;
+  ASSERT_TRUE(a2l::load_bundle_from_memory(b.data(), b.size(), s).ok());
+  EXPECT_TRUE(s.robot().present);
+  EXPECT_EQ(s.robot().tip_link, "right_gripper");
+  expect_error(load(with([](json& m) {
+                 m["robot"] = {{"x", 1}};
+               })),
+               Status::parse_error, "robot.name");
+}
+
+TEST(Bundle, MissingFile) {
+  a2l::Skill s;
+  const a2l::Result r = a2l::load_bundle("/nonexistent/dir/skill.a2lb", s);
+  EXPECT_EQ(r.status, Status::file_error);
+  EXPECT_NE(r.message.find("/nonexistent/dir/skill.a2lb"), std::string::npos);
+}
+
+TEST(Bundle, TruncatedAnywhere) {
+  const auto b = build(sample_parts());
+  std::vector<std::size_t> lengths = {0, 1, 7, 8, 12, 23, 24, 25, 100, b.size() - 1, b.size() - 8};
+  for (std::size_t n = 0; n < b.size(); n += 97) lengths.push_back(n);
+  for (std::size_t n : lengths) {
+    const std::vector<std::uint8_t> t(b.begin(), b.begin() + static_cast<long>(n));
+    const a2l::Result r = load(t);
+    EXPECT_FALSE(r.ok()) << n;
+    EXPECT_TRUE(r.status == Status::parse_error) << n << ": " << r.message;
+    EXPECT_FALSE(r.message.empty());
+  }
+  expect_error(load({b.begin(), b.begin() + 10}), Status::parse_error, "header");
+  expect_error(load({b.begin(), b.begin() + 200}), Status::parse_error, "manifest length");
+  expect_error(load({b.begin(), b.end() - 4}), Status::parse_error, "outside the file");
+}
+
+TEST(Bundle, BadMagic) {
+  auto b = build(sample_parts());
+  b[0] = 'X';
+  expect_error(load(b), Status::parse_error, "magic");
+}
+
+TEST(Bundle, WrongChecksums) {
+  auto b = build(sample_parts());
+  b[30] ^= 0x01;  // inside the manifest
+  expect_error(load(b), Status::checksum_mismatch, "manifest CRC-32");
+  b = build(sample_parts());
+  b[b.size() - 4000] ^= 0x10;  // inside the posterior
+  expect_error(load(b), Status::checksum_mismatch, "arrays.posterior.crc32");
+  b = build(sample_parts());
+  b[b.size() - 1] ^= 0x10;  // inside the argmax
+  expect_error(load(b), Status::checksum_mismatch, "arrays.argmax.crc32");
+  expect_error(load(build(sample_parts(), {{"argmax", {{"crc32", 5}}}})), Status::checksum_mismatch,
+               "arrays.argmax.crc32");
+}
+
+TEST(Bundle, WrongVersions) {
+  expect_error(load(build(sample_parts(), json(), 2)), Status::version_mismatch, "schema version");
+  expect_error(load(with([](json& m) { m["schema_version"] = 2; })), Status::version_mismatch,
+               "schema_version");
+}
+
+TEST(Bundle, WrongShapes) {
+  expect_error(load(build(sample_parts(), {{"posterior", {{"shape", {4, 3, 8, 4, 2}}}}})),
+               Status::parse_error, "arrays.posterior.shape");
+  expect_error(load(build(sample_parts(), {{"argmax", {{"shape", {4, 3, 8, 2, 4}}}}})),
+               Status::parse_error, "arrays.argmax.shape");
+  // A variable whose bins disagree with the arrays.
+  expect_error(load(with([](json& m) { m["variables"][2]["n_bins"] = 16; })), Status::parse_error,
+               "arrays.posterior.shape");
+  expect_error(load(with([](json& m) {
+                 m["movements"]["directions"].erase(7);
+                 m["movements"]["labels"].erase(7);
+               })),
+               Status::parse_error, "arrays.posterior.shape");
+  expect_error(load(build(sample_parts(), {{"argmax", {{"nbytes", 16}}}})), Status::parse_error,
+               "arrays.argmax.nbytes");
+  expect_error(load(build(sample_parts(), {{"argmax", {{"dtype", "int64"}}}})), Status::parse_error,
+               "arrays.argmax.dtype");
+}
+
+TEST(Bundle, OffsetsOverlapAndTrailingBytes) {
+  expect_error(load(build(sample_parts(), {{"argmax", {{"offset", 4}}}})), Status::parse_error,
+               "multiple of 8");
+  expect_error(load(build(sample_parts(), {{"argmax", {{"offset", 0}}}})), Status::parse_error,
+               "overlap");
+  auto b = build(sample_parts());
+  b.insert(b.end(), 8, 0);
+  expect_error(load(b), Status::parse_error, "trailing");
+  expect_error(load(build(sample_parts(), {{"argmax", {{"offset", 1LL << 40}}}})),
+               Status::parse_error, "outside the file");
+}
+
+TEST(Bundle, MissingKeysAndWrongTypes) {
+  for (const char* key : {"schema_version", "kind", "name", "created_by", "robot", "target",
+                          "variables", "movements", "execution"}) {
+    expect_error(load(with([&](json& m) { m.erase(key); })), Status::parse_error,
+                 std::string(key) + ": missing");
+  }
+  expect_error(load(build(sample_parts(), {{"posterior", nullptr}})), Status::parse_error,
+               "arrays.posterior: missing");
+  expect_error(load(with([](json& m) { m["execution"]["step_cap"] = "12"; })), Status::parse_error,
+               "execution.step_cap: must be an integer");
+  expect_error(load(with([](json& m) { m["execution"]["step_cap"] = 0; })), Status::parse_error,
+               "execution.step_cap");
+  expect_error(load(with([](json& m) { m["execution"]["smoothing"] = 1; })), Status::parse_error,
+               "execution.smoothing: must be a boolean");
+  expect_error(load(with([](json& m) { m["execution"].erase("uniform_tolerance"); })),
+               Status::parse_error, "execution.uniform_tolerance: missing");
+  expect_error(load(with([](json& m) { m["kind"] = "dataset"; })), Status::parse_error, "kind");
+  expect_error(load(with([](json& m) { m["variables"] = json::object(); })), Status::parse_error,
+               "variables: must be an array");
+}
+
+TEST(Bundle, BadVariablesAndMovements) {
+  expect_error(load(with([](json& m) { m["variables"][1]["kind"] = "colour"; })),
+               Status::parse_error, "variables[1].kind");
+  expect_error(load(with([](json& m) { m["variables"][2]["n_bins"] = 0; })), Status::parse_error,
+               "variables[2].n_bins");
+  expect_error(load(with([](json& m) { m["variables"][2]["n_bins"] = 2000; })), Status::parse_error,
+               "variables[2].n_bins");
+  expect_error(load(with([](json& m) { m["variables"][1]["low"] = 0.3; })), Status::parse_error,
+               "variables[1].low/high");
+  expect_error(load(with([](json& m) { m["variables"][3]["name"] = "distance"; })),
+               Status::parse_error, "duplicate name");
+  expect_error(load(with([](json& m) {
+                 m["variables"][0]["values"] = {"a", "b", "c", 4};
+               })),
+               Status::parse_error, "variables[0].values[3]");
+  expect_error(load(with([](json& m) {
+                 m["movements"]["directions"][3] = {0, 0, 0};
+               })),
+               Status::parse_error, "movements.directions[3]");
+  expect_error(load(with([](json& m) {
+                 m["movements"]["directions"][3] = {2, 0, 0};
+               })),
+               Status::parse_error, "movements.directions[3][0]");
+  expect_error(load(with([](json& m) { m["movements"]["labels"].erase(0); })), Status::parse_error,
+               "movements.labels");
+  expect_error(load(with([](json& m) { m["movements"]["step"] = -0.05; })), Status::parse_error,
+               "movements.step");
+}
+
+TEST(Bundle, BadProbabilitiesAndArgmax) {
+  BundleParts p = sample_parts();
+  p.posterior[3] += 0.01;  // row 0 no longer sums to 1
+  expect_error(load(build(p)), Status::parse_error, "sums to");
+  p = sample_parts();
+  p.posterior[8] = -p.posterior[8];
+  expect_error(load(build(p)), Status::parse_error, "negative or non-finite");
+  p = sample_parts();
+  p.posterior[9] = std::nan("");
+  expect_error(load(build(p)), Status::parse_error, "negative or non-finite");
+  p = sample_parts();
+  p.argmax[5] = 8;
+  expect_error(load(build(p)), Status::parse_error, "argmax[5]");
+  p.argmax[5] = -2;
+  expect_error(load(build(p)), Status::parse_error, "argmax[5]");
+}
+
+TEST(Bundle, InvalidJson) {
+  BundleParts p = sample_parts();
+  auto b = build(p);
+  // Replace the manifest's closing brace with garbage and fix the CRC.
+  const std::uint32_t m =
+      b[12] | (b[13] << 8) | (b[14] << 16) | (static_cast<std::uint32_t>(b[15]) << 24);
+  b[24 + m - 1] = '#';
+  const std::uint32_t crc = a2l::bundle_crc32(b.data() + 24, m);
+  for (int i = 0; i < 4; ++i)
+    b[16 + static_cast<size_t>(i)] = static_cast<std::uint8_t>(crc >> (8 * i));
+  expect_error(load(b), Status::parse_error, "manifest JSON");
+}
+
+TEST(Bundle, RandomBytesNeverLoad) {
+  std::mt19937_64 rng(9);
+  std::uniform_int_distribution<int> byte(0, 255);
+  const auto valid = build(sample_parts());
+  for (int i = 0; i < 2000; ++i) {
+    std::vector<std::uint8_t> b(std::uniform_int_distribution<std::size_t>(0, 4096)(rng));
+    for (auto& x : b) x = static_cast<std::uint8_t>(byte(rng));
+    if (i % 2 == 1 && b.size() >= 24) std::copy(valid.begin(), valid.begin() + 24, b.begin());
+    const a2l::Result r = load(b);
+    EXPECT_FALSE(r.ok());
+    EXPECT_FALSE(r.message.empty());
+  }
+  // Random bit flips of a valid bundle: never a crash; an error unless the flip is harmless.
+  int failures = 0;
+  for (int i = 0; i < 300; ++i) {
+    auto b = valid;
+    b[std::uniform_int_distribution<std::size_t>(0, b.size() - 1)(rng)] ^=
+        static_cast<std::uint8_t>(1 << byte(rng) % 8);
+    failures += !load(b).ok();
+  }
+  EXPECT_EQ(failures, 300);  // every byte is covered by a check or a checksum
+}
+
+}  // namespace

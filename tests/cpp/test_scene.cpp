@@ -1,0 +1,170 @@
+// The C++ scenes (virtual push model, Bullet) and the differential-IK executor.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "a2l/executor.hpp"
+#include "a2l/scene/bullet.hpp"
+#include "a2l/scene/virtual.hpp"
+
+namespace {
+
+using a2l::Status;
+using V = Eigen::Vector3d;
+
+TEST(ClassifyEffect, AxesDiagonalsAndThreshold) {
+  EXPECT_EQ(a2l::classify_effect(V(0, 0.05, 0)), 0);     // left = +y
+  EXPECT_EQ(a2l::classify_effect(V(0, -0.05, 0)), 1);    // right = -y
+  EXPECT_EQ(a2l::classify_effect(V(-0.05, 0, 0)), 2);    // close = -x
+  EXPECT_EQ(a2l::classify_effect(V(0.05, 0.01, 0)), 3);  // far = +x
+  EXPECT_EQ(a2l::classify_effect(V(0.005, 0, 0)), -1);
+  EXPECT_EQ(a2l::classify_effect(V(0.0, 0.0, 0.5)), -1);  // z is ignored
+  EXPECT_EQ(a2l::classify_effect(V(std::nan(""), 0.1, 0)), -1);
+  EXPECT_EQ(a2l::classify_effect(V(0.05, 0.04, 0), 8), 6);    // far_left
+  EXPECT_EQ(a2l::classify_effect(V(-0.05, -0.04, 0), 8), 5);  // close_right
+  EXPECT_EQ(a2l::classify_effect(V(0.05, 0.01, 0), 8), 3);    // axis wins at > 3x
+}
+
+TEST(VirtualScene, PushAlongTheDominantAxisUntilTheFaceTouches) {
+  a2l::VirtualScene s;  // half (0.035, 0.0425, 0.04), radius 0.01
+  s.reset(V(-0.1, 0.01, 0.0), V(0, 0, 0));
+  EXPECT_FALSE(s.move(V(0.05, 0, 0)));    // p' = -0.05: outside -0.045
+  EXPECT_TRUE(s.move(V(0.05, 0.01, 0)));  // p' = (0, 0.02): inside, dominant x
+  EXPECT_NEAR(s.object_position().x(), 0.0 + 0.035 + 0.01, 1e-15);
+  EXPECT_EQ(s.object_position().y(), 0.0);
+  EXPECT_EQ(s.object_position().z(), 0.0);
+  EXPECT_TRUE(s.eef_position().isApprox(V(0.0, 0.02, 0.0)));
+  // Pushing along -y from above the +y face.
+  s.reset(V(0.0, 0.1, 0.0), V(0, 0, 0));
+  EXPECT_TRUE(s.move(V(0.01, -0.07, 0)));
+  EXPECT_NEAR(s.object_position().y(), 0.03 - 0.0425 - 0.01, 1e-15);
+  EXPECT_EQ(s.object_position().x(), 0.0);
+}
+
+TEST(VirtualScene, VerticalMovesNeverPushAndTouchingIsNotInside) {
+  a2l::VirtualScene s;
+  s.reset(V(0.0, 0.0, 0.2), V(0, 0, 0));
+  EXPECT_FALSE(s.move(V(0, 0, -0.2)));
+  EXPECT_EQ(s.object_position(), V(0, 0, 0));
+  s.reset(V(-0.1, 0.0, 0.0), V(0, 0, 0));
+  EXPECT_FALSE(s.move(V(0.055, 0, 0)));  // exactly at the grown face: touching only
+  EXPECT_FALSE(s.in_contact(s.eef_position()));
+}
+
+TEST(VirtualScene, Options) {
+  a2l::VirtualSceneOptions o;
+  o.half_size = V(0.1, 0.1, 0.1);
+  o.eef_radius = 0.0;
+  o.table_z = 0.5;
+  a2l::VirtualScene s(o);
+  s.reset(V(-0.2, 0, 0.6), V(0, 0, 0.6));
+  EXPECT_TRUE(s.move(V(0.15, 0, 0)));
+  EXPECT_NEAR(s.object_position().x(), 0.05, 1e-15);
+  EXPECT_EQ(s.table_z(), 0.5);
+}
+
+#if A2L_HAVE_BULLET
+TEST(BulletScene, PushMovesTheBoxAlongThePushAndKeepsItOnTheTable) {
+  a2l::BulletScene s;
+  const V box(0.0, 0.0, 0.04);
+  s.reset(V(-0.1, 0.0, 0.04), box);
+  EXPECT_FALSE(s.move(V(0.03, 0.0, 0.0)));  // p' = -0.07: no contact yet
+  EXPECT_LT((s.object_position() - box).norm(), 1e-3);
+  EXPECT_TRUE(s.move(V(0.06, 0.0, 0.0)));
+  const V d = s.object_position() - box;
+  EXPECT_GT(d.x(), 0.01);
+  EXPECT_LT(std::abs(d.y()), 0.3 * d.x());
+  EXPECT_NEAR(s.object_position().z(), 0.04, 3e-3);
+  EXPECT_EQ(a2l::classify_effect(d), 3);  // far
+  EXPECT_GT(s.physics_steps(), 10);
+  // Reset puts the box back at rest.
+  s.reset(V(0.0, 0.1, 0.04), box);
+  EXPECT_TRUE(s.move(V(0.0, -0.09, 0.0)));
+  EXPECT_EQ(a2l::classify_effect(s.object_position() - box), 1);  // right
+}
+#endif
+
+class ExecutorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* dir = std::getenv("A2L_ROBOTS_DIR");
+    ASSERT_TRUE(dir != nullptr && *dir) << "set A2L_ROBOTS_DIR (make test-cpp does)";
+    ASSERT_TRUE(a2l::Kinematics::load(std::string(dir) + "/baxter_description/urdf/baxter.urdf",
+                                      "base", "right_gripper", kin_)
+                    .ok());
+    q0_.resize(7);
+    q0_ << 0.08, -1.0, 1.19, 1.94, -0.67, 1.03, 0.5;
+  }
+  a2l::Kinematics kin_;
+  Eigen::VectorXd q0_;
+};
+
+TEST_F(ExecutorTest, ReachesAStepTargetWithinLimitsAndHoldsTheOrientation) {
+  a2l::Executor ex;
+  ASSERT_TRUE(ex.init(kin_, q0_).ok());
+  const Eigen::Isometry3d start = ex.pose();
+  const V target = start.translation() + V(0.05, -0.05, 0.0) / std::sqrt(2.0);
+  ASSERT_EQ(ex.set_target(target), Status::ok);
+  EXPECT_FALSE(ex.reached());
+  Eigen::VectorXd prev = ex.q();
+  while (!ex.reached()) {
+    ASSERT_EQ(ex.tick(), Status::ok) << ex.ticks();
+    // Velocity within the URDF limits, position within the joint limits.
+    for (int i = 0; i < 7; ++i) {
+      EXPECT_LE(std::abs(ex.q()[i] - prev[i]), kin_.velocity_limits()[i] * 1e-3 + 1e-12);
+    }
+    EXPECT_TRUE(kin_.within_limits(ex.q()));
+    prev = ex.q();
+  }
+  EXPECT_LT((ex.position() - target).norm(), 2e-4);
+  // 5 cm at 0.25 m/s at 1 kHz: 200 ticks and a few to settle.
+  EXPECT_GE(ex.ticks(), 200);
+  EXPECT_LT(ex.ticks(), 400);
+  const Eigen::AngleAxisd err(start.linear() * ex.pose().linear().transpose());
+  EXPECT_LT(std::abs(err.angle()), 1e-3);
+  Eigen::Isometry3d fk;
+  ASSERT_EQ(kin_.fk(ex.q(), fk), Status::ok);
+  EXPECT_LT((fk.translation() - ex.position()).norm(), 1e-12);
+}
+
+TEST_F(ExecutorTest, SafetyChecks) {
+  a2l::ExecutorOptions o;
+  a2l::Executor ex;
+  ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
+  const V p0 = ex.position();
+  // Workspace bounds.
+  o.workspace_min = p0 - V(0.1, 0.1, 0.1);
+  o.workspace_max = p0 + V(0.1, 0.1, 0.1);
+  ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
+  EXPECT_EQ(ex.set_target(p0 + V(0.2, 0, 0)), Status::workspace_limit);
+  EXPECT_EQ(ex.set_target(V(std::nan(""), 0, 0)), Status::workspace_limit);
+  // Velocity limits: a margin so small that any motion exceeds it.
+  o = a2l::ExecutorOptions();
+  o.velocity_margin = 1e-6;
+  ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
+  ASSERT_EQ(ex.set_target(p0 + V(0.05, 0, 0)), Status::ok);
+  const Eigen::VectorXd before = ex.q();
+  EXPECT_EQ(ex.tick(), Status::velocity_limit);
+  EXPECT_EQ(Eigen::VectorXd(ex.q()), before);  // the command was refused
+  // A target beyond reach: the arm stretches until a command is refused (joint or velocity
+  // limit near the singularity) or the watchdog fires; it never leaves the limits.
+  o = a2l::ExecutorOptions();
+  o.watchdog_ticks = 3000;
+  ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
+  ASSERT_EQ(ex.set_target(p0 + V(2.0, 0, 0)), Status::ok);  // far beyond reach
+  Status s = Status::ok;
+  while (s == Status::ok && !ex.reached()) s = ex.tick();
+  EXPECT_TRUE(s == Status::joint_limit || s == Status::velocity_limit || s == Status::unreachable)
+      << a2l::status_name(s);
+  EXPECT_TRUE(kin_.within_limits(ex.q()));
+  // Bad set-up.
+  Eigen::VectorXd q_bad = q0_;
+  q_bad[1] = 5.0;
+  EXPECT_EQ(ex.init(kin_, q_bad).status, Status::invalid_argument);
+  EXPECT_EQ(ex.init(kin_, Eigen::VectorXd::Zero(3)).status, Status::size_mismatch);
+  a2l::Executor unbound;
+  EXPECT_EQ(unbound.tick(), Status::not_initialized);
+}
+
+}  // namespace

@@ -1,0 +1,163 @@
+// The real-time path allocates nothing and throws nothing: step() over 1e5 random contexts
+// (out-of-range positions, NaN, inf, unknown effects and high-level values), with and without
+// smoothing; the executor's tick; the virtual scene's move.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <type_traits>
+
+#include "a2l/bundle.hpp"
+#include "a2l/executor.hpp"
+#include "a2l/scene/virtual.hpp"
+#include "a2l/skill.hpp"
+#include "alloc_counter.hpp"
+#include "bundle_builder.hpp"
+
+namespace {
+
+using a2l::Status;
+
+static_assert(
+    noexcept(a2l::step(std::declval<const a2l::Skill&>(), std::declval<a2l::SkillState&>(),
+                       std::declval<const a2l::Context&>(), std::declval<a2l::StepOutput&>())),
+    "step() must be noexcept");
+static_assert(noexcept(std::declval<a2l::Executor&>().tick()), "tick() must be noexcept");
+
+double random_coordinate(std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> pick(0, 19);
+  std::uniform_real_distribution<double> near(-0.4, 0.4), far(-1e6, 1e6);
+  switch (pick(rng)) {
+    case 0:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 1:
+      return std::numeric_limits<double>::infinity();
+    case 2:
+      return -std::numeric_limits<double>::infinity();
+    case 3:
+      return far(rng);
+    case 4:
+      return std::numeric_limits<double>::max();
+    default:
+      return near(rng);
+  }
+}
+
+int random_index(std::mt19937_64& rng, int n) {
+  std::uniform_int_distribution<int> pick(0, 9);
+  std::uniform_int_distribution<int> in(0, n - 1);
+  switch (pick(rng)) {
+    case 0:
+      return -1 - in(rng);
+    case 1:
+      return n + in(rng);
+    case 2:
+      return std::numeric_limits<int>::min();
+    default:
+      return in(rng);
+  }
+}
+
+class StepNoAlloc : public ::testing::TestWithParam<bool> {};
+
+TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
+  const bool smoothing = GetParam();
+  const auto bytes = a2l::testing::build(a2l::testing::sample_parts(11, 0.3, smoothing));
+  a2l::Skill skill;
+  ASSERT_TRUE(a2l::load_bundle_from_memory(bytes.data(), bytes.size(), skill).ok());
+  a2l::SkillState state(skill, 256);
+  std::mt19937_64 rng(42);
+  const int n = 100000;
+  std::vector<a2l::Context> contexts(static_cast<size_t>(n));
+  for (auto& c : contexts) {
+    c.object = {0.7 + random_coordinate(rng) * 0.01, random_coordinate(rng) * 0.01,
+                0.04 + random_coordinate(rng) * 0.01};
+    c.eef = c.object +
+            Eigen::Vector3d(random_coordinate(rng), random_coordinate(rng), random_coordinate(rng));
+    c.effect = random_index(rng, 4);
+    c.high_level[4] = random_index(rng, 2);
+    c.effect_produced = std::uniform_int_distribution<int>(0, 99)(rng) == 0;
+  }
+  int counts[32] = {};
+  int wrong = 0;
+  a2l::StepOutput out;
+  bool threw = false;
+  std::size_t allocations = 0;
+  {
+    a2l::test::AllocationGuard guard;
+    try {
+      for (int i = 0; i < n; ++i) {
+        const a2l::Context& c = contexts[static_cast<size_t>(i)];
+        if (state.steps() >= 10) state.reset();
+        const Status s = a2l::step(skill, state, c, out);
+        ++counts[static_cast<int>(s)];
+        const bool unknown_input = !c.eef.allFinite() || !c.object.allFinite() || c.effect < 0 ||
+                                   c.effect >= 4 || c.high_level[4] < 0 || c.high_level[4] >= 2;
+        // Never a movement for an unknown input, always a movement from the table otherwise.
+        if (s == Status::ok && (unknown_input || c.effect_produced)) ++wrong;
+        if (s == Status::ok && (out.movement < 0 || out.movement >= 8)) ++wrong;
+        if (s != Status::ok && out.movement != -1) ++wrong;
+        if (unknown_input && !c.effect_produced && s != Status::unknown_context) ++wrong;
+      }
+    } catch (...) {
+      threw = true;
+    }
+    allocations = guard.allocations();
+  }
+  EXPECT_FALSE(threw);
+  EXPECT_EQ(allocations, 0u) << "step() allocated";
+  EXPECT_EQ(wrong, 0);
+  // The random contexts exercised every outcome.
+  EXPECT_GT(counts[static_cast<int>(Status::ok)], 1000);
+  EXPECT_GT(counts[static_cast<int>(Status::unknown_context)], 1000);
+  EXPECT_GT(counts[static_cast<int>(Status::effect_produced)], 100);
+  EXPECT_EQ(state.trace_size(), 256u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Smoothing, StepNoAlloc, ::testing::Values(false, true));
+
+TEST(SceneNoAlloc, VirtualMoveAllocatesNothing) {
+  a2l::VirtualScene scene;
+  scene.reset({0.2, 0.0, 0.04}, {0.0, 0.0, 0.04});
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  a2l::test::AllocationGuard guard;
+  int moved = 0;
+  for (int i = 0; i < 10000; ++i) {
+    if (i % 20 == 0) scene.reset({0.2 * std::cos(i), 0.2 * std::sin(i), 0.04}, {0, 0, 0.04});
+    Eigen::Vector3d to_box = scene.object_position() - scene.eef_position();
+    moved += scene.move(0.3 * to_box + Eigen::Vector3d(u(rng), u(rng), 0.0));
+  }
+  EXPECT_EQ(guard.allocations(), 0u);
+  EXPECT_GT(moved, 100);
+}
+
+TEST(ExecutorNoAlloc, TickAllocatesNothing) {
+  const char* dir = std::getenv("A2L_ROBOTS_DIR");
+  ASSERT_TRUE(dir != nullptr && *dir) << "set A2L_ROBOTS_DIR (make test-cpp does)";
+  a2l::Kinematics kin;
+  ASSERT_TRUE(a2l::Kinematics::load(std::string(dir) + "/baxter_description/urdf/baxter.urdf",
+                                    "base", "right_gripper", kin)
+                  .ok());
+  Eigen::VectorXd q0(7);
+  q0 << 0.08, -1.0, 1.19, 1.94, -0.67, 1.03, 0.5;
+  a2l::Executor ex;
+  ASSERT_TRUE(ex.init(kin, q0).ok());
+  const Eigen::Vector3d p0 = ex.position();
+  int ticks = 0;
+  a2l::test::AllocationGuard guard;
+  for (int k = 0; k < 8; ++k) {
+    const double a = k * 3.14159265358979 / 4;
+    ASSERT_EQ(ex.set_target(p0 + 0.05 * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0)),
+              Status::ok);
+    while (!ex.reached()) {
+      ASSERT_EQ(ex.tick(), Status::ok);
+      ++ticks;
+    }
+  }
+  EXPECT_EQ(guard.allocations(), 0u);
+  EXPECT_GT(ticks, 8 * 150);  // 5 cm at 0.25 m/s and 1 kHz: at least 200 ticks each
+}
+
+}  // namespace
