@@ -5,29 +5,17 @@ from __future__ import annotations
 import numpy as np
 
 from a2l.sim import make_scene
-from a2l.sim.bullet import PushScene
-
-
-def perception_errors(scene: PushScene, n: int, seed: int) -> np.ndarray:
-    """Perceived - true box centre (n, 3) over `n` random box positions on the table."""
-    rng = np.random.default_rng(seed)
-    cfg = scene.config
-    (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
-    hx, hy = cfg.box_size[0] / 2 + 0.02, cfg.box_size[1] / 2 + 0.02
-    errors = []
-    for _ in range(n):
-        xy = rng.uniform([cx - sx / 2 + hx, cy - sy / 2 + hy], [cx + sx / 2 - hx, cy + sy / 2 - hy])
-        scene.reset(objects={"box": xy})
-        truth = np.asarray(scene.ground_truth()["objects"]["box"])
-        seen = scene.perceive()["objects"].get("box")
-        assert seen is not None, f"box not seen at {xy}"
-        errors.append(np.asarray(seen) - truth)
-    return np.asarray(errors)
+from a2l.sim.perception import perception_errors
 
 
 def test_perception_error_over_200_random_positions() -> None:
     with make_scene("push") as scene:
-        err = np.linalg.norm(perception_errors(scene, 200, seed=0), axis=1)
+        positions, errors = perception_errors(scene, 200, seed=0)
+    assert not np.isnan(errors).any()  # the camera sees the whole table
+    cfg = scene.config
+    assert np.ptp(positions[:, 0]) > 0.5 * cfg.table_size[0]  # spread over the table
+    assert np.ptp(positions[:, 1]) > 0.5 * cfg.table_size[1]
+    err = np.linalg.norm(errors, axis=1)
     print(f"perception error over 200 positions: median {np.median(err) * 1000:.2f} mm, "
           f"max {err.max() * 1000:.2f} mm")
     assert np.median(err) <= 0.005

@@ -10,6 +10,7 @@ the lamp: lit (saturated yellow) or not.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import cv2
 import numpy as np
@@ -17,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l.sim._pybullet import p
 
-__all__ = ["Camera", "ColorTarget", "Perception", "hue_of"]
+__all__ = ["Camera", "ColorTarget", "Perception", "hue_of", "perception_errors"]
 
 
 def hue_of(rgba: ArrayLike) -> int:
@@ -201,3 +202,44 @@ class Perception:
             lit = int(self._mask(hsv, self._lamp_hue).sum())
             lamp["light_on"] = lit >= self.min_pixels
         return objects, lamp
+
+
+def perception_errors(scene: Any, n: int = 200, seed: int = 0, name: str | None = None,
+                      margin: float = 0.02) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Perceived minus true position of an object placed at `n` random spots on the table.
+
+    Parameters
+    ----------
+    scene : a2l.sim.bullet.BulletScene
+        A PyBullet scene; it is reset for every spot (the arm at its neutral pose).
+    n : int
+        Number of spots, uniform over the table top (object footprint `margin` m inside
+        the edges).
+    seed : int
+        Seed of the spots.
+    name : str, optional
+        The object; the scene's primary movable object by default.
+
+    Returns
+    -------
+    positions : ndarray, shape (n, 3)
+        True object centres.
+    errors : ndarray, shape (n, 3)
+        Perceived - true (m); NaN where the camera did not see the object.
+    """
+    rng = np.random.default_rng(seed)
+    cfg = scene.config
+    obj = name or scene._movable_names()[0]
+    size = getattr(cfg, f"{obj}_size")
+    (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
+    hx, hy = size[0] / 2 + margin, size[1] / 2 + margin
+    positions = np.empty((n, 3))
+    errors = np.empty((n, 3))
+    for i in range(n):
+        xy = rng.uniform([cx - sx / 2 + hx, cy - sy / 2 + hy],
+                         [cx + sx / 2 - hx, cy + sy / 2 - hy])
+        scene.reset(objects={obj: xy})
+        positions[i] = scene.ground_truth()["objects"][obj]
+        seen = scene.perceive()["objects"].get(obj)
+        errors[i] = np.nan if seen is None else np.asarray(seen) - positions[i]
+    return positions, errors
