@@ -6,6 +6,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from a2l._core import VirtualScene
 
 from a2l.skills import (
     Discretizer,
@@ -47,6 +48,16 @@ def test_push_dataset_follows_the_acquisition_protocol() -> None:
     # an effect is a displacement along one axis (the push model moves the box along one)
     e = raw[["effect_dx", "effect_dy"]].to_numpy()
     assert (np.min(np.abs(e), axis=1) == 0).all() and (np.max(np.abs(e), axis=1) >= 0.01).all()
+    # every trajectory replays bit for bit in the C++ virtual scene; only its last step pushes
+    scene = VirtualScene()
+    for _, g in list(raw.groupby("episode"))[:100]:
+        eef = g[["eef_x", "eef_y", "eef_z"]].to_numpy()
+        scene.reset(eef[0], g[["obj_x", "obj_y", "obj_z"]].to_numpy()[0])
+        for t, d in enumerate(g[["move_dx", "move_dy", "move_dz"]].to_numpy()):
+            np.testing.assert_array_equal(scene.eef_position, eef[t])
+            assert scene.move(d) == (t == len(g) - 1)
+        moved = np.asarray(scene.object_position) - [0.7, 0.0, 0.04]
+        np.testing.assert_array_equal(moved, g[["effect_dx", "effect_dy", "effect_dz"]].iloc[0])
 
 
 def test_make_skill_spec() -> None:

@@ -80,8 +80,8 @@ def test_k2_agrees_with_pgmpy_when_every_configuration_is_observed() -> None:
 
 def test_k2_rejects_bad_data() -> None:
     df = pd.DataFrame({"x": [0, 1, None], "p": [0, 1, 1]})
-    with pytest.raises(ValueError, match="'x' has missing values"):
+    with pytest.raises(ValueError, match="'x' has missing value"):
         K2Score(df)
     df = pd.DataFrame({"x": [0, 1, 3], "p": [0, 1, 1]})
-    with pytest.raises(ValueError, match="'x' has value"):
+    with pytest.raises(ValueError, match="'x' has .*not in its states: \\['3'\\]"):
         K2Score(df, state_names={"x": [0, 1, 2]})

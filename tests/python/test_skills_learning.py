@@ -105,5 +105,5 @@ def test_learn_network_errors_name_the_problem() -> None:
     states = {"distance": [0, 1]}  # the data has distance 2 as well
     with pytest.raises(ValueError, match="'distance'.*not in its states.*2"):
         learn_network(df, "hand-coded", state_names=states)
-    with pytest.raises(ValueError, match="'distance'.*not in its state names"):
+    with pytest.raises(ValueError, match="'distance'.*not in its states"):
         learn_network(df, "hc-k2", state_names=states)

@@ -637,6 +637,32 @@ class Discretizer:
         return d
 
 
+def state_codes(column: pd.Series, states: Sequence, name: str) -> np.ndarray:
+    """Index of each entry of `column` in `states`.
+
+    Returns
+    -------
+    ndarray of int64, shape (n,)
+
+    Raises
+    ------
+    ValueError
+        An entry is missing or not one of `states` (the message names `name` and the values).
+    """
+    values = (
+        column.astype(object).to_numpy()
+        if isinstance(column.dtype, pd.CategoricalDtype)
+        else (column.to_numpy())
+    )
+    codes = pd.Index(list(states), dtype=object).get_indexer(pd.Index(values, dtype=object))
+    if (codes < 0).any():
+        bad = sorted({str(v) for v in values[codes < 0]})
+        raise ValueError(
+            f"column {name!r} has missing value(s) or value(s) not in its states: {bad}"
+        )
+    return codes.astype(np.int64)
+
+
 def as_state_names(df: pd.DataFrame, state_names: Mapping[str, Sequence] | None = None) -> dict:
     """State names of every column of `df`: `state_names` first, then categories, then the
     sorted observed values."""

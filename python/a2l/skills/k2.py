@@ -23,7 +23,7 @@ import pandas as pd
 from pgmpy.structure_score import BaseStructureScore
 from scipy.special import gammaln
 
-from a2l.skills.discretize import as_state_names
+from a2l.skills.discretize import as_state_names, state_codes
 
 __all__ = ["K2Score", "k2_local_score"]
 
@@ -97,14 +97,7 @@ class K2Score(BaseStructureScore):
         names = as_state_names(data, state_names)
         self._codes: dict[str, np.ndarray] = {}
         for var in data.columns:
-            col = data[var]
-            if col.isna().any():
-                raise ValueError(f"column {var!r} has missing values; K2Score needs complete data")
-            codes = pd.Categorical(col, categories=names[var]).codes.astype(np.int64)
-            if (codes < 0).any():
-                bad = sorted(map(str, set(col[codes < 0])))
-                raise ValueError(f"column {var!r} has value(s) {bad} not in its state names")
-            self._codes[var] = codes
+            self._codes[var] = state_codes(data[var], names[var], str(var))
         super().__init__(data, state_names=names)
         self.state_names = names
 

@@ -17,7 +17,7 @@ from pgmpy.causal_discovery import ExpertKnowledge, HillClimbSearch
 from pgmpy.models import DiscreteBayesianNetwork
 from pgmpy.parameter_estimator import DiscreteBayesianEstimator
 
-from a2l.skills.discretize import as_state_names
+from a2l.skills.discretize import as_state_names, state_codes
 from a2l.skills.k2 import K2Score
 
 __all__ = ["STRUCTURES", "hand_coded_structure", "learn_network", "learn_structure"]
@@ -211,14 +211,12 @@ def learn_network(
         dag = learn_structure(df, target=target, state_names=names, **constraints)  # type: ignore[arg-type]
     model = DiscreteBayesianNetwork(dag.edges())
     model.add_nodes_from(dag.nodes())
-    data = pd.DataFrame({c: pd.Categorical(df[c], categories=names[c]) for c in df.columns})
-    for c in df.columns:
-        bad = data[c].isna().to_numpy()
-        if bad.any():
-            values = sorted(map(str, set(df[c][bad])))
-            raise ValueError(
-                f"column {c!r} has missing value(s) or value(s) not in its states: {values}"
-            )
+    data = pd.DataFrame(
+        {
+            c: pd.Categorical.from_codes(state_codes(df[c], names[c], str(c)), names[c])
+            for c in df.columns
+        }
+    )
     estimator = DiscreteBayesianEstimator(
         state_names=names, prior_type=prior_type, equivalent_sample_size=equivalent_sample_size
     )

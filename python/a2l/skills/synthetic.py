@@ -1,10 +1,10 @@
 """Synthetic datasets for tests and benchmarks.
 
-- :func:`push_dataset`: random babbling around a box with the kinematic push model of
-  ``docs/virtual_scene.md`` (a vectorised numpy copy kept only to *generate data*; the scene
-  that runs skills is the C++ ``VirtualScene``). It follows METHOD.md's acquisition: start
-  points on a circle around the object, up to `max_steps` random movements, keep a
-  trajectory only if it moved the box, label every step with the observed effect.
+- :func:`push_dataset`: random babbling around a box in the virtual scene of
+  ``docs/virtual_scene.md`` (the C++ ``VirtualScene``, the one the runtime uses). It follows
+  METHOD.md's acquisition: start points on a circle around the object, up to `max_steps`
+  random movements, keep a trajectory only if it moved the box, label every step with the
+  observed effect.
 - :func:`known_structure_dataset`: samples of a discrete network whose structure is known
   (the parents of ``move`` are given), for testing structure recovery.
 """
@@ -35,7 +35,7 @@ def push_dataset(
     min_displacement: float = 0.01,
     max_tries: int | None = None,
 ) -> pd.DataFrame:
-    """Random push babbling in the kinematic push model.
+    """Random push babbling in the virtual scene (``a2l._core.VirtualScene``).
 
     Parameters
     ----------
@@ -65,7 +65,7 @@ def push_dataset(
 
     Returns
     -------
-    pandas.DataFrame, shape (n_steps, 15)
+    pandas.DataFrame, shape (n_steps, 14)
         A raw dataset (:mod:`a2l.data.schema`): ``episode, step, eef_*, obj_*, move_d*,
         effect_d*`` where ``effect_d*`` is the box displacement of the trajectory.
 
@@ -74,84 +74,84 @@ def push_dataset(
     RuntimeError
         Fewer than `n_trajectories` kept after `max_tries`.
     """
+    from a2l._core import VirtualScene
+
     if n_trajectories < 1:
         raise ValueError(f"n_trajectories must be >= 1, got {n_trajectories}")
     rng = np.random.default_rng(seed)
     moves = movements or MovementRepertoire(planar=True)
     disp = moves.displacement(np.arange(moves.n_moves))  # (n_moves, 3)
     obj0 = np.asarray(object_position, dtype=np.float64)
-    half = np.asarray(half_size, dtype=np.float64) + eef_radius
     angles = np.arange(n_starts) * 2 * np.pi / n_starts
     starts = obj0 + radius * np.stack([np.cos(angles), np.sin(angles), 0 * angles], axis=1)
     max_tries = max_tries or 200 * n_trajectories
+    scene = VirtualScene(half_size=np.asarray(half_size, dtype=np.float64), eef_radius=eef_radius)
 
-    kept: list[pd.DataFrame] = []
+    # Draw trajectories in batches; run each in the scene until the box moves. Only the
+    # kept ones are written out: before its last step the box has not moved, and the
+    # end-effector positions are the same sequential sums the scene makes (eef += d).
+    disp_list = [tuple(map(float, d)) for d in disp]
+    obj0_list = tuple(map(float, obj0))
+    start_list = [tuple(map(float, p)) for p in starts]
+    blocks: list[np.ndarray] = []
     n_kept = 0
     tried = 0
-    batch = max(256, 4 * n_trajectories)
     while n_kept < n_trajectories:
         if tried >= max_tries:
             raise RuntimeError(
                 f"only {n_kept} of {n_trajectories} trajectories moved the box in {tried} tries"
             )
-        b = min(batch, max_tries - tried)
-        tried += b
-        eef = starts[rng.integers(0, n_starts, b)].copy()  # (b, 3)
-        obj = np.repeat(obj0[None], b, axis=0)
-        alive = np.ones(b, dtype=bool)
-        moved = np.zeros(b, dtype=bool)
-        rows_eef, rows_obj, rows_mv, rows_ep, rows_step = [], [], [], [], []
-        for t in range(max_steps):
-            m = rng.integers(0, moves.n_moves, b)
-            d = disp[m]
-            idx = np.flatnonzero(alive)
-            rows_eef.append(eef[idx].copy())
-            rows_obj.append(obj[idx].copy())
-            rows_mv.append(d[idx])
-            rows_ep.append(idx)
-            rows_step.append(np.full(idx.size, t))
-            new = eef + d
-            inside = np.all(np.abs(new - obj) <= half, axis=1) & alive
-            planar = (np.abs(d[:, 0]) > 0) | (np.abs(d[:, 1]) > 0)
-            push = inside & planar
-            k = np.where(np.abs(d[:, 0]) >= np.abs(d[:, 1]), 0, 1)
-            for axis in (0, 1):
-                sel = push & (k == axis)
-                sgn = np.sign(d[sel, axis])
-                obj[sel, axis] = new[sel, axis] + sgn * half[axis]
-            eef = np.where(alive[:, None], new, eef)
-            moved |= push
-            alive &= ~push
-        ep = np.concatenate(rows_ep)
-        far_enough = np.hypot(*(obj - obj0)[:, :2].T) >= min_displacement
-        keep_ep = np.flatnonzero(moved & far_enough)[: n_trajectories - n_kept]
-        sel = np.isin(ep, keep_ep)
-        effect = (obj - obj0)[ep[sel]]
-        episode = np.searchsorted(keep_ep, ep[sel]) + n_kept
-        e, o, mv = (np.concatenate(r)[sel] for r in (rows_eef, rows_obj, rows_mv))
-        kept.append(
-            pd.DataFrame(
-                {
-                    "episode": episode,
-                    "step": np.concatenate(rows_step)[sel],
-                    "eef_x": e[:, 0],
-                    "eef_y": e[:, 1],
-                    "eef_z": e[:, 2],
-                    "obj_x": o[:, 0],
-                    "obj_y": o[:, 1],
-                    "obj_z": o[:, 2],
-                    "move_dx": mv[:, 0],
-                    "move_dy": mv[:, 1],
-                    "move_dz": mv[:, 2],
-                    "effect_dx": effect[:, 0],
-                    "effect_dy": effect[:, 1],
-                    "effect_dz": effect[:, 2],
-                }
+        batch = min(max(1024, 8 * (n_trajectories - n_kept)), max_tries - tried)
+        tried += batch
+        start_idx = rng.integers(0, n_starts, batch).tolist()
+        plans = rng.integers(0, moves.n_moves, (batch, max_steps))
+        for i, plan in enumerate(plans.tolist()):
+            scene.reset(start_list[start_idx[i]], obj0_list)
+            k = 0  # steps of the trajectory, the last one pushed
+            for m in plan:
+                k += 1
+                if scene.move(disp_list[m]):
+                    break
+            else:
+                continue
+            effect = np.asarray(scene.object_position) - obj0
+            if np.hypot(effect[0], effect[1]) < min_displacement:
+                continue
+            d = disp[plans[i, :k]]
+            eef = np.cumsum(np.vstack([starts[start_idx[i]], d[:-1]]), axis=0)
+            blocks.append(
+                np.hstack(
+                    [
+                        np.full((k, 1), n_kept),
+                        np.arange(k)[:, None],
+                        eef,
+                        np.tile(obj0, (k, 1)),
+                        d,
+                        np.tile(effect, (k, 1)),
+                    ]
+                )
             )
-        )
-        n_kept += keep_ep.size
-    df = pd.concat(kept, ignore_index=True)
-    return df.sort_values(["episode", "step"], kind="stable").reset_index(drop=True)
+            n_kept += 1
+            if n_kept == n_trajectories:
+                break
+    columns = [
+        "episode",
+        "step",
+        "eef_x",
+        "eef_y",
+        "eef_z",
+        "obj_x",
+        "obj_y",
+        "obj_z",
+        "move_dx",
+        "move_dy",
+        "move_dz",
+        "effect_dx",
+        "effect_dy",
+        "effect_dz",
+    ]
+    df = pd.DataFrame(np.vstack(blocks), columns=columns)
+    return df.astype({"episode": np.int64, "step": np.int64})
 
 
 @dataclass(frozen=True)
