@@ -44,3 +44,21 @@ def test_rendering_with_collision_shapes_changes_the_robot_not_the_result() -> N
         truth = np.asarray(scene.ground_truth()["objects"]["box"])
         seen = np.asarray(scene.perceive()["objects"]["box"])
         assert np.linalg.norm(seen - truth) < 0.005
+
+
+def test_perception_while_the_arm_hides_the_box_from_the_main_camera() -> None:
+    # pushing the box toward the robot puts the gripper between the main camera and the
+    # box: perception must fall back on another view instead of returning a clipped box
+    with make_scene("push") as scene:
+        box = np.asarray(scene.ground_truth()["objects"]["box"])
+        for direction in [(-1, 0), (-1, -1)]:
+            u = np.array([*direction, 0.0]) / np.hypot(*direction)
+            scene.reset(eef=box - 0.14 * u + [0, 0, -0.01])
+            for _ in range(4):
+                assert scene.execute((*direction, 0))
+                rgb, depth = scene.render(0)
+                _, _, visible = scene.perception.locate(rgb, depth)
+                truth = np.asarray(scene.ground_truth()["objects"]["box"])
+                seen = np.asarray(scene.perceive()["objects"]["box"])
+                assert np.linalg.norm(seen - truth) < 0.008, (direction, visible)
+            assert visible.get("box", 0.0) < scene.config.min_visible  # it was hidden

@@ -75,12 +75,17 @@ class BulletScene(Scene):
         self._build_world()
         self._build_robot()
         self._build_objects()
-        self.camera = Camera(c, cfg.camera_width, cfg.camera_height, cfg.camera_eye,
-                             cfg.camera_target, cfg.camera_fov)
-        self.perception = Perception(
-            self.camera,
-            [ColorTarget(o.name, o.rgba, o.size[2] / 2) for o in self._objects.values()],
-            lamp_rgba=self._lamp_rgba())
+        targets = [ColorTarget(o.name, o.rgba, o.size[2] / 2, o.size[0] * o.size[1])
+                   for o in self._objects.values()]
+        #: The cameras: the main one first, then the ones looked at when an object is
+        #: hidden from it (see :meth:`perceive`).
+        self.cameras = [Camera(c, cfg.camera_width, cfg.camera_height, eye,
+                               cfg.camera_target, cfg.camera_fov)
+                        for eye in (cfg.camera_eye, *cfg.extra_camera_eyes)]
+        self.perceptions = [Perception(cam, targets, lamp_rgba=self._lamp_rgba())
+                            for cam in self.cameras]
+        self.camera = self.cameras[0]
+        self.perception = self.perceptions[0]
         self._saved = p.saveState(physicsClientId=c)
         self.reset()
 
@@ -310,18 +315,30 @@ class BulletScene(Scene):
     def _perceive(self) -> Observation:
         if self._perceived_cache is not None and self._perceived_cache[0] == self._tick:
             return self._perceived_cache[1]
-        rgb, depth = self.camera.render()
-        objs, lamp = self.perception.locate(rgb, depth)
+        best: dict[str, tuple[float, tuple[float, float, float]]] = {}
+        lit: bool | None = None
+        for perception in self.perceptions:
+            objs, lamp, visible = perception.locate(*perception.camera.render())
+            for name, pos in objs.items():
+                if name not in best or visible[name] > best[name][0]:
+                    best[name] = (visible[name], pos)
+            if "light_on" in lamp:
+                lit = bool(lit) or lamp["light_on"]
+            if len(best) == len(perception.targets) and all(
+                    v >= self.config.min_visible for v, _ in best.values()):
+                break  # every object well seen: no need for another view
+        objs = {name: pos for name, (_, pos) in best.items()}
         states = dict(self._states)
-        if "light_on" in lamp:
-            states["light"] = "on" if lamp["light_on"] else "off"
+        if lit is not None:
+            states["light"] = "on" if lit else "off"
         obs = Observation(objs, states, self.eef_position(), self._states["gripper"] == "closed")
         self._perceived_cache = (self._tick, obs)
         return obs
 
-    def render(self) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
-        """One camera frame: RGB (H, W, 3) uint8 and the depth buffer (H, W) float32."""
-        return self.camera.render()
+    def render(self, camera: int = 0) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
+        """One frame of camera `camera` (0: the main one): RGB (H, W, 3) uint8 and the
+        depth buffer (H, W) float32."""
+        return self.cameras[camera].render()
 
     def _move(self, disp: NDArray[np.float64]) -> MoveResult:
         cfg = self.config

@@ -114,6 +114,13 @@ class SceneConfig:
         from beyond the table, high enough to see the whole table top.
     camera_fov : float
         Vertical field of view (degrees).
+    extra_camera_eyes : tuple of (x, y, z)
+        More cameras looking at ``camera_target`` (by default from the robot's left and
+        right). Perception renders the main camera and, only when it sees less than
+        ``min_visible`` of an object's top face (the arm is in front of it), these in turn,
+        keeping for each object the view that sees most of it.
+    min_visible : float
+        Share of an object's top face in view above which no other camera is rendered.
     context_source : str
         ``"perceived"`` (camera + OpenCV, the default in experiments) or ``"ground_truth"``.
     n_push_effects : int
@@ -153,6 +160,9 @@ class SceneConfig:
     camera_eye: tuple[float, float, float] = (1.55, -0.15, 0.85)
     camera_target: tuple[float, float, float] = (0.75, -0.15, -0.2)
     camera_fov: float = 55.0
+    extra_camera_eyes: tuple[tuple[float, float, float], ...] = (
+        (0.75, 0.95, 0.85), (0.75, -1.25, 0.85))
+    min_visible: float = 0.8
     context_source: str = "perceived"
     n_push_effects: int = 8
     effect_threshold: float = 0.01
@@ -205,6 +215,18 @@ class SceneConfig:
         _vector(self, "camera_target", 3)
         if self.camera_eye == self.camera_target:
             raise _err("camera_eye", "must differ from camera_target")
+        try:
+            eyes = [tuple(float(v) for v in e) for e in self.extra_camera_eyes]
+        except (TypeError, ValueError) as exc:
+            raise _err("extra_camera_eyes", "expected a sequence of (x, y, z)") from exc
+        if any(len(e) != 3 or not all(math.isfinite(v) for v in e) or e == self.camera_target
+               for e in eyes):
+            raise _err("extra_camera_eyes", f"every eye must be 3 finite numbers away from "
+                       f"camera_target, got {self.extra_camera_eyes!r}")
+        self.extra_camera_eyes = tuple(eyes)  # type: ignore[assignment]
+        _positive(self, "min_visible", allow_zero=True)
+        if self.min_visible > 1:
+            raise _err("min_visible", f"must be in [0, 1], got {self.min_visible}")
         if not isinstance(self.states, dict):
             raise _err("states", f"expected a dict name -> value, got {self.states!r}")
         known = self.state_values()

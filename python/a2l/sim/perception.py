@@ -117,11 +117,14 @@ class ColorTarget:
         Its colour.
     half_height : float
         Half its height (m): the centre lies this far below the top face.
+    top_area : float
+        Area of its top face (m^2), to tell how much of it a camera sees (0: unknown).
     """
 
     name: str
     rgba: tuple[float, float, float, float]
     half_height: float
+    top_area: float = 0.0
 
 
 class Perception:
@@ -171,7 +174,8 @@ class Perception:
         return m.astype(bool)
 
     def locate(self, rgb: NDArray[np.uint8], depth: NDArray[np.float32]
-               ) -> tuple[dict[str, tuple[float, float, float]], dict[str, bool]]:
+               ) -> tuple[dict[str, tuple[float, float, float]], dict[str, bool],
+                          dict[str, float]]:
         """Object positions and lamp state in one frame.
 
         Returns
@@ -180,9 +184,14 @@ class Perception:
             Centre of every target seen (world frame, m).
         lamp : dict
             ``{"light_on": bool}`` when the scene has a lamp, else empty.
+        visible : dict of str to float
+            For every target seen, the share of its top face the camera sees (area of the
+            rectangle around the seen top face over the target's ``top_area``, at most 1;
+            1 when ``top_area`` is unknown). An arm in front of the object lowers it.
         """
         hsv = cv2.cvtColor(rgb, cv2.COLOR_RGB2HSV)
         objects: dict[str, tuple[float, float, float]] = {}
+        visible: dict[str, float] = {}
         for t in self.targets:
             mask = self._mask(hsv, self._hues[t.name])
             rows, cols = np.nonzero(mask)
@@ -195,13 +204,14 @@ class Perception:
                 top = pts
             # the centre of the smallest rectangle around the top face: unlike the mean of
             # the points it is not pulled toward the camera, where pixels are denser
-            (cx, cy), _, _ = cv2.minAreaRect(top[:, :2].astype(np.float32))
+            (cx, cy), (w, h), _ = cv2.minAreaRect(top[:, :2].astype(np.float32))
             objects[t.name] = (float(cx), float(cy), z_top - t.half_height)
+            visible[t.name] = min(1.0, w * h / t.top_area) if t.top_area > 0 else 1.0
         lamp: dict[str, bool] = {}
         if self._lamp_hue is not None:
             lit = int(self._mask(hsv, self._lamp_hue).sum())
             lamp["light_on"] = lit >= self.min_pixels
-        return objects, lamp
+        return objects, lamp, visible
 
 
 def perception_errors(scene: Any, n: int = 200, seed: int = 0, name: str | None = None,
