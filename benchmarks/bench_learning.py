@@ -167,7 +167,8 @@ def _compile_and_lookup() -> str:
         ("hand-coded, large, 1 MiB budget", big_net, big_disc.evidence, 2**20),
     ]
     lines += [
-        "| network | table shape | combinations | compile | one VE query | VE × combinations |",
+        "| network | table shape (evidence…, moves) | combinations | compile | one VE query "
+        "| VE × combinations |",
         "|---|---|---:|---:|---:|---:|",
     ]
     rng = np.random.default_rng(0)
