@@ -83,8 +83,18 @@ class FrameworkConfig:
         Smallest object displacement that counts as an effect (m).
     structure : str
         ``"hc-k2"`` or ``"hand-coded"``.
+    effect_parent : bool
+        With ``hc-k2``, fix the edge ``effect -> move`` (the action generator is queried with
+        the wanted effect; without the edge, small datasets give a skill that ignores it).
+        Hill-climbing still chooses every other parent.
     extension_cut : int
-        Steps cut from the end of a trajectory before extending it.
+        Most steps cut from the end of a trajectory before extending it (each extension
+        cuts 1 to ``extension_cut`` steps, drawn at random).
+    smoothing : bool
+        METHOD.md's chapter-6 neighbour smoothing in the C++ step.
+    keep_validation : bool
+        Add the validation trajectories that moved the object to the next dataset (they
+        are interactions too, labelled with the effect they produced).
     max_extensions : int
         Most extension trajectories added per iteration.
     stuck_after : int
@@ -93,6 +103,9 @@ class FrameworkConfig:
         Effect-directed trajectories added for a stuck pair.
     directed_try_cap : int
         Most tries to find them.
+    directed_steps : int
+        Most movements of an effect-directed trajectory (going around the object takes
+        more than ``max_babble_steps``).
     seed : int
         Seed of every random draw.
     scene_config : dict
@@ -116,11 +129,15 @@ class FrameworkConfig:
     dist_high: float = 0.20
     effect_threshold: float = 0.01
     structure: str = "hc-k2"
-    extension_cut: int = 1
+    effect_parent: bool = True
+    extension_cut: int = 3
+    keep_validation: bool = True
+    smoothing: bool = False
     max_extensions: int = 50
     stuck_after: int = 1
     directed_per_pair: int = 20
-    directed_try_cap: int = 400
+    directed_try_cap: int = 2000
+    directed_steps: int = 20
     seed: int = 0
     scene_config: dict[str, Any] = field(default_factory=dict)
 
@@ -132,7 +149,7 @@ class FrameworkConfig:
             raise ValueError(f"n_effects: must be 4 or 8, got {self.n_effects}")
         positive_ints = ("n_starts", "max_babble_steps", "try_cap", "max_iterations",
                          "step_cap", "n_orient", "n_dist", "max_extensions",
-                         "directed_per_pair", "directed_try_cap", "stuck_after")
+                         "directed_per_pair", "directed_try_cap", "directed_steps", "stuck_after")
         for name in positive_ints:
             v = getattr(self, name)
             if not isinstance(v, int) or v < 1:
@@ -146,8 +163,8 @@ class FrameworkConfig:
                              f"{self.dist_low}, {self.dist_high}")
         if self.n_incl < 0:
             raise ValueError(f"n_incl: must be >= 0, got {self.n_incl}")
-        if self.extension_cut < 0:
-            raise ValueError(f"extension_cut: must be >= 0, got {self.extension_cut}")
+        if self.extension_cut < 1:
+            raise ValueError(f"extension_cut: must be >= 1, got {self.extension_cut}")
         if self.structure not in ("hc-k2", "hand-coded"):
             raise ValueError(f"structure: unknown {self.structure!r}")
 
@@ -284,37 +301,22 @@ def _play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[
 
 
 def babble_task(task: tuple[dict[str, Any], int, list[int], int, int]) -> Rollout:
-    """One babbling trajectory: ``(config, start, prefix, seed, wanted)``.
+    """One babbling trajectory: ``(config, start, prefix, seed, steps)``.
 
-    Random movements after `prefix` (METHOD.md: up to ``max_babble_steps``); with
-    ``wanted >= 0`` the movements are effect-directed: drawn among those whose planar
-    direction does not point against the wanted effect's direction.
+    Uniformly random movements after `prefix` (METHOD.md), at most `steps` of them, until
+    the object moves.
     """
-    cfg_d, start, prefix, seed, wanted = task
+    cfg_d, start, prefix, seed, steps = task
     cfg = FrameworkConfig(**cfg_d)
     disc = _discretizers(cfg)
     rng = np.random.default_rng(seed)
     n = disc.movements.n_moves
-    allowed = np.arange(n)
-    if wanted >= 0:
-        target = _effect_direction(disc.effects.values[wanted])
-        d = disc.movements.directions[:, :2].astype(float)
-        allowed = np.flatnonzero(d @ target > 0)
 
     def choose(_eef: np.ndarray, _obj: np.ndarray) -> int:
-        return int(rng.choice(allowed))
+        return int(rng.integers(n))
 
     offset = cfg.start_offsets()[start]
-    steps = len(prefix) + cfg.max_babble_steps
-    return _play(_env(cfg), disc, start, offset, prefix, choose, steps)
-
-
-def _effect_direction(name: str) -> np.ndarray:
-    """Planar unit direction of an effect name (``far`` = +x, ``left`` = +y, ...)."""
-    v = np.zeros(2)
-    for part in name.split("_"):
-        v += {"far": (1, 0), "close": (-1, 0), "left": (0, 1), "right": (0, -1)}[part]
-    return v / np.linalg.norm(v)
+    return _play(_env(cfg), disc, start, offset, prefix, choose, len(prefix) + steps)
 
 
 def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
@@ -330,6 +332,9 @@ def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
     cfg = FrameworkConfig(**cfg_d)
     disc = _discretizers(cfg)
     runner = CppSkillRunner.cached(bundle)
+    if tuple(runner.labels) != tuple(disc.movements.labels):
+        raise ValueError(f"skill bundle '{bundle}' has movements {runner.labels}, the "
+                         f"framework's repertoire is {disc.movements.labels}")
     runner.reset()
     status: list[str] = []
 
@@ -404,8 +409,8 @@ def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
     batch = max(16, 8 * executor.workers)
     while len(kept) < target and tried < cfg.try_cap:
         n = min(batch, cfg.try_cap - tried)
-        tasks = [(cfg_d, (tried + i) % cfg.n_starts, [], _seed(cfg, iteration, 0, tried + i), -1)
-                 for i in range(n)]
+        tasks = [(cfg_d, (tried + i) % cfg.n_starts, [], _seed(cfg, iteration, 0, tried + i),
+                  cfg.max_babble_steps) for i in range(n)]
         for r in executor.map(babble_task, tasks):
             tried += 1
             if r.moved and len(kept) < target:
@@ -419,27 +424,33 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
            validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> list[Rollout]:
     """New trajectories for iteration `iteration` (METHOD.md's dataset extension).
 
-    - successful and false-positive validation trajectories, cut back ``extension_cut``
-      steps and extended with random movements (at most ``max_extensions``);
+    - successful and false-positive validation trajectories (themselves, with
+      ``keep_validation``), and cut back 1 to ``extension_cut`` steps and extended with
+      random movements (at most ``max_extensions``);
     - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
-      ``directed_per_pair`` effect-directed trajectories that produce that effect.
+      ``directed_per_pair`` effect-directed trajectories: random babbling from that start
+      (at most ``directed_steps`` movements), kept only when it produces that effect.
     """
     cfg_d = asdict(cfg)
     tasks = []
-    for i, r in enumerate(v for v in validation if v.outcome in (SUCCESS, FALSE_POSITIVE)):
-        if len(tasks) >= cfg.max_extensions:
-            break
-        prefix = r.moves[: max(0, len(r.moves) - cfg.extension_cut)]
-        tasks.append((cfg_d, r.start, prefix, _seed(cfg, iteration, 1, i), -1))
-    out = [r for r in executor.map(babble_task, tasks) if r.moved]
+    moved = [v for v in validation if v.outcome in (SUCCESS, FALSE_POSITIVE)]
+    cut_rng = np.random.default_rng(_seed(cfg, iteration, 1, -1 % 2**31))
+    for i in range(min(cfg.max_extensions, len(moved) * cfg.extension_cut)):
+        r = moved[i % len(moved)]
+        cut = int(cut_rng.integers(1, cfg.extension_cut + 1))
+        prefix = r.moves[: max(0, len(r.moves) - cut)]
+        tasks.append((cfg_d, r.start, prefix, _seed(cfg, iteration, 1, i),
+                      cfg.max_babble_steps))
+    out = list(moved) if cfg.keep_validation else []
+    out += [r for r in executor.map(babble_task, tasks) if r.moved]
     pairs = sorted(p for p, n in stuck.items() if n >= cfg.stuck_after)
     for j, (start, effect) in enumerate(pairs):
         found: list[Rollout] = []
         tried = 0
         while len(found) < cfg.directed_per_pair and tried < cfg.directed_try_cap:
             n = min(32, cfg.directed_try_cap - tried)
-            tasks = [(cfg_d, start, [], _seed(cfg, iteration, 2 + j, tried + i), effect)
-                     for i in range(n)]
+            tasks = [(cfg_d, start, [], _seed(cfg, iteration, 2 + j, tried + i),
+                      cfg.directed_steps) for i in range(n)]
             for r in executor.map(babble_task, tasks):
                 tried += 1
                 if r.effect == effect and len(found) < cfg.directed_per_pair:
@@ -467,10 +478,14 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     discrete = disc.discretize(dataset)
     if len(discrete) == 0:
         raise ValueError("the dataset has no usable row: nothing moved the object")
-    network = learn_network(discrete, structure=cfg.structure, state_names=disc.state_names())
+    constraints: dict[str, Any] = {}
+    if cfg.structure == "hc-k2" and cfg.effect_parent:
+        constraints["fixed_edges"] = [(disc.effects.name, disc.movements.name)]
+    network = learn_network(discrete, structure=cfg.structure, state_names=disc.state_names(),
+                            **constraints)
     table = compile_policy(network, target="move", evidence=disc.evidence)
     spec = make_skill_spec(table, disc, name="push", robot=robot, step_cap=cfg.step_cap,
-                           extra={"framework": asdict(cfg)})
+                           smoothing=cfg.smoothing, extra={"framework": asdict(cfg)})
     save_bundle(spec, bundle_path)
     return table
 

@@ -1,0 +1,362 @@
+"""The push experiment (thesis chapter 5) and the discretization study.
+
+``a2l experiment push`` runs the iterative framework (:mod:`a2l.framework`) on the push
+effects and writes a run directory (DESIGN.md): ``config.json``, ``metrics.json``,
+``dataset.parquet``, ``skills/push.a2lb`` (the final skill) and one bundle per iteration,
+``score.png``, ``trajectories.png``, ``policy.png`` and ``report.md``.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import time
+from dataclasses import asdict, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from a2l.experiments.rundir import atomic_write_text, make_run_dir, read_json, write_json
+from a2l.framework import FrameworkConfig, IterationResult, run_framework
+from a2l.parallel import Executor
+
+__all__ = [
+    "plot_policy",
+    "plot_scores",
+    "plot_trajectories",
+    "results_table",
+    "run_discretization_study",
+    "run_push_experiment",
+]
+
+
+def _robot_entry(cfg: FrameworkConfig) -> dict[str, str] | None:
+    if cfg.scene != "baxter":
+        return None
+    from a2l.robot import arm_spec, urdf_sha256
+
+    spec = arm_spec("baxter", "right")
+    return {"name": "baxter", "urdf_sha256": urdf_sha256(spec.urdf),
+            "base_link": spec.base_link, "tip_link": spec.tip_link}
+
+
+def results_table(history: list[dict[str, Any]]) -> str:
+    """Markdown table of the iterations' metrics."""
+    if not history:
+        return "(no iteration)"
+    effects = list(history[0]["success_rate"])
+    head = ["iteration", "score", *effects, "false positives", "movements/action",
+            "dataset rows", "accepted", "wall (s)"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for m in history:
+        cells = [str(m["iteration"]), f"{m['score']:.1f}",
+                 *(f"{m['success_rate'][e]:.0%}" for e in effects),
+                 str(m["false_positives"]),
+                 "—" if np.isnan(m["mean_movements"]) else f"{m['mean_movements']:.1f}",
+                 str(m["dataset_size"]), "yes" if m["accepted"] else "no",
+                 f"{m['wall_s']:.1f}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
+    """Score per iteration (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    it = [m["iteration"] for m in history]
+    fig, ax = plt.subplots(figsize=(5, 3.2))
+    ax.plot(it, [m["score"] for m in history], "o-", label="iteration score")
+    best = np.maximum.accumulate([m["score"] for m in history])
+    ax.step(it, best, where="post", ls="--", label="accepted (best so far)")
+    ax.set(xlabel="iteration", ylabel="score", ylim=(0, 105), title="A2L push: score")
+    ax.set_xticks(it)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path) -> None:
+    """Validation trajectories over the table, one panel per effect (PNG).
+
+    Successful ones are solid, false positives dashed, fails dotted; the box at the start
+    is grey.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from a2l.framework import _discretizers
+
+    names = _discretizers(cfg).effects.values
+    n = len(names)
+    cols = 4
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
+    style = {"success": ("-", 1.0), "false_positive": ("--", 0.6), "fail": (":", 0.4)}
+    for e, ax in enumerate(axes.ravel()):
+        if e >= n:
+            ax.axis("off")
+            continue
+        sel = validation[validation["wanted"] == e]
+        ok = int((sel["outcome"] == "success").sum())
+        for row in sel.itertuples(index=False):
+            eef = np.asarray(row.eef).reshape(-1, 3)
+            obj = np.asarray(row.obj).reshape(-1, 3)
+            ls, alpha = style.get(row.outcome, (":", 0.4))
+            ax.plot(eef[:, 1] - obj[0, 1], eef[:, 0] - obj[0, 0], ls, alpha=alpha, lw=1.2)
+            ax.plot(eef[0, 1] - obj[0, 1], eef[0, 0] - obj[0, 0], "k.", ms=4)
+        ax.add_patch(plt.Rectangle((-0.0425, -0.035), 0.085, 0.07, color="0.6"))
+        ax.set(title=f"{names[e]}: {ok}/{len(sel)}", xlim=(0.28, -0.28), ylim=(-0.28, 0.28),
+               aspect="equal")
+        ax.set_xlabel("y (m, robot's left ←)")
+        ax.set_ylabel("x (m, far ↑)")
+    fig.suptitle("Validation trajectories (solid: success, dashed: false positive, "
+                 "dotted: fail)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
+    """The movement the skill infers over the table, per effect (PNG).
+
+    On a grid of end-effector positions around the object, the C++ step (the one the
+    robot runs) gives the movement; arrows show it, colour its probability.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from a2l.framework import _discretizers
+    from a2l.framework_env import CppSkillRunner
+
+    disc = _discretizers(cfg)
+    runner = CppSkillRunner(str(bundle))
+    names = disc.effects.values
+    g = np.linspace(-0.24, 0.24, 13)
+    cols = 4
+    rows = (len(names) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
+    for e, ax in enumerate(axes.ravel()):
+        if e >= len(names):
+            ax.axis("off")
+            continue
+        xs, ys, us, vs, ps = [], [], [], [], []
+        for x in g:
+            for y in g:
+                if abs(x) < 0.04 and abs(y) < 0.045:
+                    continue
+                runner.reset()
+                move, _status, prob = runner.step_with_probability(
+                    np.array([x, y, 0.0]), np.zeros(3), e)
+                if move is None:
+                    continue
+                d = disc.movements.displacement(move)
+                xs.append(y)
+                ys.append(x)
+                us.append(d[1])
+                vs.append(d[0])
+                ps.append(prob)
+        q = ax.quiver(xs, ys, us, vs, ps, cmap="viridis", clim=(0, 1), scale=1.0,
+                      scale_units="xy", angles="xy", width=0.006)
+        ax.add_patch(plt.Rectangle((-0.0425, -0.035), 0.085, 0.07, color="0.6"))
+        ax.set(title=names[e], xlim=(0.27, -0.27), ylim=(-0.27, 0.27), aspect="equal")
+    fig.colorbar(q, ax=axes.ravel().tolist(), shrink=0.7, label="P(movement)")
+    fig.suptitle("Inferred movement over the discretized context (object at the centre)")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _report(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path) -> str:
+    return "\n".join([
+        f"# A2L push experiment ({cfg.scene} scene, {cfg.n_effects} effects, seed {cfg.seed})",
+        "",
+        f"Final score: **{result['final_score']:.1f}** after {len(result['iterations'])} "
+        f"iteration(s); final skill `{Path(result['bundle']).relative_to(run_dir)}` "
+        "(copied to `skills/push.a2lb`).",
+        "",
+        results_table(result["iterations"]),
+        "",
+        "![score per iteration](score.png)",
+        "",
+        "![validation trajectories](trajectories.png)",
+        "",
+        "![inferred movement](policy.png)",
+        "",
+        "Configuration: `config.json`; machine-readable results: `metrics.json`.",
+    ]) + "\n"
+
+
+def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | None = None,
+                        workers: int = 1, cluster: str | None = None,
+                        resume: str | Path | None = None, quiet: bool = False,
+                        plots: bool = True) -> dict[str, Any]:
+    """Run (or resume) the push experiment and write its run directory.
+
+    Parameters
+    ----------
+    cfg : FrameworkConfig, optional
+        Parameters (ignored when resuming: the run's ``config.json`` is used).
+    out : path, optional
+        Run directory (default ``runs/push-<timestamp>``).
+    workers : int
+        Local worker processes for rollouts.
+    cluster : str, optional
+        Dask scheduler address; rollouts run there.
+    resume : path, optional
+        Run directory of an interrupted run to continue.
+    quiet : bool
+        No progress bar, no table.
+    plots : bool
+        Write the PNG plots.
+
+    Returns
+    -------
+    dict
+        The content of ``metrics.json`` plus ``run_dir``.
+    """
+    if resume is not None:
+        run_dir = Path(resume)
+        if not (run_dir / "config.json").is_file():
+            raise FileNotFoundError(f"cannot resume: '{run_dir}/config.json' does not exist")
+        saved = read_json(run_dir / "config.json")
+        cfg = FrameworkConfig.from_dict(saved["framework"])
+    else:
+        cfg = cfg or FrameworkConfig()
+        cfg.validate()
+        run_dir = make_run_dir(f"push-{cfg.scene}", out)
+        write_json(run_dir / "config.json", {
+            "experiment": "push", "framework": asdict(cfg),
+            "command": f"a2l experiment push --scene {cfg.scene} --effects {cfg.n_effects} "
+                       f"--seed {cfg.seed} --out {run_dir}",
+        })
+    t0 = time.perf_counter()
+    with Executor(workers=workers, cluster=cluster) as executor, _Progress(quiet) as bar:
+        result = run_framework(cfg, run_dir, executor, progress=bar.update,
+                               on_iteration=bar.iteration, robot=_robot_entry(cfg))
+    final = run_dir / "skills" / "push.a2lb"
+    shutil.copyfile(result["bundle"], final)
+    result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
+    metrics = {
+        "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
+        "seed": cfg.seed, "iterations": result["iterations"],
+        "final_score": result["final_score"], "bundle": str(final.relative_to(run_dir)),
+        "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
+    }
+    write_json(run_dir / "metrics.json", metrics)
+    if plots:
+        plot_scores(result["iterations"], run_dir / "score.png")
+        plot_trajectories(cfg, result["validation"], run_dir / "trajectories.png")
+        plot_policy(cfg, final, run_dir / "policy.png")
+    atomic_write_text(run_dir / "report.md", _report(cfg, result, run_dir))
+    if not quiet:
+        from rich.console import Console
+        from rich.markdown import Markdown
+
+        Console().print(Markdown(results_table(result["iterations"])))
+        print(f"final score {result['final_score']:.1f}; run directory: {run_dir}")
+    return {**metrics, "run_dir": str(run_dir)}
+
+
+class _Progress:
+    """A rich progress bar for acquisition and validation (silent when quiet)."""
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self._progress: Any = None
+        self._tasks: dict[str, Any] = {}
+
+    def __enter__(self) -> _Progress:
+        if not self.quiet:
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+            self._progress = Progress("[bold]{task.description}", BarColumn(),
+                                      MofNCompleteColumn(), TimeElapsedColumn())
+            self._progress.start()
+        return self
+
+    def update(self, phase: str, done: int, total: int) -> None:
+        if self._progress is None:
+            return
+        if phase not in self._tasks:
+            self._tasks[phase] = self._progress.add_task(phase, total=total)
+        self._progress.update(self._tasks[phase], completed=done, total=total)
+
+    def iteration(self, m: IterationResult) -> None:
+        if self._progress is None:
+            return
+        self._progress.console.print(
+            f"iteration {m.iteration}: score {m.score:.1f} "
+            f"({'accepted' if m.accepted else 'rejected'}), dataset {m.dataset_size} rows, "
+            f"{m.wall_s:.1f} s")
+        for t in self._tasks.values():
+            self._progress.remove_task(t)
+        self._tasks.clear()
+
+    def __exit__(self, *exc: object) -> None:
+        if self._progress is not None:
+            self._progress.stop()
+
+
+def run_discretization_study(out: str | Path | None = None,
+                             base: FrameworkConfig | None = None,
+                             orientations: tuple[int, ...] = (8, 16, 24, 32),
+                             distances: tuple[int, ...] = (3, 4, 5), workers: int = 1,
+                             quiet: bool = False) -> dict[str, Any]:
+    """The authors' parametrization sweep: orientation × distance bins.
+
+    Each combination runs the push experiment (virtual scene by default) with the same
+    seed; the table reports final score, iterations and movements per action, and the
+    selected default is the best score, then the fewest iterations, then the fewest
+    movements.
+
+    Returns
+    -------
+    dict
+        ``{"rows": [...], "selected": {"n_orient", "n_dist"}}`` (also ``metrics.json``).
+    """
+    base = base or FrameworkConfig()
+    run_dir = make_run_dir("discretization", out)
+    write_json(run_dir / "config.json", {"experiment": "discretization",
+                                         "framework": asdict(base),
+                                         "orientations": list(orientations),
+                                         "distances": list(distances)})
+    rows = []
+    for o in orientations:
+        for d in distances:
+            cfg = replace(base, n_orient=o, n_dist=d)
+            sub = run_push_experiment(cfg, run_dir / f"o{o}-d{d}", workers=workers,
+                                      quiet=True, plots=False)
+            last_ok = [m for m in sub["iterations"] if m["accepted"]][-1]
+            rows.append({"n_orient": o, "n_dist": d, "final_score": sub["final_score"],
+                         "iterations": len(sub["iterations"]),
+                         "movements_per_action": last_ok["mean_movements"]})
+            if not quiet:
+                print(f"orientation {o:2d} x distance {d}: score {sub['final_score']:.1f}, "
+                      f"{len(sub['iterations'])} iteration(s)")
+    best = min(rows, key=lambda r: (-r["final_score"], r["iterations"],
+                                    np.nan_to_num(r["movements_per_action"], nan=1e9)))
+    selected = {"n_orient": best["n_orient"], "n_dist": best["n_dist"]}
+    table = ["| orientation bins | distance bins | final score | iterations | "
+             "movements/action |", "|---|---|---|---|---|"]
+    for r in rows:
+        mark = " **(selected)**" if (r["n_orient"], r["n_dist"]) == tuple(selected.values()) \
+            else ""
+        table.append(f"| {r['n_orient']} | {r['n_dist']} | {r['final_score']:.1f}{mark} | "
+                     f"{r['iterations']} | {r['movements_per_action']:.2f} |")
+    write_json(run_dir / "metrics.json", {"rows": rows, "selected": selected})
+    atomic_write_text(run_dir / "report.md", "# Discretization study\n\n"
+                      f"Scene {base.scene}, {base.n_effects} effects, seed {base.seed}.\n\n"
+                      + "\n".join(table) + "\n")
+    if not quiet:
+        print("\n".join(table))
+        print(f"selected: {json.dumps(selected)}; run directory: {run_dir}")
+    return {"rows": rows, "selected": selected, "run_dir": str(run_dir)}
