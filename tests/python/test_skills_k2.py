@@ -9,6 +9,7 @@ from collections import Counter
 import numpy as np
 import pandas as pd
 import pytest
+from pgmpy.causal_discovery import ExpertKnowledge, HillClimbSearch
 from pgmpy.structure_score import K2
 
 from a2l.skills import K2Score
@@ -85,3 +86,22 @@ def test_k2_rejects_bad_data() -> None:
     df = pd.DataFrame({"x": [0, 1, 3], "p": [0, 1, 1]})
     with pytest.raises(ValueError, match="'x' has .*not in its states: \\['3'\\]"):
         K2Score(df, state_names={"x": [0, 1, 2]})
+
+
+def test_k2score_drives_pgmpy_hill_climbing() -> None:
+    rng = np.random.default_rng(11)
+    n = 5000
+    a = rng.integers(0, 3, n)
+    b = rng.integers(0, 4, n)
+    noise = rng.random(n) < 0.2
+    c = np.where(noise, rng.integers(0, 3, n), (a + b) % 3)  # c depends on a and b jointly
+    df = pd.DataFrame({"a": a, "b": b, "c": c, "d": rng.integers(0, 2, n)})
+    forbid = [("c", "a"), ("c", "b"), ("a", "b"), ("b", "a")]
+    hc = HillClimbSearch(
+        scoring_method=K2Score(df),
+        expert_knowledge=ExpertKnowledge(forbidden_edges=forbid),
+        return_type="dag",
+        show_progress=False,
+    )
+    dag = hc.fit(df).causal_graph_
+    assert set(dag.edges()) == {("a", "c"), ("b", "c")}
