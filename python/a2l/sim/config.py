@@ -162,7 +162,7 @@ class SceneConfig:
     camera_fov: float = 55.0
     extra_camera_eyes: tuple[tuple[float, float, float], ...] = (
         (0.75, 0.95, 0.85), (0.75, -1.25, 0.85))
-    min_visible: float = 0.8
+    min_visible: float = 0.9
     context_source: str = "perceived"
     n_push_effects: int = 8
     effect_threshold: float = 0.01

@@ -56,6 +56,7 @@ class Camera:
                                         physicsClientId=client)
         self.proj = p.computeProjectionMatrixFOV(fov, self.width / self.height, near, far,
                                                  physicsClientId=client)
+        self._px_per_m = 2.0 * np.tan(np.radians(fov) / 2.0) / self.height
         v = np.asarray(self.view, dtype=float).reshape(4, 4).T
         pr = np.asarray(self.proj, dtype=float).reshape(4, 4).T
         self._pv = pr @ v
@@ -94,6 +95,10 @@ class Camera:
                         np.ones(rows.shape[0])])
         h = self._inv_pv @ ndc
         return (h[:3] / h[3]).T
+
+    def pixel_size(self, point: ArrayLike) -> float:
+        """Side (m) of one pixel's footprint at `point` (3,), facing the camera."""
+        return float(np.linalg.norm(np.asarray(point, dtype=float) - self.eye) * self._px_per_m)
 
     def project(self, points: ArrayLike) -> NDArray[np.float64]:
         """Pixel coordinates (n, 2) as (column, row) of world points (n, 3)."""
@@ -206,7 +211,10 @@ class Perception:
             # the points it is not pulled toward the camera, where pixels are denser
             (cx, cy), (w, h), _ = cv2.minAreaRect(top[:, :2].astype(np.float32))
             objects[t.name] = (float(cx), float(cy), z_top - t.half_height)
-            visible[t.name] = min(1.0, w * h / t.top_area) if t.top_area > 0 else 1.0
+            # the rectangle joins pixel centres: it is about one pixel short on each axis
+            px = self.camera.pixel_size((cx, cy, z_top))
+            visible[t.name] = (min(1.0, (w + px) * (h + px) / t.top_area) if t.top_area > 0
+                               else 1.0)
         lamp: dict[str, bool] = {}
         if self._lamp_hue is not None:
             lit = int(self._mask(hsv, self._lamp_hue).sum())
