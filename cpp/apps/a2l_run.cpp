@@ -377,7 +377,7 @@ int run(const Args& args) {
     }
     if (csv) {
       trace << "episode,effect,step,status,movement,label,probability";
-      for (const auto& v : disc.variables()) trace << "," << v.name;
+      for (const auto& v : disc.variables()) trace << ",bin_" << v.name;
       trace << ",eef_x,eef_y,eef_z,obj_x,obj_y,obj_z\n";
     }
   }
@@ -436,6 +436,7 @@ int run(const Args& args) {
         a2l::JointVector q0;
         a2l::IkOptions io;
         io.seed = args.seed + static_cast<unsigned long long>(episode_id);
+        io.position_tolerance = 1e-9;
         const a2l::Status s = kin.ik(target, q_neutral, q0, io);
         if (s != a2l::Status::ok || exec.reset(q0) != a2l::Status::ok) {
           stop = std::string("start_") +

@@ -26,7 +26,7 @@ struct ExecutorOptions {
   double max_speed = 0.25;           //!< most end-effector speed (m/s)
   double damping = 1e-2;             //!< damped least-squares lambda
   double orientation_gain = 0.5;     //!< share of the orientation error corrected per tick
-  double position_tolerance = 2e-4;  //!< a target is reached within this distance (m)
+  double position_tolerance = 1e-6;  //!< a target is reached within this distance (m)
   double velocity_margin = 1.0;      //!< allowed share of the URDF joint velocity limits
   double limit_margin = 0.0;         //!< commands must stay this far inside the limits (rad)
   //! Workspace bounds of the end-effector target in the base frame (m).

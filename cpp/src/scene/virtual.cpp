@@ -30,7 +30,7 @@ bool VirtualScene::move(const Eigen::Vector3d& d) {
   const Eigen::Vector3d p = eef_ + d;
   eef_ = p;
   if (!p.allFinite() || (d.x() == 0.0 && d.y() == 0.0) || !in_contact(p)) return false;
-  const int k = std::abs(d.x()) >= std::abs(d.y()) ? 0 : 1;
+  const int k = std::abs(d.x()) >= std::abs(d.y()) - options_.tie_tolerance ? 0 : 1;
   const double reach = options_.half_size[k] + options_.eef_radius;
   const double before = object_[k];
   object_[k] = d[k] > 0 ? p[k] + reach : p[k] - reach;

@@ -14,14 +14,18 @@ struct VirtualSceneOptions {
   Eigen::Vector3d half_size{0.035, 0.0425, 0.04};  //!< half-extents of the box (m)
   double table_z = 0.0;                            //!< height of the table plane (m)
   double eef_radius = 0.01;  //!< the end-effector is a sphere of this radius (m)
+  //! |dx| and |dy| closer than this (m) are a tie, resolved as x: a diagonal movement executed
+  //! by a real controller (differential IK, within 1e-6 m) pushes like the exact diagonal.
+  double tie_tolerance = 1e-5;
 };
 
 //! A box pushed by an end-effector point (docs/virtual_scene.md).
 //!
 //! move(d): the end-effector goes to p' = eef + d. If p' lies strictly inside the box grown
 //! by eef_radius on every side, the box is pushed along the dominant planar axis
-//! k = argmax(|dx|, |dy|) of d (x on a tie) until its face touches p' (+- eef_radius); the
-//! other coordinates are unchanged. A purely vertical displacement never moves the box.
+//! k = argmax(|dx|, |dy|) of d (x on a tie, within options.tie_tolerance) until its face touches p'
+//! (+- eef_radius); the other coordinates are unchanged. A purely vertical displacement never moves
+//! the box.
 class VirtualScene final : public Scene {
  public:
   //! A scene with default options, eef and box at the origin.
