@@ -67,9 +67,9 @@ class Camera:
         u = (2.0 * np.arange(self.width) / self.width) - 1.0
         w = 1.0 - (2.0 * (np.arange(self.height) + 1.0) / self.height)
         self._ndc_x, self._ndc_y = np.meshgrid(u, w)
-        connection = p.getConnectionInfo(physicsClientId=client)
-        gui = connection.get("connectionMethod") == p.GUI
-        self.renderer = p.ER_BULLET_HARDWARE_OPENGL if gui else p.ER_TINY_RENDERER
+        # the software renderer also in the GUI: the pixel convention calibrated below is
+        # its own, and perception must not depend on how the scene is watched
+        self.renderer = p.ER_TINY_RENDERER
 
     def render(self) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
         """Render one frame.
