@@ -23,6 +23,7 @@ def test_unknown_config_key_is_named(scene: str) -> None:
     [
         ("push", {"box_position": (2.0, 0.0)}, "box_position"),  # off the table
         ("push", {"box_position": (0.6, -0.74)}, "box_position"),  # footprint over the edge
+        ("push", {"box_position": (0.6, -0.69), "object_jitter": 0.03}, "box_position"),
         ("grasp", {"block_position": (0.0, 0.0)}, "block_position"),
         ("press", {"button_position": (0.6, 0.9)}, "button_position"),
         ("press", {"lamp_position": (5.0, 0.0)}, "lamp_position"),

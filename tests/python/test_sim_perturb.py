@@ -108,3 +108,17 @@ def test_bad_perturbations_are_named(push: PushScene) -> None:
         push.perturb("move_object", delta=(2.0, 0.0))
     with pytest.raises(ValueError, match="steps"):
         push.perturb("hold", steps=-1)
+
+
+def test_bad_reset_leaves_the_scene_as_it_was(push: PushScene) -> None:
+    _start(push)
+    assert push.execute((1, 0, 0))
+    eef, truth = push.eef_position(), push.ground_truth()
+    with pytest.raises(ValueError, match="unreachable"):
+        push.reset(eef=(2.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="unknown object 'cup'"):
+        push.reset(objects={"cup": (0.6, 0.0)})
+    with pytest.raises(ValueError, match="off the table"):
+        push.reset(objects={"box": (0.0, 0.0)})
+    assert np.allclose(push.eef_position(), eef)
+    assert push.ground_truth() == truth

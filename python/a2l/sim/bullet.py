@@ -94,10 +94,9 @@ class BulletScene(Scene):
         c, cfg = self._client, self.config
         floor = p.createCollisionShape(p.GEOM_PLANE, physicsClientId=c)
         # the software renderer fills a large floor slowly (16 ms of a 30 ms frame): the
-        # floor is drawn only in the GUI, the camera sees the background colour around the
-        # table instead
-        # (a body without a visual shape is drawn with its collision shape: a small box
-        # hidden under the pedestal stands in for the floor's visual outside the GUI)
+        # floor is drawn only in the GUI. A body without a visual shape is drawn with its
+        # collision shape, so outside the GUI a small box hidden under the pedestal stands
+        # in for the floor's visual and the camera sees the background around the table.
         floor_vis = p.createVisualShape(
             p.GEOM_BOX, halfExtents=(3, 3, 0.001) if cfg.gui else (0.01, 0.01, 0.001),
             rgbaColor=(0.45, 0.45, 0.47, 1), physicsClientId=c)
@@ -241,28 +240,23 @@ class BulletScene(Scene):
     def reset(self, eef: ArrayLike | None = None,
               objects: dict[str, ArrayLike] | None = None) -> None:
         c, cfg = self._client, self.config
-        p.restoreState(self._saved, physicsClientId=c)
-        self._removed = set()
-        self._hold = 0
-        self._states = cfg.initial_states()
+        # check the arguments before touching the world: a bad reset leaves it as it was
         q_arm = self._neutral_q.copy()
         if eef is not None:
             target = np.asarray(eef, dtype=float).reshape(3)
+            if not np.all(np.isfinite(target)):
+                raise A2LValueError(f"reset: eef must be 3 finite numbers, got {eef!r}")
             q_arm, rep = self.kinematics.ik_report(self._pose(target), self._neutral_q)
             if rep.status != a2l.Status.ok:
                 raise A2LValueError(f"reset: eef {tuple(np.round(target, 4))} is unreachable "
                                     f"with the gripper pointing down "
                                     f"({a2l._core.status_name(rep.status)})")
-        self._set_arm_targets(q_arm)
-        self._set_fingers(self._states["gripper"] == "closed")
-        for j, v in self._targets.items():
-            p.resetJointState(self._robot, j, v, 0.0, physicsClientId=c)
-        self._command()
         placed = dict(objects or {})
         for name in placed:
             if name not in self._objects:
                 raise A2LValueError(f"reset: unknown object '{name}'; this scene has "
                                     f"{sorted(self._objects)}")
+        moves = []
         for o in self._objects.values():
             xy = np.asarray(placed.get(o.name, o.xy), dtype=float).reshape(2)
             if o.movable and cfg.object_jitter > 0:
@@ -270,7 +264,18 @@ class BulletScene(Scene):
             if o.name in placed or (o.movable and cfg.object_jitter > 0):
                 cfg.check_on_table(f"{o.name} position", (float(xy[0]), float(xy[1])),
                                    (o.size[0] / 2, o.size[1] / 2))
-                self._place_base(o, xy)
+                moves.append((o, xy))
+        p.restoreState(self._saved, physicsClientId=c)
+        self._removed = set()
+        self._hold = 0
+        self._states = cfg.initial_states()
+        self._set_arm_targets(q_arm)
+        self._set_fingers(self._states["gripper"] == "closed")
+        for j, v in self._targets.items():
+            p.resetJointState(self._robot, j, v, 0.0, physicsClientId=c)
+        self._command()
+        for o, xy in moves:
+            self._place_base(o, xy)
         self._reset_extra()
         self._tick += 1
         self._perceived_cache = None

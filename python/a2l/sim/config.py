@@ -253,6 +253,8 @@ class SceneConfig:
         _vector(self, pos_name, 2)
         size = getattr(self, size_name)
         half = footprint_xy if footprint_xy is not None else (size[0] / 2, size[1] / 2)
+        if hasattr(self, f"{prefix}_mass"):  # a movable object: jittered on every reset
+            half = (half[0] + self.object_jitter, half[1] + self.object_jitter)
         self.check_on_table(pos_name, getattr(self, pos_name), half)
 
     def check_on_table(self, name: str, xy: tuple[float, float],
