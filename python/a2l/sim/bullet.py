@@ -151,6 +151,8 @@ class BulletScene(Scene):
         spec = arm_spec("baxter", cfg.arm)
         self.kinematics = a2l.Kinematics(spec.urdf, spec.base_link, spec.tip_link)
         self._arm = [self._joint_index[n] for n in self.kinematics.joint_names]
+        vmax = np.asarray(self.kinematics.velocity_limits, dtype=float)
+        self._vmax = np.where(vmax > 0, vmax, np.inf)
         self._neutral_q = np.asarray(spec.neutral, dtype=float)
         prefix = cfg.arm[0]
         self._fingers = [self._joint_index[f"{prefix}_gripper_l_finger_joint"],
@@ -380,11 +382,15 @@ class BulletScene(Scene):
             plan.append(qi)
             q = qi
         steps_per_wp = max(1, round(np.linalg.norm(disp) / n / cfg.speed / cfg.time_step))
+        q = self._arm_q()
         for qi in plan:
+            # slower where a joint would exceed its URDF velocity limit at the nominal speed
+            need = float(np.max(np.abs(qi - q) / self._vmax)) / cfg.time_step
             self._set_arm_targets(qi)
             self._command()
-            for _ in range(steps_per_wp):
+            for _ in range(max(steps_per_wp, math.ceil(need))):
                 self._sim_step()
+            q = qi
         settle_max = max(1, round(0.3 / cfg.time_step))
         for i in range(settle_max):
             self._sim_step()

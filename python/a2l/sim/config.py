@@ -78,7 +78,8 @@ class SceneConfig:
     step : float
         Length of one discrete movement (m).
     speed : float
-        Cartesian speed of the end-effector during a movement (m/s).
+        Cartesian speed of the end-effector during a movement (m/s); slower where a joint
+        would exceed its URDF velocity limit.
     waypoint_spacing : float
         A movement is a straight line cut into waypoints this far apart (m), each solved by
         the C++ IK seeded with the previous solution.
