@@ -85,9 +85,9 @@ def bundle_bytes(spec: SkillSpec) -> bytes:
         "kind": "skill",
         "name": spec.name,
         "created_by": _created_by(),
-        "robot": None if spec.robot is None else {
-            k: str(spec.robot[k]) for k in ("name", "urdf_sha256", "base_link", "tip_link")
-        },
+        "robot": None
+        if spec.robot is None
+        else {k: str(spec.robot[k]) for k in ("name", "urdf_sha256", "base_link", "tip_link")},
         "target": "move",
         "variables": [_variable_json(v, i) for i, v in enumerate(spec.variables)],
         "movements": {
@@ -205,8 +205,9 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
     def array(name: str, dtype: str) -> np.ndarray:
         a = manifest["arrays"][name]
         start = blob + int(a["offset"])
-        flat = np.frombuffer(data, dtype=dtype, count=int(a["nbytes"]) // np.dtype(dtype).itemsize,
-                             offset=start)
+        flat = np.frombuffer(
+            data, dtype=dtype, count=int(a["nbytes"]) // np.dtype(dtype).itemsize, offset=start
+        )
         return flat.reshape([int(s) for s in a["shape"]]).copy()
 
     variables = []

@@ -1,0 +1,193 @@
+"""a2l-run, the C++ closed-loop runner: on the venv's PATH, documented, clear errors (exit
+code, never a signal), and a bundle learned from a synthetic push dataset reproduces the 4
+push effects in the virtual scene through Baxter's differential IK."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from a2l.robot import robots_dir
+from a2l.skills import (
+    Discretizer,
+    MovementRepertoire,
+    compile_policy,
+    learn_network,
+    make_skill_spec,
+    push_dataset,
+    save_bundle,
+)
+
+A2L_RUN = Path(sys.executable).parent / "a2l-run"
+#: Start circle of the data and of the runs. 0.19 m keeps the start points off the distance
+#: bin edges (0.10, 0.15 m are multiples of the 0.05 m step from a 0.20 m circle), where a
+#: controller's 1e-6 m tracking error would flip bins.
+RADIUS = 0.19
+
+
+def run(*args: str | Path, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [str(A2L_RUN), *map(str, args)], capture_output=True, text=True, timeout=300, env=env
+    )
+
+
+@pytest.fixture(scope="module")
+def push_bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A push skill learned by hill-climbing + K2 from random push babbling."""
+    disc = Discretizer(movements=MovementRepertoire(planar=True))
+    data = disc.discretize(push_dataset(5000, seed=0, radius=RADIUS))
+    net = learn_network(data, "hc-k2")
+    table = compile_policy(net, "move", disc.evidence)
+    path = tmp_path_factory.mktemp("a2l_run") / "push.a2lb"
+    save_bundle(make_skill_spec(table, disc, name="push"), path)
+    return path
+
+
+def test_runtime_a2l_run_is_installed_and_documented() -> None:
+    assert A2L_RUN.is_file() and os.access(A2L_RUN, os.X_OK)
+    r = run("--help")
+    assert r.returncode == 0
+    for opt in ("--scene", "--effect", "--episodes", "--rate", "--seed", "--trace", "--urdf"):
+        assert opt in r.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ((), "missing BUNDLE"),
+        (("x.a2lb", "--scene", "mujoco"), "--scene: 'mujoco'"),
+        (("x.a2lb", "--episodes", "zero"), "--episodes"),
+        (("x.a2lb", "--rate", "-5"), "--rate"),
+        (("x.a2lb", "--frobnicate"), "unknown option"),
+        (("/nonexistent/skill.a2lb",), "cannot open"),
+    ],
+)
+def test_runtime_a2l_run_bad_arguments(args: tuple[str, ...], message: str) -> None:
+    r = run(*args)
+    assert r.returncode == 2, r  # an exit code, not a signal (negative)
+    assert message in r.stderr
+
+
+def test_runtime_a2l_run_bad_bundles(tmp_path: Path, push_bundle: Path) -> None:
+    junk = tmp_path / "junk.a2lb"
+    junk.write_bytes(os.urandom(5000))
+    r = run(junk)
+    assert r.returncode == 2 and "skill bundle" in r.stderr and "magic" in r.stderr
+    cut = tmp_path / "cut.a2lb"
+    cut.write_bytes(push_bundle.read_bytes()[:-3])
+    r = run(cut)
+    assert r.returncode == 2 and "outside the file" in r.stderr
+    r = run(push_bundle, "--effect", "lift", "--no-robot")
+    assert r.returncode == 2 and "'lift' is not an effect" in r.stderr
+    r = run(push_bundle, "--urdf", tmp_path / "none.urdf")
+    assert r.returncode == 2 and "none.urdf" in r.stderr
+
+
+def test_runtime_a2l_run_reproduces_the_four_push_effects(
+    tmp_path: Path, push_bundle: Path
+) -> None:
+    trace, summary = tmp_path / "trace.csv", tmp_path / "summary.json"
+    env = {k: v for k, v in os.environ.items() if k != "A2L_ROBOTS_DIR"}
+    # Without A2L_ROBOTS_DIR: a2l-run finds Baxter in the venv it is installed in.
+    r = run(
+        push_bundle,
+        "--scene",
+        "virtual",
+        "--episodes",
+        "16",
+        "--radius",
+        RADIUS,
+        "--trace",
+        trace,
+        "--summary",
+        summary,
+        env=env,
+    )
+    assert r.returncode == 0, r.stderr
+    assert "baxter" in r.stdout and "step() time" in r.stdout and "control tick" in r.stdout
+    s = json.loads(summary.read_text())
+    assert set(s["effects"]) == {"left", "right", "close", "far"}
+    for effect, res in s["effects"].items():
+        assert res["episodes"] == 16
+        assert res["success"] >= 8, (effect, res)  # at least half the start points
+        assert 1 <= res["steps_per_action"] <= 12
+    assert s["success"] >= 44  # measured 53 of 64
+    assert s["control_ticks"] > 150 * s["skill_steps"]  # every step went through the IK
+    assert s["step_time"]["n"] > 64
+    rows = list(csv.DictReader(trace.open()))
+    assert rows[0].keys() >= {
+        "episode",
+        "effect",
+        "step",
+        "status",
+        "movement",
+        "label",
+        "probability",
+        "bin_effect",
+        "bin_distance",
+        "bin_orientation",
+    }
+    produced = [row for row in rows if row["status"] == "effect_produced"]
+    assert len(produced) >= s["success"]
+    for row in rows:
+        if row["status"] == "ok":
+            assert 0 < float(row["probability"]) <= 1 and row["label"]
+            assert 0 <= int(row["bin_distance"]) < 3 and 0 <= int(row["bin_orientation"]) < 16
+
+
+def test_runtime_a2l_run_bullet_scene_and_jsonl_trace(tmp_path: Path, push_bundle: Path) -> None:
+    trace, summary = tmp_path / "trace.jsonl", tmp_path / "summary.json"
+    env = dict(os.environ, A2L_ROBOTS_DIR=str(robots_dir()))
+    r = run(
+        push_bundle,
+        "--scene",
+        "bullet",
+        "--episodes",
+        "4",
+        "--radius",
+        RADIUS,
+        "--effect",
+        "left,far",
+        "--seed",
+        "3",
+        "--trace",
+        trace,
+        "--summary",
+        summary,
+        env=env,
+    )
+    assert r.returncode == 0, r.stderr
+    s = json.loads(summary.read_text())
+    assert s["scene"] == "bullet" and set(s["effects"]) == {"left", "far"}
+    assert s["success"] >= 1
+    records = [json.loads(line) for line in trace.read_text().splitlines()]
+    assert {"episode", "effect", "bins", "eef", "object", "status"} <= records[0].keys()
+    assert {r["effect"] for r in records} == {"left", "far"}
+
+
+def test_runtime_a2l_run_at_a_fixed_rate(push_bundle: Path, tmp_path: Path) -> None:
+    summary = tmp_path / "s.json"
+    r = run(
+        push_bundle,
+        "--no-robot",
+        "--episodes",
+        "2",
+        "--effect",
+        "far",
+        "--rate",
+        "200",
+        "--radius",
+        RADIUS,
+        "--summary",
+        summary,
+    )
+    assert r.returncode == 0, r.stderr
+    s = json.loads(summary.read_text())
+    # One movement per 5 ms tick without the robot: the run cannot be faster than that.
+    assert s["elapsed_s"] >= s["skill_steps"] * 0.005 * 0.9
