@@ -43,10 +43,12 @@ def low_level_state(eef: ArrayLike, position: ArrayLike) -> ObjectContext:
     p = np.asarray(position, dtype=float).reshape(3)
     rel = e - p
     dist = float(np.linalg.norm(rel))
-    incl = math.acos(max(-1.0, min(1.0, rel[2] / dist))) if dist > 0 else 0.0
+    # the formulas of a2l.skills.discretize and the C++ Discretizer (math.atan2: the C
+    # library's, as the runtime calls it)
+    incl = math.atan2(math.hypot(float(rel[0]), float(rel[1])), float(rel[2]))
     return ObjectContext(
         position=p.copy(), vector=p - e, distance=dist,
-        orientation=math.atan2(rel[1], rel[0]), inclination=incl,
+        orientation=math.atan2(float(rel[1]), float(rel[0])), inclination=incl,
     )
 
 
