@@ -5,6 +5,10 @@ own colour: OpenCV segments its hue, the segmented pixels are lifted to 3-D with
 buffer, and the object's position is the centre of its top face (the highest segmented
 points) lowered by half the object's height. The light's state is read from the pixels of
 the lamp: lit (saturated yellow) or not.
+
+A scene has a main camera facing the robot from beyond the table and side cameras; the
+share of each object's top face a camera sees tells when the arm hides it, and only then
+are the side cameras rendered (see :class:`a2l.sim.bullet.BulletScene`).
 """
 
 from __future__ import annotations

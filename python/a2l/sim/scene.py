@@ -210,9 +210,11 @@ class Scene(ABC):
         return self._ground_truth().as_dict()
 
     def perceive(self) -> dict[str, dict[str, Any]]:
-        """Object positions and high-level states as the camera sees them.
+        """Object positions and high-level states as the cameras see them.
 
-        Same layout as :meth:`ground_truth`; an object the camera does not see is absent.
+        Same layout as :meth:`ground_truth`; an object no camera sees is absent. The
+        main camera is rendered; a side camera only when the arm hides part of an object
+        from it. States the camera cannot see (the gripper) come from the robot itself.
         """
         return self._perceive().as_dict()
 
