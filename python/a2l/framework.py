@@ -90,6 +90,8 @@ class FrameworkConfig:
     extension_cut : int
         Most steps cut from the end of a trajectory before extending it (each extension
         cuts 1 to ``extension_cut`` steps, drawn at random).
+    erase_loops : bool
+        Cut the loops out of babbling trajectories (:func:`erase_loops`).
     smoothing : bool
         METHOD.md's chapter-6 neighbour smoothing in the C++ step.
     keep_validation : bool
@@ -133,6 +135,7 @@ class FrameworkConfig:
     extension_cut: int = 3
     keep_validation: bool = True
     smoothing: bool = False
+    erase_loops: bool = False
     max_extensions: int = 50
     stuck_after: int = 1
     directed_per_pair: int = 20
@@ -300,6 +303,32 @@ def _play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[
     return Rollout(start, moves, np.array(eefs), np.array(objs), effect=effect, stop=stop)
 
 
+def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:
+    """The rollout with its loops cut out: where the end-effector comes back (within `tol`)
+    to a place it was at while the object had not moved yet, the steps in between go.
+
+    A random walk that produced an effect wanders; the loop-free walk reaches the same
+    contact with the same object state, so it is an equally real interaction with less
+    noise in its labels.
+    """
+    keep_e, keep_o, keep_m = [r.eef[0]], [r.obj[0]], []
+    moving_from = next((k for k in range(1, len(r.obj))
+                        if np.linalg.norm(r.obj[k] - r.obj[0]) > 1e-9), len(r.obj))
+    for k in range(len(r.moves)):
+        p = r.eef[k + 1]
+        if k + 1 < moving_from:
+            hits = [i for i, q in enumerate(keep_e) if np.linalg.norm(p - q) < tol]
+            if hits:
+                i = hits[0]
+                keep_e, keep_o, keep_m = keep_e[: i + 1], keep_o[: i + 1], keep_m[:i]
+                continue
+        keep_e.append(p)
+        keep_o.append(r.obj[k + 1])
+        keep_m.append(r.moves[k])
+    return Rollout(r.start, keep_m, np.array(keep_e), np.array(keep_o), effect=r.effect,
+                   wanted=r.wanted, outcome=r.outcome, stop=r.stop)
+
+
 def babble_task(task: tuple[dict[str, Any], int, list[int], int, int]) -> Rollout:
     """One babbling trajectory: ``(config, start, prefix, seed, steps)``.
 
@@ -316,7 +345,8 @@ def babble_task(task: tuple[dict[str, Any], int, list[int], int, int]) -> Rollou
         return int(rng.integers(n))
 
     offset = cfg.start_offsets()[start]
-    return _play(_env(cfg), disc, start, offset, prefix, choose, len(prefix) + steps)
+    r = _play(_env(cfg), disc, start, offset, prefix, choose, len(prefix) + steps)
+    return erase_loops(r) if cfg.erase_loops else r
 
 
 def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:

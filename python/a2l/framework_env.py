@@ -73,6 +73,9 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
 
     if scene not in SCENES:
         raise ValueError(f"unknown scene {scene!r}; choose one of {sorted(SCENES)}")
+    # Rollouts place the object themselves: a random jitter on reset would make a rollout
+    # depend on how many resets its process made before (and so on the worker count).
+    config.setdefault("object_jitter", 0.0)
     return SceneEnv(make_scene(SCENES[scene], seed=seed, step=step, **config), source)
 
 

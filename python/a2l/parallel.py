@@ -51,7 +51,8 @@ class Executor:
             try:
                 self._client = Client(cluster, timeout="10s")
             except OSError as exc:
-                raise ConnectionError(f"cannot reach the Dask scheduler at {cluster!r}: {exc}")
+                raise ConnectionError(
+                    f"cannot reach the Dask scheduler at {cluster!r}: {exc}") from exc
 
     def map(self, fn: Callable[[T], R], tasks: Iterable[T],
             on_done: Callable[[int], None] | None = None) -> list[R]:
