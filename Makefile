@@ -26,7 +26,7 @@ STAMP_VENV := $(VENV)/.stamp-venv
 STAMP_INSTALL := $(VENV)/.stamp-install
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: help setup demo test test-cpp test-python bench lint format clean
+.PHONY: help setup demo test test-cpp test-python fuzz bench lint format clean
 
 help:
 	@sed -n '2,8p' Makefile | sed 's/^# \{0,1\}//'
@@ -77,7 +77,22 @@ test-python: setup
 	@echo "[test] Python (pytest)"
 	@$(PY) -m pytest -q tests/python
 
-test: test-cpp test-python
+# libFuzzer on the bundle loader under ASan + UBSan (clang; its own build tree).
+FUZZ_RUNS ?= 200000
+fuzz: setup
+	@echo "[fuzz] bundle loader: $(FUZZ_RUNS) inputs under ASan + UBSan"
+	@$(VENV)/bin/cmake -S . -B $(BUILD)/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++ \
+	  "-DCMAKE_CXX_FLAGS=-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
+	  -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
+	@$(VENV)/bin/cmake --build $(BUILD)/fuzz -j $(JOBS) --target fuzz_bundle
+	@mkdir -p $(BUILD)/fuzz/corpus && $(PY) tests/fuzz/make_seeds.py $(BUILD)/fuzz/corpus
+	@$(BUILD)/fuzz/fuzz_bundle -runs=$(FUZZ_RUNS) -seed=1 -max_len=8192 -print_final_stats=1 \
+	  -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus > $(BUILD)/fuzz/fuzz.log 2>&1 \
+	  || { tail -n 40 $(BUILD)/fuzz/fuzz.log; exit 1; }
+	@grep -E '^stat::number_of_executed_units' $(BUILD)/fuzz/fuzz.log | sed 's/^/[fuzz] /'
+
+test: test-cpp test-python fuzz
 	@echo "[test] C++:    $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
 	@echo "[test] all C++ and Python tests passed"
 

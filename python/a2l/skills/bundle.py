@@ -34,6 +34,12 @@ def _ceil8(n: int) -> int:
     return (n + 7) // 8 * 8
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def _created_by() -> str:
     return f"a2l {_core.__version__}"
 
@@ -69,8 +75,8 @@ def bundle_bytes(spec: SkillSpec) -> bytes:
     a2l.BundleError
         The spec does not make a valid bundle (the message names the field or check).
     """
-    posterior = np.ascontiguousarray(spec.posterior, dtype="<f8")
-    argmax = np.ascontiguousarray(spec.argmax, dtype="<i4")
+    posterior = np.asarray(spec.posterior, dtype="<f8", order="C")
+    argmax = np.asarray(spec.argmax, dtype="<i4", order="C")
     directions = np.asarray(spec.directions)
     if directions.ndim != 2 or directions.shape[1:] != (3,):
         raise BundleError(
@@ -159,6 +165,7 @@ def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
             f.write(data)
             f.flush()
             os.fsync(f.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; bundles are ordinary files
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
