@@ -1,6 +1,7 @@
 // a2l-run: load a skill bundle and run it in closed loop against a C++ scene, every
 // end-effector step going through Baxter's differential IK (see --help).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -58,6 +59,8 @@ options:
   --arm {right,left}        Baxter arm (default right)
   --no-robot                move the scene directly, without IK (no URDF needed)
   --smoothing {bundle,on,off}  neighbour smoothing (default: the bundle's setting)
+  --state NAME=VALUE        value of a high-level state of the skill (repeatable; default:
+                            its first value); states the table does not use are ignored
   --quiet                   print only the summary lines
   -h, --help                this help
 
@@ -84,6 +87,7 @@ struct Args {
   std::string arm = "right";
   bool no_robot = false;
   std::string smoothing = "bundle";
+  std::vector<std::pair<std::string, std::string>> states;
   bool quiet = false;
 };
 
@@ -173,6 +177,11 @@ Args parse_args(int argc, char** argv) {
       if (a.smoothing != "bundle" && a.smoothing != "on" && a.smoothing != "off") {
         usage_error("--smoothing: must be bundle, on or off");
       }
+    } else if (o == "--state") {
+      const std::string kv = value(i);
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) usage_error("--state: needs NAME=VALUE");
+      a.states.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
     } else if (o == "--quiet") {
       a.quiet = true;
     } else if (!o.empty() && o[0] == '-') {
@@ -284,11 +293,20 @@ int run(const Args& args) {
       wanted.push_back(static_cast<int>(it - effect_names.begin()));
     }
   }
-  for (int i = 0; i < disc.n_variables(); ++i) {
-    if (disc.variable(i).kind == a2l::VariableKind::high_level) {
-      std::cerr << "a2l-run: note: high-level variable '" << disc.variable(i).name
-                << "' is held at its first value '" << disc.variable(i).values[0] << "'\n";
+  std::array<int, a2l::kMaxVariables> high_level{};
+  for (const auto& [name, value] : args.states) {
+    const int axis = disc.find(name);
+    if (axis < 0) continue;  // not in the table: does not change the posterior
+    const a2l::Variable& v = disc.variable(axis);
+    const auto it = std::find(v.values.begin(), v.values.end(), value);
+    if (v.kind != a2l::VariableKind::high_level || it == v.values.end()) {
+      std::string names;
+      for (const auto& n : v.values) names += (names.empty() ? "" : ", ") + n;
+      std::cerr << "a2l-run: --state: '" << value << "' is not a value of the high-level state '"
+                << name << "' (" << names << ")\n";
+      return 2;
     }
+    high_level[static_cast<size_t>(axis)] = static_cast<int>(it - v.values.begin());
   }
   const int n_effect_values = static_cast<int>(effect_names.size());
   const int classify_n = n_effect_values > 4 ? 8 : 4;
@@ -393,7 +411,7 @@ int run(const Args& args) {
       args.no_robot ? 0
                     : std::min<std::size_t>(n_episodes * static_cast<std::size_t>(cap) *
                                                 static_cast<std::size_t>(ticks_per_move),
-                                            std::size_t(50) * 1000 * 1000);
+                                            std::size_t(5) * 1000 * 1000);
   tick_us.reserve(tick_capacity);
   std::vector<TraceRow> rows;
   rows.reserve(static_cast<std::size_t>(cap) + 8);
@@ -452,6 +470,7 @@ int run(const Args& args) {
       const Eigen::Vector3d obj_start = scene->object_position();
       a2l::Context ctx;
       ctx.effect = effect;
+      ctx.high_level = high_level;
       int outcome = 0;  // 1 success, 2 false positive, 0 fail
       a2l::StepOutput out;
       while (stop.empty()) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "rt_guard.hpp"
+
 namespace a2l {
 
 Result Executor::init(const Kinematics& kinematics, const Eigen::Ref<const Eigen::VectorXd>& q0,
@@ -78,6 +80,7 @@ Status Executor::set_target(const Eigen::Vector3d& position) noexcept {
 }
 
 Status Executor::tick() noexcept {
+  const detail::RealTimeSection rt;
   if (kin_ == nullptr) return Status::not_initialized;
   if (++ticks_ > options_.watchdog_ticks && !reached_) return Status::unreachable;
   // Advance the reference toward the target at most max_speed * period.

@@ -11,14 +11,17 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from a2l.robot import robots_dir
 from a2l.skills import (
     Discretizer,
     MovementRepertoire,
+    VariableSpec,
     compile_policy,
     learn_network,
+    load_bundle,
     make_skill_spec,
     push_dataset,
     save_bundle,
@@ -191,3 +194,24 @@ def test_runtime_a2l_run_at_a_fixed_rate(push_bundle: Path, tmp_path: Path) -> N
     s = json.loads(summary.read_text())
     # One movement per 5 ms tick without the robot: the run cannot be faster than that.
     assert s["elapsed_s"] >= s["skill_steps"] * 0.005 * 0.9
+
+
+def test_runtime_a2l_run_high_level_state(tmp_path: Path, push_bundle: Path) -> None:
+    """A skill valid only with the light on: with it off, every context is unknown."""
+    spec = load_bundle(push_bundle)
+    n_moves = spec.posterior.shape[-1]
+    off = np.full_like(spec.posterior, 1.0 / n_moves)
+    spec.posterior = np.stack([off, spec.posterior], axis=-2)  # light axis last
+    spec.argmax = np.stack([np.full_like(spec.argmax, -1), spec.argmax], axis=-1)
+    spec.variables = [*spec.variables, VariableSpec("light", "high_level", 2, values=("off", "on"))]
+    path = save_bundle(spec, tmp_path / "light.a2lb")
+    common = ("--no-robot", "--episodes", "4", "--radius", str(RADIUS), "--summary")
+    on, off_ = tmp_path / "on.json", tmp_path / "off.json"
+    assert run(path, "--state", "light=on", *common, on).returncode == 0
+    assert run(path, "--state", "light=off", *common, off_).returncode == 0
+    s_on, s_off = json.loads(on.read_text()), json.loads(off_.read_text())
+    assert s_on["success"] >= 8
+    assert s_off["success"] == 0 and s_off["skill_steps"] == 0
+    assert all(e["stops"] == {"unknown_context": 4} for e in s_off["effects"].values())
+    r = run(path, "--state", "light=dim", "--no-robot")
+    assert r.returncode == 2 and "'dim' is not a value" in r.stderr
