@@ -1,0 +1,239 @@
+"""The framework's small parts: score, configuration errors, start positions, loop erasure,
+and the ``a2l experiment`` command's argument errors (exit code 2, no traceback)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from a2l.cli import main
+from a2l.framework import (
+    FAIL,
+    FALSE_POSITIVE,
+    SUCCESS,
+    FrameworkConfig,
+    Rollout,
+    erase_loops,
+    score_of,
+)
+from a2l.framework_env import make_env
+
+
+def _rollouts(outcomes: list[str]) -> list[Rollout]:
+    """Validation rollouts with the given outcomes (positions do not enter the score)."""
+    z = np.zeros((1, 3))
+    return [Rollout(start=i, moves=[], eef=z, obj=z, outcome=o) for i, o in enumerate(outcomes)]
+
+
+# --- score ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("outcomes", "n_effects", "n_starts", "expected"), [
+    # 4 effects x 2 starts = 8 rollouts, 32 points at most.
+    ([SUCCESS] * 8, 4, 2, 100.0),
+    ([FAIL] * 8, 4, 2, 0.0),
+    ([FALSE_POSITIVE] * 8, 4, 2, 25.0),                        # 8 / 32
+    ([SUCCESS] * 3 + [FALSE_POSITIVE] * 2 + [FAIL] * 3, 4, 2, 43.75),  # (12 + 2) / 32
+    # 8 effects x 8 starts = 64 rollouts, 256 points: 60 successes and 3 false positives.
+    ([SUCCESS] * 60 + [FALSE_POSITIVE] * 3 + [FAIL], 8, 8, 100.0 * 243 / 256),
+    # 4 effects x 8 starts: a single success.
+    ([SUCCESS] + [FAIL] * 31, 4, 8, 100.0 * 4 / 128),
+])
+def test_score_of_hand_values(outcomes: list[str], n_effects: int, n_starts: int,
+                              expected: float) -> None:
+    assert score_of(_rollouts(outcomes), n_effects, n_starts) == pytest.approx(expected,
+                                                                                abs=1e-12)
+
+
+def test_score_of_babbling_rollouts_count_nothing() -> None:
+    # Babbling rollouts have no outcome: no points.
+    assert score_of(_rollouts(["", "", SUCCESS]), 4, 1) == pytest.approx(25.0)
+
+
+# --- configuration ----------------------------------------------------------------------
+
+@pytest.mark.parametrize(("field", "value"), [
+    ("scene", "kitchen"),
+    ("n_effects", 6),
+    ("n_starts", 0),
+    ("max_babble_steps", -1),
+    ("try_cap", 2.5),
+    ("max_iterations", 0),
+    ("step_cap", 0),
+    ("n_orient", 0),
+    ("n_dist", 0),
+    ("max_extensions", 0),
+    ("directed_per_pair", 0),
+    ("directed_try_cap", 0),
+    ("directed_steps", 0),
+    ("stuck_after", 0),
+    ("start_radius", 0.0),
+    ("step", -0.05),
+    ("effect_threshold", float("nan")),
+    ("start_radius", float("inf")),
+    ("n_incl", -1),
+    ("extension_cut", 0),
+    ("structure", "random-forest"),
+])
+def test_validate_names_the_bad_field(field: str, value: object) -> None:
+    cfg = FrameworkConfig(**{field: value})
+    with pytest.raises(ValueError, match=rf"^{field}:"):
+        cfg.validate()
+    # from_dict validates too, with the same message.
+    with pytest.raises(ValueError, match=rf"^{field}:"):
+        FrameworkConfig.from_dict({**asdict(FrameworkConfig()), field: value})
+
+
+@pytest.mark.parametrize(("low", "high"), [(0.0, 0.2), (0.2, 0.2), (0.3, 0.1), (-0.1, 0.1)])
+def test_validate_distance_range(low: float, high: float) -> None:
+    with pytest.raises(ValueError, match=r"^dist_low, dist_high:"):
+        FrameworkConfig(dist_low=low, dist_high=high).validate()
+
+
+def test_default_config_is_valid_and_round_trips() -> None:
+    cfg = FrameworkConfig(seed=7, n_effects=8, scene="baxter", scene_config={"gui": False})
+    cfg.validate()
+    assert FrameworkConfig.from_dict(asdict(cfg)) == cfg
+
+
+def test_from_dict_names_unknown_keys() -> None:
+    d = {**asdict(FrameworkConfig()), "n_startz": 8, "effects": 4}
+    with pytest.raises(ValueError, match=r"unknown config key\(s\) \['effects', 'n_startz'\]"):
+        FrameworkConfig.from_dict(d)
+
+
+# --- start positions --------------------------------------------------------------------
+
+def test_start_offsets_evenly_on_the_circle() -> None:
+    cfg = FrameworkConfig(n_starts=8, start_radius=0.2)
+    off = cfg.start_offsets()
+    assert off.shape == (8, 3)
+    np.testing.assert_allclose(np.linalg.norm(off, axis=1), 0.2, atol=1e-12)
+    np.testing.assert_allclose(off[:, 2], 0.0, atol=0)
+    # First start on +x, then counter-clockwise every 45 degrees.
+    np.testing.assert_allclose(off[0], [0.2, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(off[2], [0.0, 0.2, 0.0], atol=1e-12)
+    np.testing.assert_allclose(off[4], [-0.2, 0.0, 0.0], atol=1e-12)
+    s = 0.2 / np.sqrt(2)
+    np.testing.assert_allclose(off[1], [s, s, 0.0], atol=1e-12)
+    np.testing.assert_allclose(off[7], [s, -s, 0.0], atol=1e-12)
+    # Neighbouring starts are a chord of 2 r sin(pi / n) apart.
+    chords = np.linalg.norm(np.diff(np.vstack([off, off[:1]]), axis=0), axis=1)
+    np.testing.assert_allclose(chords, 2 * 0.2 * np.sin(np.pi / 8), atol=1e-12)
+
+
+def test_start_offsets_other_radius_and_count() -> None:
+    off = FrameworkConfig(n_starts=3, start_radius=0.15).start_offsets()
+    angles = np.degrees(np.arctan2(off[:, 1], off[:, 0]))
+    np.testing.assert_allclose(angles, [0.0, 120.0, -120.0], atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(off, axis=1), 0.15, atol=1e-12)
+
+
+def test_start_position_in_the_virtual_scene() -> None:
+    """The end-effector begins at the object's home + the offset, the object at home."""
+    cfg = FrameworkConfig()
+    env = make_env("virtual", seed=0, step=cfg.step)
+    try:
+        for offset in cfg.start_offsets():
+            env.begin(offset)
+            np.testing.assert_allclose(env.object(), env.home, atol=1e-9)
+            np.testing.assert_allclose(env.eef(), env.home + offset, atol=1e-9)
+            planar = np.linalg.norm((env.eef() - env.object())[:2])
+            assert planar == pytest.approx(cfg.start_radius, abs=1e-9)
+    finally:
+        env.close()
+
+
+# --- loop erasure -----------------------------------------------------------------------
+
+def test_erase_loops_cuts_a_return_before_contact() -> None:
+    p0, p1, p2, p3 = (np.array(v, float) for v in
+                      ([0, 0, 0], [0.05, 0, 0], [0, 0.05, 0], [0, 0.10, 0]))
+    o0, o1 = np.zeros(3), np.array([0, 0.03, 0])
+    r = Rollout(start=2, moves=[0, 1, 2, 2], eef=np.array([p0, p1, p0, p2, p3]),
+                obj=np.array([o0, o0, o0, o0, o1]), effect=1, stop="moved")
+    e = erase_loops(r)
+    assert e.moves == [2, 2]               # out and back again: gone
+    np.testing.assert_allclose(e.eef, [p0, p2, p3])
+    np.testing.assert_allclose(e.obj, [o0, o0, o1])
+    assert (e.start, e.effect, e.stop) == (2, 1, "moved")
+
+
+def test_erase_loops_keeps_a_loop_free_walk() -> None:
+    eef = np.array([[0, 0, 0], [0.05, 0, 0], [0.10, 0, 0]], float)
+    obj = np.array([[0, 0, 0], [0, 0, 0], [0.02, 0, 0]], float)
+    r = Rollout(start=0, moves=[3, 3], eef=eef, obj=obj, effect=0)
+    e = erase_loops(r)
+    assert e.moves == [3, 3]
+    np.testing.assert_array_equal(e.eef, eef)
+
+
+# --- the command's argument errors --------------------------------------------------------
+
+def _exit_code(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str]:
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    return int(info.value.code), capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("argv", "argument"), [
+    (["--effects", "5"], "--effects"),
+    (["--scene", "kitchen"], "--scene"),
+    (["--workers", "0"], "--workers"),
+    (["--seed", "-1"], "--seed"),
+    (["--iterations", "zero"], "--iterations"),
+    (["--starts", "0"], "--starts"),
+])
+def test_push_bad_arguments_exit_2(argv: list[str], argument: str,
+                                   capsys: pytest.CaptureFixture[str]) -> None:
+    code, err = _exit_code(["experiment", "push", *argv], capsys)
+    assert code == 2
+    assert f"argument {argument}" in err
+
+
+def test_push_resume_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, err = _exit_code(["experiment", "push", "--resume", str(tmp_path / "nope")], capsys)
+    assert code == 2 and "argument --resume" in err and "not a directory" in err
+    code, err = _exit_code(["experiment", "push", "--resume", str(tmp_path)], capsys)
+    assert code == 2 and "argument --resume" in err and "config.json" in err
+    (tmp_path / "config.json").write_text("{}")
+    code, err = _exit_code(["experiment", "push", "--resume", str(tmp_path), "--seed", "3"],
+                           capsys)
+    assert code == 2 and "argument --seed" in err and "--resume" in err
+
+
+def test_push_refuses_to_overwrite_a_run(tmp_path: Path,
+                                         capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "checkpoints" / "iter_000").mkdir(parents=True)
+    code, err = _exit_code(["experiment", "push", "--out", str(tmp_path)], capsys)
+    assert code == 2 and "argument --out" in err and f"--resume {tmp_path}" in err
+
+
+def test_push_unreachable_cluster(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # Nothing listens on the discard port of the loopback interface.
+    code, err = _exit_code(["experiment", "push", "--out", str(tmp_path / "run"),
+                            "--cluster", "tcp://127.0.0.1:9", "--quiet"], capsys)
+    assert code == 2 and "argument --cluster" in err and "127.0.0.1:9" in err
+    assert not (tmp_path / "run").exists()     # nothing started
+
+
+def test_discretization_bad_arguments(capsys: pytest.CaptureFixture[str]) -> None:
+    code, err = _exit_code(["experiment", "discretization"], capsys)
+    assert code == 2 and "--out" in err
+    code, err = _exit_code(["experiment", "discretization", "--out", "x", "--workers", "-2"],
+                           capsys)
+    assert code == 2 and "argument --workers" in err
+
+
+def test_command_reports_user_errors_without_traceback(tmp_path: Path) -> None:
+    """The installed command: a missing resume directory is a message and exit code 2."""
+    proc = subprocess.run([sys.executable, "-m", "a2l.cli", "experiment", "push", "--resume",
+                           str(tmp_path / "missing")], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 2
+    assert "argument --resume" in proc.stderr
+    assert "Traceback" not in proc.stderr
