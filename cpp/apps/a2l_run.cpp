@@ -381,7 +381,9 @@ int run(const Args& args) {
     exec.init(kin, q_neutral, xo);
   }
 
-  a2l::SkillState state(skill, static_cast<std::size_t>(skill.settings().step_cap) + 8);
+  const std::size_t trace_capacity =
+      std::min<std::size_t>(static_cast<std::size_t>(skill.settings().step_cap) + 8, 100000);
+  a2l::SkillState state(skill, trace_capacity);
   if (args.smoothing == "on") state.smoothing = a2l::Smoothing::on;
   if (args.smoothing == "off") state.smoothing = a2l::Smoothing::off;
 
@@ -406,7 +408,8 @@ int run(const Args& args) {
   const double ticks_per_move =
       std::ceil(skill.movements().step() / (xo.max_speed * xo.period)) + 16.0;
   std::vector<double> step_us, tick_us;
-  step_us.reserve(n_episodes * static_cast<std::size_t>(cap + 2));
+  step_us.reserve(std::min<std::size_t>(n_episodes * static_cast<std::size_t>(cap + 2),
+                                        std::size_t(5) * 1000 * 1000));
   const std::size_t tick_capacity =
       args.no_robot ? 0
                     : std::min<std::size_t>(n_episodes * static_cast<std::size_t>(cap) *
@@ -414,7 +417,7 @@ int run(const Args& args) {
                                             std::size_t(5) * 1000 * 1000);
   tick_us.reserve(tick_capacity);
   std::vector<TraceRow> rows;
-  rows.reserve(static_cast<std::size_t>(cap) + 8);
+  rows.reserve(trace_capacity);
   std::vector<EffectResult> results(static_cast<std::size_t>(n_effect_values));
 
   std::mt19937_64 rng(args.seed);
@@ -479,8 +482,10 @@ int run(const Args& args) {
         const auto t0 = Clock::now();
         const a2l::Status s = a2l::step(skill, state, ctx, out);
         const auto t1 = Clock::now();
-        step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-        rows.push_back({out.record, ctx.eef, ctx.object});
+        if (step_us.size() < step_us.capacity()) {  // never reallocate inside the loop
+          step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+        }
+        if (rows.size() < rows.capacity()) rows.push_back({out.record, ctx.eef, ctx.object});
         if (s != a2l::Status::ok) {
           stop = a2l::status_name(s);
           break;

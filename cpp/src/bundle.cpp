@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -444,6 +445,35 @@ Result parse(const std::uint8_t* data, std::size_t size, Skill& out, const std::
   r = PolicyTable::create(std::move(ishape), static_cast<int>(dirs.size()), std::move(posterior),
                           std::move(argmax), table);
   if (!r.ok()) return fail(Status::parse_error, "arrays: " + r.message);
+  // argmax agrees with the posterior: -1 exactly where the row is uniform within
+  // execution.uniform_tolerance, else a most probable movement (so the runtime never guesses).
+  const int nm = table.n_moves();
+  for (std::size_t row = 0; row < table.n_rows(); ++row) {
+    const double* p = table.posterior_row(row);
+    bool uniform = true;
+    double best = p[0];
+    for (int k = 0; k < nm; ++k) {
+      uniform = uniform && std::abs(p[k] - 1.0 / nm) <= settings.uniform_tolerance;
+      best = std::max(best, p[k]);
+    }
+    const int a = table.argmax(row);
+    if (a < 0 && !uniform) {
+      return fail(Status::parse_error,
+                  "arrays.argmax[" + std::to_string(row) +
+                      "]: -1 (no information) but the posterior row is not uniform within "
+                      "execution.uniform_tolerance");
+    }
+    if (a >= 0 && uniform) {
+      return fail(Status::parse_error, "arrays.argmax[" + std::to_string(row) +
+                                           "]: " + std::to_string(a) +
+                                           " for a uniform posterior row (must be -1)");
+    }
+    if (a >= 0 && p[a] < best - 1e-9) {
+      return fail(Status::parse_error, "arrays.argmax[" + std::to_string(row) + "]: movement " +
+                                           std::to_string(a) +
+                                           " is not the most probable of its posterior row");
+    }
+  }
   MovementRepertoire moves;
   r = MovementRepertoire::create(step, std::move(dirs), std::move(labels), moves);
   if (!r.ok()) return fail(Status::parse_error, r.message);

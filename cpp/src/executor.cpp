@@ -80,7 +80,7 @@ Status Executor::set_target(const Eigen::Vector3d& position) noexcept {
 }
 
 Status Executor::tick() noexcept {
-  const detail::RealTimeSection rt;
+  [[maybe_unused]] const detail::RealTimeSection rt;
   if (kin_ == nullptr) return Status::not_initialized;
   if (++ticks_ > options_.watchdog_ticks && !reached_) return Status::unreachable;
   // Advance the reference toward the target at most max_speed * period.

@@ -88,7 +88,7 @@ void top_two(const double* p, int n, int& first, int& second) noexcept {
 
 Status step(const Skill& skill, SkillState& state, const Context& context,
             StepOutput& out) noexcept {
-  const detail::RealTimeSection rt;
+  [[maybe_unused]] const detail::RealTimeSection rt;
   out.movement = -1;
   out.probability = 0.0;
   out.displacement.setZero();

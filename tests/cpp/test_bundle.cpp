@@ -221,6 +221,24 @@ TEST(Bundle, BadProbabilitiesAndArgmax) {
   expect_error(load(build(p)), Status::parse_error, "argmax[5]");
 }
 
+TEST(Bundle, ArgmaxMustAgreeWithThePosterior) {
+  const BundleParts good = sample_parts();
+  std::size_t uniform = 0, informative = 0;
+  while (good.argmax[uniform] != -1) ++uniform;
+  while (good.argmax[informative] == -1) ++informative;
+  BundleParts p = good;
+  p.argmax[informative] = -1;  // a guess hidden as "no information"
+  expect_error(load(build(p)), Status::parse_error,
+               "argmax[" + std::to_string(informative) + "]: -1 (no information)");
+  p = good;
+  p.argmax[uniform] = 3;  // a guess on an uninformative row
+  expect_error(load(build(p)), Status::parse_error,
+               "argmax[" + std::to_string(uniform) + "]: 3 for a uniform posterior row");
+  p = good;
+  p.argmax[informative] = (good.argmax[informative] + 1) % 8;
+  expect_error(load(build(p)), Status::parse_error, "is not the most probable");
+}
+
 TEST(Bundle, InvalidJson) {
   BundleParts p = sample_parts();
   auto b = build(p);

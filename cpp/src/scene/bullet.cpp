@@ -109,7 +109,9 @@ bool BulletScene::move(const Eigen::Vector3d& d) {
   const Eigen::Vector3d box_before = s.box_pos();
   if (!d.allFinite()) return false;
   const double per_step = std::max(s.options.eef_speed * s.options.time_step, 1e-6);
-  const int n = std::max(1, static_cast<int>(std::ceil(d.norm() / per_step)));
+  // At most 1e5 physics steps per move (a move of more than 25 km at the default speed).
+  const double substeps = std::ceil(d.norm() / per_step);
+  const int n = substeps > 1e5 ? 100000 : std::max(1, static_cast<int>(substeps));
   for (int i = 1; i <= n; ++i) {
     s.place_eef(start + d * (static_cast<double>(i) / n));
     s.step();
