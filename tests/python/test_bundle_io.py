@@ -132,6 +132,16 @@ def test_bundle_write_is_atomic_and_refuses_invalid_specs(tmp_path: Path) -> Non
     bad.directions[2] = (0, 0, 0)
     with pytest.raises(BundleError, match=r"movements\.directions\[2\]"):
         save_bundle(bad, path)
+    bad = make_spec(6)
+    row = tuple(np.argwhere(bad.argmax >= 0)[0])
+    bad.argmax[row] = -1  # "no information" on an informative row: the runtime would stop
+    with pytest.raises(BundleError, match=r"arrays\.argmax\[\d+\]: -1 \(no information\)"):
+        save_bundle(bad, path)
+    bad = make_spec(6)
+    row = tuple(np.argwhere(bad.argmax < 0)[0])
+    bad.argmax[row] = 2  # a movement for a uniform row: a guess
+    with pytest.raises(BundleError, match="for a uniform posterior row"):
+        save_bundle(bad, path)
     save_bundle(make_spec(5), path)  # overwrite
     assert load_bundle(path).step_cap == 9
     assert sorted(p.name for p in tmp_path.iterdir()) == ["skill.a2lb"]  # no temporary left
