@@ -73,14 +73,14 @@ def _bench(bundle: Path, pattern: str) -> dict[str, dict]:
     return {b["name"].split("/")[0].removeprefix("BM_"): b for b in json.loads(out)["benchmarks"]}
 
 
-def _run(bundle: Path, *args: str) -> dict:
+def _run(bundle: Path, *args: str, episodes: int = EPISODES) -> dict:
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
         subprocess.run(
             [
                 _a2l_run(),
                 str(bundle),
                 "--episodes",
-                str(EPISODES),
+                str(episodes),
                 "--radius",
                 str(RADIUS),
                 "--quiet",
@@ -115,6 +115,9 @@ def run() -> str:
             "bullet, Baxter IK": _run(planar, "--scene", "bullet"),
             "bullet, no robot": _run(planar, "--scene", "bullet", "--no-robot"),
         }
+        realtime = _run(
+            planar, "--scene", "virtual", "--rate", "1000", "--effect", "far,left", episodes=2
+        )
 
     lines = [
         "Skills learned here from synthetic push babbling (`push_dataset`, start circle "
@@ -186,6 +189,19 @@ def run() -> str:
             f"| {name} | {s['success']}/{s['episodes']} | {s['steps_per_s']:,.0f} | {ticks} | "
             f"{st['p50_us']:.2f} / {st['p99.9_us']:.2f} us | {tick} |"
         )
+    st, tt, lt = realtime["step_time"], realtime["tick_time"], realtime["wakeup_lateness"]
+    lines += [
+        "",
+        "At Baxter's rate (`--rate 1000`: one joint command per 1 ms, `sleep_until` on a "
+        "stock kernel, shared machine; 2 start points x 2 effects): "
+        f"{realtime['control_ticks']:,} ticks in {realtime['elapsed_s']:.2f} s, success "
+        f"{realtime['success']}/{realtime['episodes']}; control tick p50 {tt['p50_us']:.2f} us, "
+        f"p99.9 {tt['p99.9_us']:.2f} us; `step()` p50 {st['p50_us']:.2f} us (slower than "
+        "flat out: caches go cold while the thread sleeps); wake-up lateness p50 "
+        f"{lt['p50_us']:.0f} us, p99 {lt['p99_us']:.0f} us, p99.9 {lt['p99.9_us']:.0f} us: "
+        "the OS scheduler, not the runtime, limits the real-time behaviour here (an RT kernel "
+        "and SCHED_FIFO would be needed on the robot).",
+    ]
     lines += [
         "",
         "Baxter's control period is 1,000 us: a whole control tick uses about 0.1 % of it. "

@@ -416,6 +416,15 @@ int run(const Args& args) {
                                                 static_cast<std::size_t>(ticks_per_move),
                                             std::size_t(5) * 1000 * 1000);
   tick_us.reserve(tick_capacity);
+  std::vector<double> late_us;  // how late each wake-up at --rate was
+  late_us.reserve(args.rate > 0 ? std::max<std::size_t>(tick_capacity, step_us.capacity()) : 0);
+  auto wait_next = [&](Clock::time_point& next, Clock::duration period) {
+    next += period;
+    std::this_thread::sleep_until(next);
+    if (late_us.size() < late_us.capacity()) {
+      late_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - next).count());
+    }
+  };
   std::vector<TraceRow> rows;
   rows.reserve(trace_capacity);
   std::vector<EffectResult> results(static_cast<std::size_t>(n_effect_values));
@@ -496,10 +505,7 @@ int run(const Args& args) {
           const Eigen::Vector3d before = exec.position();
           a2l::Status xs = exec.set_target(before + out.displacement);
           while (xs == a2l::Status::ok && !exec.reached()) {
-            if (args.rate > 0) {
-              next_tick += period;
-              std::this_thread::sleep_until(next_tick);
-            }
+            if (args.rate > 0) wait_next(next_tick, period);
             const auto a = Clock::now();
             xs = exec.tick();
             const auto b = Clock::now();
@@ -514,10 +520,7 @@ int run(const Args& args) {
           }
           moved_by = exec.position() - scene->eef_position();
         }
-        if (args.rate > 0 && args.no_robot) {
-          next_tick += period;
-          std::this_thread::sleep_until(next_tick);
-        }
+        if (args.rate > 0 && args.no_robot) wait_next(next_tick, period);
         if (scene->move(moved_by)) {
           const int e = a2l::classify_effect(scene->object_position() - obj_start, classify_n);
           if (e >= 0) {
@@ -573,7 +576,7 @@ int run(const Args& args) {
   const double elapsed = std::chrono::duration<double>(Clock::now() - t_start).count();
 
   // ---- report ----
-  const Percentiles sp = percentiles(step_us), tp = percentiles(tick_us);
+  const Percentiles sp = percentiles(step_us), tp = percentiles(tick_us), lp = percentiles(late_us);
   nlohmann::json summary;
   summary["bundle"] = args.bundle;
   summary["skill"] = skill.name();
@@ -613,6 +616,11 @@ int run(const Args& args) {
         "p99.9 %.3f us, max %.3f us (%zu ticks)\n",
         tp.p50, tp.p90, tp.p99, tp.p999, tp.max, tp.n);
   }
+  if (args.rate > 0) {
+    std::printf(
+        "wake-up lateness at %.0f Hz: p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us\n",
+        args.rate, lp.p50, lp.p99, lp.p999, lp.max);
+  }
   const double sps = elapsed > 0 ? static_cast<double>(total_steps) / elapsed : 0.0;
   std::printf(
       "closed loop: %lld skill steps, %lld control ticks in %.3f s: %.1f steps/s, "
@@ -623,6 +631,7 @@ int run(const Args& args) {
   summary["episodes"] = total_episodes;
   summary["step_time"] = to_json(sp);
   summary["tick_time"] = to_json(tp);
+  summary["wakeup_lateness"] = to_json(lp);
   summary["skill_steps"] = total_steps;
   summary["control_ticks"] = total_ticks;
   summary["elapsed_s"] = elapsed;

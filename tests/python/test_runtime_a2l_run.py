@@ -194,6 +194,8 @@ def test_runtime_a2l_run_at_a_fixed_rate(push_bundle: Path, tmp_path: Path) -> N
     s = json.loads(summary.read_text())
     # One movement per 5 ms tick without the robot: the run cannot be faster than that.
     assert s["elapsed_s"] >= s["skill_steps"] * 0.005 * 0.9
+    assert s["wakeup_lateness"]["n"] == s["skill_steps"] > 0  # one timed wake-up per movement
+    assert s["wakeup_lateness"]["p50_us"] >= 0.0
 
 
 def test_runtime_a2l_run_high_level_state(tmp_path: Path, push_bundle: Path) -> None:
