@@ -31,6 +31,9 @@ table_z : float
     Height of the table plane (m).
 eef_radius : float
     The end-effector is a sphere of this radius (m).
+tie_tolerance : float
+    |dx| and |dy| closer than this (m) are a tie, pushed along x (so a diagonal movement
+    executed by a controller pushes like the exact diagonal).
 
 Notes
 -----
@@ -38,20 +41,24 @@ Notes
 by ``eef_radius``, the box is pushed along the dominant planar axis of ``d`` until its face
 touches the end-effector; a purely vertical ``d`` never moves the box. Deterministic.
 )doc")
-      .def(py::init([](const Eigen::Vector3d& half_size, double table_z, double eef_radius) {
+      .def(py::init([](const Eigen::Vector3d& half_size, double table_z, double eef_radius,
+                       double tie_tolerance) {
              if (!half_size.allFinite() || (half_size.array() <= 0.0).any() ||
-                 !std::isfinite(table_z) || !(eef_radius >= 0.0) || !std::isfinite(eef_radius)) {
+                 !std::isfinite(table_z) || !(eef_radius >= 0.0) || !std::isfinite(eef_radius) ||
+                 !(tie_tolerance >= 0.0) || !std::isfinite(tie_tolerance)) {
                raise(Status::invalid_argument,
-                     "VirtualScene: half_size must be positive, table_z finite, eef_radius >= 0");
+                     "VirtualScene: half_size must be positive, table_z finite, eef_radius and "
+                     "tie_tolerance finite and >= 0");
              }
              VirtualSceneOptions o;
              o.half_size = half_size;
              o.table_z = table_z;
              o.eef_radius = eef_radius;
+             o.tie_tolerance = tie_tolerance;
              return VirtualScene(o);
            }),
            py::arg("half_size") = Eigen::Vector3d(0.035, 0.0425, 0.04), py::arg("table_z") = 0.0,
-           py::arg("eef_radius") = 0.01)
+           py::arg("eef_radius") = 0.01, py::arg("tie_tolerance") = 1e-5)
       .def("reset", &VirtualScene::reset, py::arg("eef"), py::arg("object"),
            "Put the end-effector at `eef` (3,) and the box centre at `object` (3,).")
       .def("move", &VirtualScene::move, py::arg("displacement"),
@@ -63,6 +70,7 @@ touches the end-effector; a purely vertical ``d`` never moves the box. Determini
       .def_property_readonly("half_size", &VirtualScene::half_size)
       .def_property_readonly("table_z", &VirtualScene::table_z)
       .def_property_readonly("eef_radius", &VirtualScene::eef_radius)
+      .def_property_readonly("tie_tolerance", &VirtualScene::tie_tolerance)
       .def("in_contact", &VirtualScene::in_contact, py::arg("p"),
            "True if point p (3,) lies strictly inside the box grown by eef_radius.");
 

@@ -30,6 +30,18 @@ def test_runtime_virtual_scene_push_model() -> None:
         _core.VirtualScene(half_size=[0.1, -0.1, 0.1])
 
 
+def test_runtime_virtual_scene_diagonal_ties() -> None:
+    """A diagonal executed with a tiny error pushes like the exact diagonal (along x)."""
+    box = np.array([0.0, 0.0, 0.0])
+    for tol, axis in ((1e-5, 0), (0.0, 1)):
+        s = _core.VirtualScene(tie_tolerance=tol)
+        assert s.tie_tolerance == tol
+        s.reset([-0.06, 0.06, 0.0], box)
+        assert s.move([0.035355 - 1e-7, -0.035355, 0.0])  # |dy| larger by 1e-7 m
+        moved = s.object_position - box
+        assert moved[axis] != 0.0 and moved[1 - axis] == 0.0
+
+
 def test_runtime_virtual_scene_is_deterministic() -> None:
     rng = np.random.default_rng(0)
     moves = rng.normal(0, 0.03, (500, 3))

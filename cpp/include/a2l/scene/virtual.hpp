@@ -47,6 +47,8 @@ class VirtualScene final : public Scene {
   double table_z() const noexcept { return options_.table_z; }
   //! Radius of the end-effector sphere (m).
   double eef_radius() const noexcept { return options_.eef_radius; }
+  //! |dx| and |dy| closer than this (m) are a tie (pushed along x).
+  double tie_tolerance() const noexcept { return options_.tie_tolerance; }
   //! True if `p` lies strictly inside the box grown by eef_radius.
   bool in_contact(const Eigen::Vector3d& p) const noexcept;
 
