@@ -21,7 +21,8 @@ from pathlib import Path
 def _cmd_demo(args: argparse.Namespace) -> int:
     from a2l.demo import run_demo
 
-    return run_demo(seed=args.seed, gui=args.gui)
+    return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
+                    starts=args.starts)
 
 
 class UsageError(Exception):
@@ -214,9 +215,18 @@ def build_parser() -> argparse.ArgumentParser:
         description="Adaptive Affordance Learning: learn manipulation skills and run them.",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    demo = sub.add_parser("demo", help="run the main demonstration job")
-    demo.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    demo.add_argument("--gui", action="store_true", help="open the PyBullet GUI")
+    demo = sub.add_parser(
+        "demo", help="run the main job: the world, a short A2L push experiment on Baxter, "
+        "then the exported skill in the C++ runtime (a2l-run)")
+    demo.add_argument("--seed", type=_nonnegative_int, default=0,
+                      help="random seed (default 0)")
+    demo.add_argument("--gui", action="store_true", help="open the PyBullet GUI (part 1)")
+    demo.add_argument("--out", metavar="DIR", default=None,
+                      help="run directory of the experiment (default runs/demo-<timestamp>)")
+    demo.add_argument("--iterations", type=_positive_int, default=2, metavar="N",
+                      help="iterations of the push experiment (default 2)")
+    demo.add_argument("--starts", type=_positive_int, default=4, metavar="N",
+                      help="start positions of the push experiment (default 4)")
     demo.set_defaults(func=_cmd_demo)
     _add_experiment_parsers(sub)
     return parser

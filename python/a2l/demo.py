@@ -1,27 +1,33 @@
-"""The ``a2l demo`` job (for now): Baxter pushes a box on a table in PyBullet.
+"""The ``a2l demo`` job: the A2L pipeline end to end on a simulated Baxter.
 
-The right end-effector starts 15 cm in front of the box, gripper pointing down, and moves
-forward in discrete 5 cm movements, each solved by the C++ inverse kinematics
-(:class:`a2l.Kinematics`) and carried out by joint position control, until it has gone
-past where the box was. The demo prints every movement, the effect it produced and how
-far the box moved (ground truth and camera perception). Later issues turn this command
-into the whole A2L pipeline.
+1. The world: Baxter's right end-effector starts 15 cm in front of a box, gripper pointing
+   down, and moves forward in discrete 5 cm movements (C++ inverse kinematics, joint
+   position control) until the box moved; it prints how far (ground truth and camera).
+2. A short push experiment on the Baxter scene (:mod:`a2l.experiments.push`): random
+   babbling, Bayesian-network skills, closed-loop validation through the C++ step, one
+   extension iteration; its results table and run directory.
+3. ``a2l-run`` on the exported skill: the C++ runtime runs it in closed loop at control
+   rate against the C++ virtual scene, and prints success and step-time figures.
 """
 
 from __future__ import annotations
 
+import shutil
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["run_demo"]
+__all__ = ["push_box", "run_demo"]
 
 #: The box must move at least this far (m) for the demo to succeed.
 MIN_DISPLACEMENT = 0.01
 
 
-def run_demo(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
-    """Run the demo and print what happened.
+def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
+    """Part 1 of the demo: Baxter pushes the box forward; print what happened.
 
     Parameters
     ----------
@@ -83,3 +89,58 @@ def run_demo(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
         return 1
     print("OK: the box moved")
     return 0
+
+
+def _a2l_run(bundle: Path, seed: int) -> int:
+    """Run ``a2l-run`` on `bundle` (virtual scene, through Baxter's arm) and echo it."""
+    exe = shutil.which("a2l-run") or str(Path(sys.executable).with_name("a2l-run"))
+    if not Path(exe).is_file():
+        print("FAILED: the a2l-run executable is not installed (make setup)")
+        return 2
+    from a2l.robot import baxter_urdf
+
+    cmd = [exe, str(bundle), "--scene", "virtual", "--episodes", "8", "--seed", str(seed),
+           "--urdf", str(baxter_urdf()), "--trace", str(bundle.with_suffix(".trace.csv"))]
+    print("$ " + " ".join(["a2l-run", *cmd[1:]]), flush=True)
+    return subprocess.run(cmd, check=False).returncode
+
+
+def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
+             iterations: int = 2, starts: int = 4) -> int:
+    """The whole demo (see the module's docstring); returns the exit code.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of every part.
+    gui : bool
+        Open the PyBullet GUI for part 1.
+    out : path, optional
+        Run directory of the experiment (default ``runs/demo-<timestamp>``).
+    iterations : int
+        Iterations of the push experiment.
+    starts : int
+        Start positions of the push experiment.
+    """
+    t0 = time.perf_counter()
+    print("== 1/3  the world: Baxter pushes a box (PyBullet, C++ IK) ==")
+    rc = push_box(seed=seed, gui=gui)
+    if rc != 0:
+        return rc
+    print(f"\n== 2/3  A2L push experiment on the Baxter scene ({starts} starts, 4 effects, "
+          f"{iterations} iterations) ==", flush=True)
+    from a2l.experiments.push import run_push_experiment
+    from a2l.experiments.rundir import make_run_dir
+    from a2l.framework import FrameworkConfig
+
+    cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
+                          max_iterations=iterations, seed=seed)
+    run_dir = make_run_dir("demo", out)
+    result = run_push_experiment(cfg, out=run_dir)
+    bundle = Path(result["run_dir"]) / result["bundle"]
+    print(f"\n== 3/3  a2l-run: the exported skill in the C++ runtime ({bundle.name}) ==",
+          flush=True)
+    rc = _a2l_run(bundle, seed)
+    print(f"\ndemo finished in {time.perf_counter() - t0:.0f} s; results in {run_dir}/ "
+          "(report.md, metrics.json, plots, skills/)")
+    return rc

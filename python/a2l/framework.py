@@ -45,6 +45,9 @@ __all__ = [
     "score_of",
 ]
 
+#: Default ``directed_try_cap`` of each scene.
+DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 60}
+
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
 
@@ -103,8 +106,9 @@ class FrameworkConfig:
         Iterations a (start, effect) pair must fail before effect-directed babbling.
     directed_per_pair : int
         Effect-directed trajectories added for a stuck pair.
-    directed_try_cap : int
-        Most tries to find them.
+    directed_try_cap : int or None
+        Most tries to find them; None: the scene's default (:data:`DIRECTED_TRY_CAP`: a
+        Baxter movement costs ~20-30 ms of physics, a virtual one ~20 µs).
     directed_steps : int
         Most movements of an effect-directed trajectory (going around the object takes
         more than ``max_babble_steps``).
@@ -139,10 +143,14 @@ class FrameworkConfig:
     max_extensions: int = 50
     stuck_after: int = 1
     directed_per_pair: int = 20
-    directed_try_cap: int = 2000
+    directed_try_cap: int | None = None
     directed_steps: int = 20
     seed: int = 0
     scene_config: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.directed_try_cap is None:
+            self.directed_try_cap = DIRECTED_TRY_CAP.get(self.scene, 2000)
 
     def validate(self) -> None:
         """Raise ``ValueError`` naming the first field out of its domain."""

@@ -7,11 +7,11 @@ import re
 import pytest
 
 from a2l.cli import main
-from a2l.demo import run_demo
+from a2l.demo import push_box
 
 
 def test_demo_moves_the_box(capsys: pytest.CaptureFixture[str]) -> None:
-    assert run_demo(seed=0, gui=False) == 0
+    assert push_box(seed=0, gui=False) == 0
     out = capsys.readouterr().out
     m = re.search(r"box moved ([0-9.]+) cm \(ground truth\)", out)
     assert m is not None, out
@@ -21,17 +21,23 @@ def test_demo_moves_the_box(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_demo_fails_loudly_when_the_box_is_not_reached(capsys: pytest.CaptureFixture[str]
                                                        ) -> None:
-    assert run_demo(seed=0, gui=False, max_moves=1) == 1  # one move stops short of the box
+    assert push_box(seed=0, gui=False, max_moves=1) == 1  # one move stops short of the box
     assert "FAILED" in capsys.readouterr().out
 
 
-def test_cli_runs_the_demo(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["demo", "--seed", "1"]) == 0
-    assert "box moved" in capsys.readouterr().out
+def test_cli_runs_the_whole_demo(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The whole pipeline, made small: world, one Baxter iteration, a2l-run on the skill."""
+    out = tmp_path / "demo"
+    assert main(["demo", "--seed", "1", "--iterations", "1", "--starts", "2",
+                 "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "box moved" in text
+    assert (out / "metrics.json").is_file() and (out / "skills" / "push.a2lb").is_file()
+    assert (out / "skills" / "push.trace.csv").is_file(), "a2l-run wrote its trace"
 
 
 def test_demo_gui_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch,
                                                    capsys: pytest.CaptureFixture[str]) -> None:
     monkeypatch.delenv("DISPLAY", raising=False)
-    assert run_demo(seed=0, gui=True) == 2
+    assert push_box(seed=0, gui=True) == 2
     assert "needs a display" in capsys.readouterr().out
