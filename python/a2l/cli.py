@@ -22,7 +22,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     from a2l.demo import run_demo
 
     return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
-                    starts=args.starts)
+                    starts=args.starts, workers=args.workers)
 
 
 class UsageError(Exception):
@@ -227,6 +227,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="iterations of the push experiment (default 2)")
     demo.add_argument("--starts", type=_positive_int, default=4, metavar="N",
                       help="start positions of the push experiment (default 4)")
+    demo.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                      help="worker processes for the rollouts (default: up to 2)")
     demo.set_defaults(func=_cmd_demo)
     _add_experiment_parsers(sub)
     return parser

@@ -106,7 +106,7 @@ def _a2l_run(bundle: Path, seed: int) -> int:
 
 
 def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
-             iterations: int = 2, starts: int = 4) -> int:
+             iterations: int = 2, starts: int = 4, workers: int | None = None) -> int:
     """The whole demo (see the module's docstring); returns the exit code.
 
     Parameters
@@ -121,7 +121,12 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
         Iterations of the push experiment.
     starts : int
         Start positions of the push experiment.
+    workers : int, optional
+        Worker processes for the rollouts (default: up to 2, one per core).
     """
+    import os
+
+    workers = workers or max(1, min(2, os.cpu_count() or 1))
     t0 = time.perf_counter()
     print("== 1/3  the world: Baxter pushes a box (PyBullet, C++ IK) ==")
     rc = push_box(seed=seed, gui=gui)
@@ -136,7 +141,7 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
                           max_iterations=iterations, seed=seed)
     run_dir = make_run_dir("demo", out)
-    result = run_push_experiment(cfg, out=run_dir)
+    result = run_push_experiment(cfg, out=run_dir, workers=workers)
     bundle = Path(result["run_dir"]) / result["bundle"]
     print(f"\n== 3/3  a2l-run: the exported skill in the C++ runtime ({bundle.name}) ==",
           flush=True)

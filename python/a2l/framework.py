@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 #: Default ``directed_try_cap`` of each scene.
-DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 60}
+DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 20}
 
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
