@@ -236,7 +236,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         write_json(run_dir / "config.json", {
             "experiment": "push", "framework": asdict(cfg),
             "command": f"a2l experiment push --scene {cfg.scene} --effects {cfg.n_effects} "
-                       f"--seed {cfg.seed} --out {run_dir}",
+                       f"--seed {cfg.seed} --iterations {cfg.max_iterations} "
+                       f"--starts {cfg.n_starts} --out {run_dir}",
         })
     t0 = time.perf_counter()
     with Executor(workers=workers, cluster=cluster) as executor, _Progress(quiet) as bar:
