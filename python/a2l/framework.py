@@ -24,6 +24,7 @@ checkpoint written after each iteration.
 from __future__ import annotations
 
 import math
+import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field, fields
@@ -241,21 +242,24 @@ class Rollout:
         return self.effect >= 0
 
 
-_ENV_CACHE: dict[str, Any] = {}
+#: Scenes per thread: a Dask worker runs tasks in several threads, and two rollouts must
+#: never share a scene.
+_LOCAL = threading.local()
 
 
 def _env(cfg: FrameworkConfig) -> Any:
-    """The scene of this process for `cfg` (built once per process and reused)."""
+    """The scene of this thread for `cfg` (built once per thread and reused)."""
     from a2l.framework_env import make_env
 
+    cache: dict[str, Any] = _LOCAL.__dict__.setdefault("envs", {})
     key = repr((cfg.scene, sorted(cfg.scene_config.items()), cfg.step, cfg.seed))
-    env = _ENV_CACHE.get(key)
+    env = cache.get(key)
     if env is None:
-        for old in _ENV_CACHE.values():
+        for old in cache.values():
             old.close()
-        _ENV_CACHE.clear()
+        cache.clear()
         env = make_env(cfg.scene, seed=cfg.seed, step=cfg.step, **cfg.scene_config)
-        _ENV_CACHE[key] = env
+        cache[key] = env
     return env
 
 

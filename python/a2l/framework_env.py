@@ -9,6 +9,8 @@
 
 from __future__ import annotations
 
+import os
+import threading
 from typing import Any, ClassVar
 
 import numpy as np
@@ -88,7 +90,9 @@ class CppSkillRunner:
         Path of the skill bundle.
     """
 
-    _cache: ClassVar[dict[str, CppSkillRunner]] = {}
+    #: Runners per thread (a runner's SkillState is mutable: a Dask worker runs tasks in
+    #: several threads), keyed by the bundle's path, size and modification time.
+    _local: ClassVar[threading.local] = threading.local()
 
     def __init__(self, bundle: str) -> None:
         self.bundle = bundle
@@ -98,12 +102,20 @@ class CppSkillRunner:
 
     @classmethod
     def cached(cls, bundle: str) -> CppSkillRunner:
-        """One runner per bundle per process (loading validates the whole file)."""
-        runner = cls._cache.get(bundle)
+        """One runner per bundle per thread (loading validates the whole file).
+
+        A file rewritten at the same path (a new run in the same directory, on a long-lived
+        Dask worker) is loaded again.
+        """
+        cache: dict[tuple[str, int, int], CppSkillRunner] = \
+            cls._local.__dict__.setdefault("runners", {})
+        st = os.stat(bundle)
+        key = (bundle, st.st_size, st.st_mtime_ns)
+        runner = cache.get(key)
         if runner is None:
-            if len(cls._cache) > 8:
-                cls._cache.clear()
-            runner = cls._cache[bundle] = cls(bundle)
+            if len(cache) > 8:
+                cache.clear()
+            runner = cache[key] = cls(bundle)
         return runner
 
     def reset(self) -> None:

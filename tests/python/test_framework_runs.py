@@ -143,3 +143,32 @@ def test_dask_cluster_gives_the_same_results(reference: Path, tmp_path: Path,
     _run(*ARGS, "--out", str(out), "--cluster", dask_cluster)
     assert json.loads((out / "metrics.json").read_text())["cluster"] == dask_cluster
     _assert_same(_outcome(out), _outcome(reference))
+
+
+def test_dask_worker_threads_do_not_share_a_scene(tmp_path: Path) -> None:
+    """A Dask worker runs tasks in several threads: babbling and validation there give the
+    rollouts of one process (each thread has its own scene and skill state)."""
+    from dask.distributed import LocalCluster
+
+    from a2l.framework import _discretizers as discretizers
+    from a2l.framework import acquire, generate_skill, rollouts_to_frame, validate
+    from a2l.parallel import Executor
+
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=3)
+    bundle = tmp_path / "iter_000.a2lb"
+    with Executor(workers=1) as local:
+        babbled = acquire(cfg, local, 0)
+        generate_skill(cfg, rollouts_to_frame(babbled, discretizers(cfg)), bundle)
+        validated = validate(cfg, local, bundle)
+    cluster = LocalCluster(n_workers=1, threads_per_worker=2, processes=True,
+                           host="127.0.0.1", dashboard_address=None)
+    try:
+        with Executor(cluster=cluster.scheduler_address) as remote:
+            babbled_d = acquire(cfg, remote, 0)
+            validated_d = validate(cfg, remote, bundle)
+    finally:
+        cluster.close()
+    for a, b in zip([*babbled, *validated], [*babbled_d, *validated_d], strict=True):
+        assert (a.start, a.moves, a.effect, a.wanted, a.outcome, a.stop) == (
+            b.start, b.moves, b.effect, b.wanted, b.outcome, b.stop)
+        assert (a.eef == b.eef).all() and (a.obj == b.obj).all()
