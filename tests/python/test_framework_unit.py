@@ -3,6 +3,7 @@ and the ``a2l experiment`` command's argument errors (exit code 2, no traceback)
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from dataclasses import asdict
@@ -237,3 +238,30 @@ def test_command_reports_user_errors_without_traceback(tmp_path: Path) -> None:
     assert proc.returncode == 2
     assert "argument --resume" in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_discretization_command_writes_the_table(tmp_path: Path) -> None:
+    """``a2l experiment discretization``: one run per orientation x distance combination,
+    a table and the selected default (one iteration each: the table, not the scores, is
+    under test here)."""
+    out = tmp_path / "study"
+    assert main(["experiment", "discretization", "--out", str(out), "--iterations", "1",
+                 "--seed", "1", "--quiet"]) == 0
+    m = json.loads((out / "metrics.json").read_text())
+    combos = [(r["n_orient"], r["n_dist"]) for r in m["rows"]]
+    assert combos == [(o, d) for o in (8, 16, 24, 32) for d in (3, 4, 5)]
+    for r, (o, d) in zip(m["rows"], combos, strict=True):
+        sub = json.loads((out / f"o{o}-d{d}" / "metrics.json").read_text())
+        assert sub["seed"] == 1 and len(sub["iterations"]) == r["iterations"] == 1
+        assert r["final_score"] == sub["final_score"]
+        cfg = json.loads((out / f"o{o}-d{d}" / "config.json").read_text())["framework"]
+        assert (cfg["n_orient"], cfg["n_dist"], cfg["seed"]) == (o, d, 1)
+    best = max(r["final_score"] for r in m["rows"])
+    sel = m["selected"]
+    chosen = next(r for r in m["rows"] if (r["n_orient"], r["n_dist"]) == (sel["n_orient"],
+                                                                             sel["n_dist"]))
+    assert chosen["final_score"] == best
+    report = (out / "report.md").read_text()
+    rows = [line for line in report.splitlines() if line[:3].strip("| ").isdigit()]
+    assert len(rows) == 12
+    assert report.count("(selected)") == 1
