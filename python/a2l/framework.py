@@ -23,6 +23,7 @@ checkpoint written after each iteration.
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
@@ -264,6 +265,16 @@ def _env(cfg: FrameworkConfig) -> Any:
 
 
 def _discretizers(cfg: FrameworkConfig) -> Any:
+    """The discretization of `cfg` (built once per set of its parameters: rollouts call this
+    for every task)."""
+    return _discretizer_for(cfg.n_dist, cfg.dist_low, cfg.dist_high, cfg.n_orient, cfg.n_incl,
+                            cfg.planar, cfg.step, cfg.n_effects, cfg.effect_threshold)
+
+
+@functools.lru_cache(maxsize=16)
+def _discretizer_for(n_dist: int, dist_low: float, dist_high: float, n_orient: int,
+                     n_incl: int, planar: bool, step: float, n_effects: int,
+                     effect_threshold: float) -> Any:
     from a2l.skills.discretize import (
         Discretizer,
         DistanceBins,
@@ -274,11 +285,11 @@ def _discretizers(cfg: FrameworkConfig) -> Any:
     )
 
     return Discretizer(
-        distance=DistanceBins(n_bins=cfg.n_dist, low=cfg.dist_low, high=cfg.dist_high),
-        orientation=OrientationBins(n_bins=cfg.n_orient),
-        inclination=InclinationBins(n_bins=cfg.n_incl) if cfg.n_incl > 0 else None,
-        movements=MovementRepertoire(planar=cfg.planar, step=cfg.step),
-        effects=EffectDiscretizer(n_effects=cfg.n_effects, threshold=cfg.effect_threshold),
+        distance=DistanceBins(n_bins=n_dist, low=dist_low, high=dist_high),
+        orientation=OrientationBins(n_bins=n_orient),
+        inclination=InclinationBins(n_bins=n_incl) if n_incl > 0 else None,
+        movements=MovementRepertoire(planar=planar, step=step),
+        effects=EffectDiscretizer(n_effects=n_effects, threshold=effect_threshold),
     )
 
 

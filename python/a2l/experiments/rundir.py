@@ -17,6 +17,8 @@ from typing import Any
 
 import pandas as pd
 
+from a2l.atomic import atomic_write_bytes, atomic_write_text
+
 __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
@@ -38,27 +40,6 @@ def make_run_dir(name: str, out: str | os.PathLike[str] | None = None) -> Path:
     path = Path(out)
     path.mkdir(parents=True, exist_ok=True)
     return path
-
-
-def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write `data` to `path` through a temporary file and a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
-    """Write `text` (UTF-8) to `path` atomically."""
-    atomic_write_bytes(path, text.encode())
 
 
 def write_json(path: str | os.PathLike[str], obj: Any) -> None:

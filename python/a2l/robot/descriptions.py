@@ -6,11 +6,11 @@ import hashlib
 import importlib.metadata
 import os
 import re
-import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from a2l.atomic import atomic_write_text
 from a2l.errors import A2LFileNotFoundError, URDFError
 
 __all__ = [
@@ -201,8 +201,5 @@ def pybullet_urdf(path: str | os.PathLike[str] | None = None) -> Path:
     out_dir.mkdir(parents=True, exist_ok=True)
     out = out_dir / f"{src.stem}-{digest}.urdf"
     if not out.is_file():
-        fd, tmp = tempfile.mkstemp(dir=out_dir, suffix=".urdf.tmp")
-        with os.fdopen(fd, "w") as f:
-            f.write(rewritten)
-        os.replace(tmp, out)
+        atomic_write_text(out, rewritten)
     return out

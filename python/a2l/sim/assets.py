@@ -7,11 +7,12 @@ import copy
 import hashlib
 import os
 import re
-import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
+
+from a2l.atomic import atomic_write_text
 
 __all__ = ["collision_render_urdf"]
 
@@ -115,8 +116,5 @@ def collision_render_urdf(urdf: str | os.PathLike[str]) -> Path:
     out_dir.mkdir(parents=True, exist_ok=True)
     out = out_dir / f"{src.stem}-collision-render-{digest}.urdf"
     if not out.is_file():
-        fd, tmp = tempfile.mkstemp(dir=out_dir, suffix=".urdf.tmp")
-        with os.fdopen(fd, "w") as f:
-            f.write(out_text)
-        os.replace(tmp, out)
+        atomic_write_text(out, out_text)
     return out

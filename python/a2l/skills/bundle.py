@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import os
 import struct
-import tempfile
 import zlib
 from pathlib import Path
 from typing import Any
@@ -20,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from a2l import _core
+from a2l.atomic import atomic_write_bytes
 from a2l.errors import A2LFileNotFoundError, BundleError
 from a2l.skills.spec import BUNDLE_SCHEMA_VERSION, VARIABLE_KINDS, SkillSpec, VariableSpec
 
@@ -32,12 +32,6 @@ _HEADER = struct.Struct("<8sIIII")  # magic, version, manifest length, manifest 
 
 def _ceil8(n: int) -> int:
     return (n + 7) // 8 * 8
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def _created_by() -> str:
@@ -158,19 +152,7 @@ def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
         The spec does not make a valid bundle; nothing is written.
     """
     data = bundle_bytes(spec)
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; bundles are ordinary files
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write_bytes(path, data)
     return path
 
 
