@@ -54,6 +54,22 @@ Eigen::Isometry3d to_pose(const py::array_t<double, py::array::forcecast>& t) {
 
 Eigen::VectorXd to_numpy(const JointVector& v) { return Eigen::VectorXd(v); }
 
+// IK from Python arrays, without the GIL; never raises for an unreachable target.
+std::pair<JointVector, IkReport> solve_ik(const Kinematics& k,
+                                          const py::array_t<double, py::array::forcecast>& target,
+                                          const py::array_t<double, py::array::forcecast>& q_seed,
+                                          const IkOptions& options) {
+  const Eigen::Isometry3d pose = to_pose(target);
+  const JointVector seed = to_joints(k, q_seed, "q_seed");
+  JointVector q;
+  IkReport report;
+  {
+    py::gil_scoped_release release;
+    k.ik(pose, seed, q, options, &report);
+  }
+  return {q, report};
+}
+
 }  // namespace
 
 void bind_kinematics(py::module_& m) {
@@ -150,14 +166,7 @@ rows (vx, vy, vz, wx, wy, wz), reference point at the tip, in the base frame.
           "ik_report",
           [](const Kinematics& k, const py::array_t<double, py::array::forcecast>& target,
              const py::array_t<double, py::array::forcecast>& q_seed, const IkOptions& options) {
-            const Eigen::Isometry3d pose = to_pose(target);
-            const JointVector seed = to_joints(k, q_seed, "q_seed");
-            JointVector q;
-            IkReport report;
-            {
-              py::gil_scoped_release release;
-              k.ik(pose, seed, q, options, &report);
-            }
+            const auto [q, report] = solve_ik(k, target, q_seed, options);
             return py::make_tuple(to_numpy(q), report);
           },
           py::arg("target"), py::arg("q_seed"), py::arg("options") = IkOptions(),
@@ -166,14 +175,8 @@ rows (vx, vy, vz, wx, wy, wz), reference point at the tip, in the base frame.
           "ik",
           [](const Kinematics& k, const py::array_t<double, py::array::forcecast>& target,
              const py::array_t<double, py::array::forcecast>& q_seed, const IkOptions& options) {
+            const auto [q, report] = solve_ik(k, target, q_seed, options);
             const Eigen::Isometry3d pose = to_pose(target);
-            const JointVector seed = to_joints(k, q_seed, "q_seed");
-            JointVector q;
-            IkReport report;
-            {
-              py::gil_scoped_release release;
-              k.ik(pose, seed, q, options, &report);
-            }
             if (report.status != Status::ok) {
               std::ostringstream ss;
               ss << "IK found no solution within the joint limits of '" << k.base_link() << "' -> '"
