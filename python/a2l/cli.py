@@ -225,8 +225,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="run directory of the experiment (default runs/demo-<timestamp>)")
     demo.add_argument("--iterations", type=_positive_int, default=2, metavar="N",
                       help="iterations of the push experiment (default 2)")
-    demo.add_argument("--starts", type=_positive_int, default=4, metavar="N",
-                      help="start positions of the push experiment (default 4)")
+    demo.add_argument("--starts", type=_positive_int, default=8, metavar="N",
+                      help="start positions of the push experiment (default 8)")
     demo.add_argument("--workers", type=_positive_int, default=None, metavar="N",
                       help="worker processes for the rollouts (default: up to 2)")
     demo.set_defaults(func=_cmd_demo)
