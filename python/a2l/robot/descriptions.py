@@ -159,6 +159,20 @@ def _cache_dir() -> Path:
     return Path(root) / "a2l" / "urdf"
 
 
+def cached_urdf(stem: str, text: str) -> Path:
+    """A generated URDF kept in ``~/.cache/a2l/urdf`` as ``<stem>-<content hash>.urdf``.
+
+    Written once per content, atomically; the path of the existing copy otherwise.
+    """
+    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+    out_dir = _cache_dir()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    out = out_dir / f"{stem}-{digest}.urdf"
+    if not out.is_file():
+        atomic_write_text(out, text)
+    return out
+
+
 def pybullet_urdf(path: str | os.PathLike[str] | None = None) -> Path:
     """A copy of a URDF whose ``package://`` mesh URIs are absolute paths.
 
@@ -195,11 +209,4 @@ def pybullet_urdf(path: str | os.PathLike[str] | None = None) -> Path:
                 return f'filename="{c}"'
         raise URDFError(f"URDF '{src}': cannot resolve mesh 'package://{package}/{rest}'")
 
-    rewritten = _PACKAGE_URI.sub(replace, text)
-    digest = hashlib.sha256(rewritten.encode()).hexdigest()[:16]
-    out_dir = _cache_dir()
-    out_dir.mkdir(parents=True, exist_ok=True)
-    out = out_dir / f"{src.stem}-{digest}.urdf"
-    if not out.is_file():
-        atomic_write_text(out, rewritten)
-    return out
+    return cached_urdf(src.stem, _PACKAGE_URI.sub(replace, text))

@@ -4,7 +4,6 @@ shapes (fast camera frames)."""
 from __future__ import annotations
 
 import copy
-import hashlib
 import os
 import re
 import xml.etree.ElementTree as ET
@@ -12,16 +11,11 @@ from pathlib import Path
 
 import numpy as np
 
-from a2l.atomic import atomic_write_text
+from a2l.robot.descriptions import cached_urdf
 
 __all__ = ["collision_render_urdf"]
 
 _GREY = "0.55 0.55 0.55 1"
-
-
-def _cache_dir() -> Path:
-    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache")
-    return Path(root) / "a2l" / "urdf"
 
 
 def _mesh_vertices(path: Path) -> np.ndarray | None:
@@ -110,11 +104,4 @@ def collision_render_urdf(urdf: str | os.PathLike[str]) -> Path:
             mat = ET.SubElement(vis, "material", {"name": "a2l_collision_grey"})
             ET.SubElement(mat, "color", {"rgba": _GREY})
             link.insert(0, vis)
-    out_text = ET.tostring(root, encoding="unicode")
-    digest = hashlib.sha256(out_text.encode()).hexdigest()[:16]
-    out_dir = _cache_dir()
-    out_dir.mkdir(parents=True, exist_ok=True)
-    out = out_dir / f"{src.stem}-collision-render-{digest}.urdf"
-    if not out.is_file():
-        atomic_write_text(out, out_text)
-    return out
+    return cached_urdf(f"{src.stem}-collision-render", ET.tostring(root, encoding="unicode"))
