@@ -114,6 +114,9 @@ class FrameworkConfig:
     directed_steps : int
         Most movements of an effect-directed trajectory (going around the object takes
         more than ``max_babble_steps``).
+    directed_growth : int
+        Most times the effect-directed budget of a pair grows while it stays stuck
+        (1: a fixed budget).
     seed : int
         Seed of every random draw.
     scene_config : dict
@@ -147,6 +150,7 @@ class FrameworkConfig:
     directed_per_pair: int = 20
     directed_try_cap: int | None = None
     directed_steps: int = 20
+    directed_growth: int = 5
     seed: int = 0
     scene_config: dict[str, Any] = field(default_factory=dict)
 
@@ -162,7 +166,8 @@ class FrameworkConfig:
             raise ValueError(f"n_effects: must be 4 or 8, got {self.n_effects}")
         positive_ints = ("n_starts", "max_babble_steps", "try_cap", "max_iterations",
                          "step_cap", "n_orient", "n_dist", "max_extensions",
-                         "directed_per_pair", "directed_try_cap", "directed_steps", "stuck_after")
+                         "directed_per_pair", "directed_try_cap", "directed_steps", "stuck_after",
+                         "directed_growth")
         for name in positive_ints:
             v = getattr(self, name)
             if not isinstance(v, int) or v < 1:
@@ -482,7 +487,10 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
       random movements (at most ``max_extensions``);
     - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
       ``directed_per_pair`` effect-directed trajectories: random babbling from that start
-      (at most ``directed_steps`` movements), kept only when it produces that effect.
+      (at most ``directed_steps`` movements), kept only when it produces that effect. The
+      budget of a pair stuck for ``stuck_after + k`` iterations is ``k + 1`` times that
+      (trajectories and tries), at most ``directed_growth`` times: a pair whose failing
+      context cells are outvoted by the rest of the dataset gets more votes each iteration.
     """
     cfg_d = asdict(cfg)
     tasks = []
@@ -500,13 +508,15 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
     for j, (start, effect) in enumerate(pairs):
         found: list[Rollout] = []
         tried = 0
-        while len(found) < cfg.directed_per_pair and tried < cfg.directed_try_cap:
-            n = min(32, cfg.directed_try_cap - tried)
+        grow = min(stuck[(start, effect)] - cfg.stuck_after + 1, cfg.directed_growth)
+        want, cap = cfg.directed_per_pair * grow, cfg.directed_try_cap * grow
+        while len(found) < want and tried < cap:
+            n = min(32, cap - tried)
             tasks = [(cfg_d, start, [], _seed(cfg, iteration, 2 + j, tried + i),
                       cfg.directed_steps) for i in range(n)]
             for r in executor.map(babble_task, tasks):
                 tried += 1
-                if r.effect == effect and len(found) < cfg.directed_per_pair:
+                if r.effect == effect and len(found) < want:
                     found.append(r)
         out.extend(found)
     return out

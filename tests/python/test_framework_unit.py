@@ -1,5 +1,6 @@
 """The framework's small parts: score, configuration errors, start positions, loop erasure,
-and the ``a2l experiment`` command's argument errors (exit code 2, no traceback)."""
+the effect-directed budget of stuck pairs, and the ``a2l experiment`` command's argument
+errors (exit code 2, no traceback)."""
 
 from __future__ import annotations
 
@@ -20,9 +21,11 @@ from a2l.framework import (
     FrameworkConfig,
     Rollout,
     erase_loops,
+    extend,
     score_of,
 )
 from a2l.framework_env import make_env
+from a2l.parallel import Executor
 
 
 def _rollouts(outcomes: list[str]) -> list[Rollout]:
@@ -72,6 +75,7 @@ def test_score_of_babbling_rollouts_count_nothing() -> None:
     ("directed_try_cap", 0),
     ("directed_steps", 0),
     ("stuck_after", 0),
+    ("directed_growth", 0),
     ("start_radius", 0.0),
     ("step", -0.05),
     ("effect_threshold", float("nan")),
@@ -171,6 +175,26 @@ def test_erase_loops_keeps_a_loop_free_walk() -> None:
     e = erase_loops(r)
     assert e.moves == [3, 3]
     np.testing.assert_array_equal(e.eef, eef)
+
+
+# --- effect-directed babbling for stuck pairs ---------------------------------------------
+
+@pytest.mark.parametrize(("stuck_for", "growth", "expected"), [
+    (1, 5, 3),      # stuck since the last iteration: the base budget
+    (3, 5, 9),      # three iterations in a row: three times the budget
+    (9, 5, 15),     # capped at directed_growth times
+    (3, 1, 3),      # directed_growth=1: a fixed budget
+])
+def test_directed_budget_grows_while_a_pair_stays_stuck(stuck_for: int, growth: int,
+                                                        expected: int) -> None:
+    cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, directed_growth=growth, seed=4)
+    start, effect = 4, 2         # behind the box for "close": the walk must go around it
+    out = extend(cfg, Executor(workers=1), 1, [], {(start, effect): stuck_for, (0, 0): 0})
+    assert len(out) == expected
+    assert all(r.start == start and r.effect == effect and r.moved for r in out)
+    # The same seeds: a larger budget keeps what a smaller one found, and adds to it.
+    base = extend(cfg, Executor(workers=1), 1, [], {(start, effect): 1})
+    assert [r.moves for r in out[: len(base)]] == [r.moves for r in base]
 
 
 # --- the command's argument errors --------------------------------------------------------
