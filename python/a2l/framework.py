@@ -299,7 +299,15 @@ def _discretizer_for(n_dist: int, dist_low: float, dist_high: float, n_orient: i
 
 
 def _effect_of(disc: Any, displacement: np.ndarray) -> int:
-    return int(disc.effects.discretize(np.asarray(displacement, dtype=float))[0])
+    """Effect index of one object displacement (-1: none), by the C++ classifier the
+    scenes and the runtime use (same indices as ``disc.effects``; tested equal)."""
+    from a2l import _core
+
+    d = np.asarray(displacement, dtype=float)
+    if not np.isfinite(d).all():
+        return -1
+    e = disc.effects
+    return int(_core.classify_effect(d, e.n_effects, e.threshold, e.ratio))
 
 
 def _play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],

@@ -36,6 +36,9 @@ class Executor:
     inherited through ``fork``) once, and reused until :meth:`close`.
     """
 
+    #: Batches per worker slot in one :meth:`map` (more than one balances uneven tasks).
+    BATCHES_PER_SLOT = 4
+
     def __init__(self, workers: int = 1, cluster: str | None = None) -> None:
         if workers < 1:
             raise ValueError(f"workers must be >= 1, got {workers}")
@@ -65,40 +68,54 @@ class Executor:
         tasks : iterable
             Its arguments, one per call.
         on_done : callable, optional
-            Called with the number of finished tasks after each one (progress bars).
+            Called with the number of finished tasks (progress bars): after each task in
+            this process, after each batch on workers or Dask.
         """
         items: Sequence[T] = list(tasks)
         if not items:
             return []
-        if self._client is not None:
-            from dask.distributed import as_completed
-
-            futures = self._client.map(fn, items, pure=False)
-            done = 0
-            for _ in as_completed(futures):
-                done += 1
-                if on_done:
-                    on_done(done)
-            return self._client.gather(futures)
-        if self.workers == 1:
+        if self._client is None and self.workers == 1:
             out = []
             for i, t in enumerate(items):
                 out.append(fn(t))
                 if on_done:
                     on_done(i + 1)
             return out
+        # Elsewhere, tasks travel in batches: one round trip (and one pickled copy of what
+        # the tasks share, such as the run's configuration) per batch, not per task.
+        batches = _batches(items, self.BATCHES_PER_SLOT * self._slots())
+        results: list[R] = []
+        if self._client is not None:
+            from dask.distributed import as_completed
+
+            futures = self._client.map(_run_batch, [(fn, b) for b in batches], pure=False)
+            sizes = {f.key: len(b) for f, b in zip(futures, batches, strict=True)}
+            done = 0
+            for f in as_completed(futures):
+                done += sizes[f.key]
+                if on_done:
+                    on_done(done)
+            for chunk in self._client.gather(futures):
+                results.extend(chunk)
+            return results
         if self._pool is None:
             self._pool = ProcessPoolExecutor(
                 max_workers=self.workers, mp_context=mp.get_context("spawn"),
                 initializer=_limit_threads,
             )
-        futures = [self._pool.submit(fn, t) for t in items]
-        results: list[R] = []
-        for i, f in enumerate(futures):
-            results.append(f.result())
+        pending = [self._pool.submit(_run_batch, (fn, b)) for b in batches]
+        for f in pending:
+            results.extend(f.result())
             if on_done:
-                on_done(i + 1)
+                on_done(len(results))
         return results
+
+    def _slots(self) -> int:
+        """How many tasks can run at once where this executor runs them."""
+        if self._client is not None:
+            threads = sum(self._client.nthreads().values())
+            return max(1, int(threads))
+        return self.workers
 
     def close(self) -> None:
         """Stop the local workers and disconnect from the cluster."""
@@ -114,6 +131,24 @@ class Executor:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _batches(items: Sequence[T], n: int) -> list[list[T]]:
+    """`items` cut into at most `n` contiguous batches of near-equal size, in order."""
+    n = max(1, min(n, len(items)))
+    size, extra = divmod(len(items), n)
+    out, i = [], 0
+    for k in range(n):
+        j = i + size + (1 if k < extra else 0)
+        out.append(list(items[i:j]))
+        i = j
+    return out
+
+
+def _run_batch(job: tuple[Callable[[T], R], Sequence[T]]) -> list[R]:
+    """Run one batch in a worker: ``[fn(t) for t in batch]``."""
+    fn, batch = job
+    return [fn(t) for t in batch]
 
 
 def _limit_threads() -> None:

@@ -1,0 +1,35 @@
+"""The executor: tasks cut into ordered batches, the same results in this process and on
+local worker processes."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from a2l.parallel import Executor, _batches
+
+
+@pytest.mark.parametrize(("n_items", "n_batches"), [(10, 3), (3, 8), (1, 1), (64, 8), (7, 7)])
+def test_batches_keep_order_and_balance(n_items: int, n_batches: int) -> None:
+    items = list(range(n_items))
+    out = _batches(items, n_batches)
+    assert [x for b in out for x in b] == items
+    assert len(out) == min(n_items, n_batches)
+    sizes = [len(b) for b in out]
+    assert min(sizes) >= 1 and max(sizes) - min(sizes) <= 1
+
+
+def test_two_workers_give_the_in_process_results_in_order() -> None:
+    tasks = [float(i) for i in range(37)]
+    seen: list[int] = []
+    with Executor(workers=2) as ex:
+        out = ex.map(math.sqrt, tasks, on_done=seen.append)
+    assert out == [math.sqrt(t) for t in tasks]
+    assert seen == sorted(seen) and seen[-1] == len(tasks)
+    assert Executor(workers=1).map(math.sqrt, tasks) == out
+
+
+def test_a_task_error_reaches_the_caller() -> None:
+    with Executor(workers=2) as ex, pytest.raises(ValueError, match="math domain error"):
+        ex.map(math.sqrt, [1.0, -1.0, 4.0])
