@@ -176,8 +176,8 @@ rows (vx, vy, vz, wx, wy, wz), reference point at the tip, in the base frame.
           [](const Kinematics& k, const py::array_t<double, py::array::forcecast>& target,
              const py::array_t<double, py::array::forcecast>& q_seed, const IkOptions& options) {
             const auto [q, report] = solve_ik(k, target, q_seed, options);
-            const Eigen::Isometry3d pose = to_pose(target);
             if (report.status != Status::ok) {
+              const Eigen::Isometry3d pose = to_pose(target);
               std::ostringstream ss;
               ss << "IK found no solution within the joint limits of '" << k.base_link() << "' -> '"
                  << k.tip_link() << "' for target position (" << pose.translation().transpose()

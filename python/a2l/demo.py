@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -124,8 +125,6 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     workers : int, optional
         Worker processes for the rollouts (default: up to 2, one per core).
     """
-    import os
-
     workers = workers or max(1, min(2, os.cpu_count() or 1))
     t0 = time.perf_counter()
     print("== 1/3  the world: Baxter pushes a box (PyBullet, C++ IK) ==")

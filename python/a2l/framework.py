@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from a2l import _core
 from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.experiments.rundir import latest_checkpoint, save_checkpoint
 from a2l.parallel import Executor
@@ -299,15 +300,12 @@ def _discretizer_for(n_dist: int, dist_low: float, dist_high: float, n_orient: i
 
 
 def _effect_of(disc: Any, displacement: np.ndarray) -> int:
-    """Effect index of one object displacement (-1: none), by the C++ classifier the
-    scenes and the runtime use (same indices as ``disc.effects``; tested equal)."""
-    from a2l import _core
-
-    d = np.asarray(displacement, dtype=float)
-    if not np.isfinite(d).all():
-        return -1
+    """Effect index of one object displacement (-1: none, or not seen), by the C++
+    classifier the scenes and the runtime use (same indices as ``disc.effects``; tested
+    equal)."""
     e = disc.effects
-    return int(_core.classify_effect(d, e.n_effects, e.threshold, e.ratio))
+    return int(_core.classify_effect(np.asarray(displacement, dtype=float), e.n_effects,
+                                     e.threshold, e.ratio))
 
 
 def _play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],

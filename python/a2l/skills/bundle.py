@@ -139,7 +139,7 @@ def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
     spec : SkillSpec
         The skill (see :class:`~a2l.skills.spec.SkillSpec` for the array shapes).
     path : str or PathLike
-        Destination file; its directory must exist.
+        Destination file (missing parent directories are created).
 
     Returns
     -------
@@ -152,8 +152,7 @@ def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
         The spec does not make a valid bundle; nothing is written.
     """
     data = bundle_bytes(spec)
-    atomic_write_bytes(path, data)
-    return path
+    return atomic_write_bytes(path, data)
 
 
 def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
