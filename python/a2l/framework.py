@@ -49,7 +49,7 @@ __all__ = [
 ]
 
 #: Default ``directed_try_cap`` of each scene.
-DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 20}
+DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
 
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
@@ -118,6 +118,15 @@ class FrameworkConfig:
     directed_growth : int
         Most times the effect-directed budget of a pair grows while it stays stuck
         (1: a fixed budget).
+    directed_mode : str
+        How effect-directed trajectories move: ``"waypoints"`` (random via-points around
+        the object, then a random point on it, :func:`directed_task`) or ``"random"``
+        (uniformly random movements, like acquisition).
+    waypoints_max : int
+        Most via-points of a waypoint trajectory (0 to this many, uniformly).
+    waypoint_aim : float
+        The last point of a waypoint trajectory is drawn within ± this of the object's
+        start position on each table axis (m).
     seed : int
         Seed of every random draw.
     scene_config : dict
@@ -148,10 +157,13 @@ class FrameworkConfig:
     erase_loops: bool = False
     max_extensions: int = 50
     stuck_after: int = 1
-    directed_per_pair: int = 20
+    directed_per_pair: int = 40
     directed_try_cap: int | None = None
     directed_steps: int = 20
     directed_growth: int = 5
+    directed_mode: str = "waypoints"
+    waypoints_max: int = 2
+    waypoint_aim: float = 0.04
     seed: int = 0
     scene_config: dict[str, Any] = field(default_factory=dict)
 
@@ -173,7 +185,7 @@ class FrameworkConfig:
             v = getattr(self, name)
             if not isinstance(v, int) or v < 1:
                 raise ValueError(f"{name}: must be a positive integer, got {v!r}")
-        for name in ("start_radius", "step", "effect_threshold"):
+        for name in ("start_radius", "step", "effect_threshold", "waypoint_aim"):
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name}: must be a positive length, got {v!r}")
@@ -186,6 +198,12 @@ class FrameworkConfig:
             raise ValueError(f"extension_cut: must be >= 1, got {self.extension_cut}")
         if self.structure not in ("hc-k2", "hand-coded"):
             raise ValueError(f"structure: unknown {self.structure!r}")
+        if self.directed_mode not in ("waypoints", "random"):
+            raise ValueError(f"directed_mode: unknown {self.directed_mode!r}; choose "
+                             "'waypoints' or 'random'")
+        if not isinstance(self.waypoints_max, int) or self.waypoints_max < 0:
+            raise ValueError(f"waypoints_max: must be an integer >= 0, got "
+                             f"{self.waypoints_max!r}")
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> FrameworkConfig:
@@ -383,6 +401,75 @@ def babble_task(task: tuple[dict[str, Any], int, list[int], int, int]) -> Rollou
     return erase_loops(r) if cfg.erase_loops else r
 
 
+def random_waypoints(rng: np.random.Generator, home: np.ndarray, n_max: int, r_low: float,
+                     r_high: float, aim: float) -> np.ndarray:
+    """The points of a random waypoint trajectory around an object at `home`.
+
+    0 to `n_max` via-points (uniformly many), each at a uniform angle and a uniform distance
+    in ``[r_low, r_high]`` from `home` in the table plane, then a last point drawn uniformly
+    within ± `aim` of `home` on each table axis. Like NovEB's genotypes (waypoints in the
+    workspace), the trajectory is random, but it keeps a heading for several movements, so
+    it goes around the object far more often than a random walk of the same length.
+
+    Returns
+    -------
+    ndarray, shape (k, 3), 1 <= k <= n_max + 1
+        The points, at `home`'s height; the last one is the aim on the object.
+    """
+    home = np.asarray(home, dtype=float)
+    points = []
+    for _ in range(int(rng.integers(0, n_max + 1))):
+        a, r = rng.uniform(0, 2 * np.pi), rng.uniform(r_low, r_high)
+        points.append(home + np.array([r * np.cos(a), r * np.sin(a), 0.0]))
+    points.append(home + np.array([*rng.uniform(-aim, aim, 2), 0.0]))
+    return np.array(points)
+
+
+def heading_chooser(points: np.ndarray, disc: Any) -> Callable[[np.ndarray, np.ndarray], int]:
+    """A ``choose(eef, obj)`` that follows `points` (shape (k, 3)) with the repertoire's
+    movements: each movement is the direction closest to the way to the current point; a
+    point is passed when the end-effector comes within 0.7 steps of it (table plane), and
+    the last one is headed for until the rollout ends (the object moves on the way)."""
+    dirs = disc.movements.directions.astype(float)
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    reach = 0.7 * disc.movements.step
+    k = 0
+
+    def choose(eef: np.ndarray, _obj: np.ndarray) -> int:
+        nonlocal k
+        while k < len(points) - 1 and np.linalg.norm((points[k] - eef)[:2]) < reach:
+            k += 1
+        d = points[k] - eef
+        if disc.movements.planar:
+            d[2] = 0.0
+        return int(np.argmax(dirs @ d))
+
+    return choose
+
+
+def directed_task(task: tuple[dict[str, Any], int, int, int]) -> Rollout:
+    """One effect-directed babbling trajectory: ``(config, start, seed, steps)``.
+
+    ``directed_mode == "random"``: uniformly random movements (:func:`babble_task`);
+    ``"waypoints"``: a random waypoint trajectory (:func:`random_waypoints`,
+    :func:`heading_chooser`) with via-points between ``dist_low`` and
+    ``start_radius + step`` from the object. At most `steps` movements, until the object
+    moves.
+    """
+    cfg_d, start, seed, steps = task
+    cfg = FrameworkConfig(**cfg_d)
+    if cfg.directed_mode == "random":
+        return babble_task((cfg_d, start, [], seed, steps))
+    disc = _discretizers(cfg)
+    env = _env(cfg)
+    offset = cfg.start_offsets()[start]
+    points = random_waypoints(np.random.default_rng(seed), env.home, cfg.waypoints_max,
+                              cfg.dist_low, cfg.start_radius + cfg.step, cfg.waypoint_aim)
+    choose = heading_chooser(points, disc)
+    r = _play(env, disc, start, offset, [], choose, steps)
+    return erase_loops(r) if cfg.erase_loops else r
+
+
 def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
     """One validation rollout: ``(config, bundle_path, start, wanted_effect)``.
 
@@ -492,8 +579,9 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
       ``keep_validation``), and cut back 1 to ``extension_cut`` steps and extended with
       random movements (at most ``max_extensions``);
     - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
-      ``directed_per_pair`` effect-directed trajectories: random babbling from that start
-      (at most ``directed_steps`` movements), kept only when it produces that effect. The
+      ``directed_per_pair`` effect-directed trajectories: random trajectories from that
+      start (:func:`directed_task`; at most ``directed_steps`` movements), kept only when
+      they produce that effect. The
       budget of a pair stuck for ``stuck_after + k`` iterations is ``k + 1`` times that
       (trajectories and tries), at most ``directed_growth`` times: a pair whose failing
       context cells are outvoted by the rest of the dataset gets more votes each iteration.
@@ -518,9 +606,9 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
         want, cap = cfg.directed_per_pair * grow, cfg.directed_try_cap * grow
         while len(found) < want and tried < cap:
             n = min(32, cap - tried)
-            tasks = [(cfg_d, start, [], _seed(cfg, iteration, 2 + j, tried + i),
+            tasks = [(cfg_d, start, _seed(cfg, iteration, 2 + j, tried + i),
                       cfg.directed_steps) for i in range(n)]
-            for r in executor.map(babble_task, tasks):
+            for r in executor.map(directed_task, tasks):
                 tried += 1
                 if r.effect == effect and len(found) < want:
                     found.append(r)
