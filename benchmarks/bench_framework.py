@@ -27,7 +27,7 @@ class _Instrument:
     them, and the movements and time of each framework phase."""
 
     PHASES = ("acquire", "extend", "generate_skill", "validate")
-    TASKS = ("babble_task", "validate_task")
+    TASKS = ("babble_task", "directed_task", "validate_task")
 
     def __init__(self) -> None:
         self.moves = 0

@@ -425,24 +425,37 @@ def random_waypoints(rng: np.random.Generator, home: np.ndarray, n_max: int, r_l
     return np.array(points)
 
 
-def heading_chooser(points: np.ndarray, disc: Any) -> Callable[[np.ndarray, np.ndarray], int]:
-    """A ``choose(eef, obj)`` that follows `points` (shape (k, 3)) with the repertoire's
-    movements: each movement is the direction closest to the way to the current point; a
-    point is passed when the end-effector comes within 0.7 steps of it (table plane), and
-    the last one is headed for until the rollout ends (the object moves on the way)."""
+def heading_chooser(points: np.ndarray, disc: Any, start: np.ndarray
+                    ) -> Callable[[np.ndarray, np.ndarray], int]:
+    """A ``choose(eef, obj)`` that follows `points` (shape (k, 3)) from `start` (3,) with the
+    repertoire's movements: each movement is the direction closest to the way to the
+    current point; a point is passed when the end-effector comes within 0.7 steps of it
+    (table plane), and the last one is headed for until the rollout ends (the object moves
+    on the way).
+
+    The chooser plans on the nominal positions (`start` plus the movements chosen so far),
+    not on the measured `eef`: the trajectory is a function of its points alone. A physics
+    scene ends a movement a few 1e-8 m off its target, differently in a process that ran
+    other rollouts before (PyBullet keeps solver state across restores), and near a tie
+    between two directions that noise would change the movement, and so the results with
+    the number of workers.
+    """
     dirs = disc.movements.directions.astype(float)
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
     reach = 0.7 * disc.movements.step
     k = 0
+    at = np.array(start, dtype=float)
 
-    def choose(eef: np.ndarray, _obj: np.ndarray) -> int:
-        nonlocal k
-        while k < len(points) - 1 and np.linalg.norm((points[k] - eef)[:2]) < reach:
+    def choose(_eef: np.ndarray, _obj: np.ndarray) -> int:
+        nonlocal k, at
+        while k < len(points) - 1 and np.linalg.norm((points[k] - at)[:2]) < reach:
             k += 1
-        d = points[k] - eef
+        d = points[k] - at
         if disc.movements.planar:
             d[2] = 0.0
-        return int(np.argmax(dirs @ d))
+        move = int(np.argmax(dirs @ d))
+        at = at + disc.movements.displacement(move)
+        return move
 
     return choose
 
@@ -465,7 +478,7 @@ def directed_task(task: tuple[dict[str, Any], int, int, int]) -> Rollout:
     offset = cfg.start_offsets()[start]
     points = random_waypoints(np.random.default_rng(seed), env.home, cfg.waypoints_max,
                               cfg.dist_low, cfg.start_radius + cfg.step, cfg.waypoint_aim)
-    choose = heading_chooser(points, disc)
+    choose = heading_chooser(points, disc, env.home + offset)
     r = _play(env, disc, start, offset, [], choose, steps)
     return erase_loops(r) if cfg.erase_loops else r
 

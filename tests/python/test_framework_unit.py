@@ -213,8 +213,8 @@ def test_heading_chooser_passes_its_points_in_order() -> None:
     disc = _discretizers(FrameworkConfig())
     step = disc.movements.step
     points = np.array([[0.0, 0.2, 0.0], [-0.15, 0.05, 0.0], [0.01, -0.02, 0.0]])
-    choose = heading_chooser(points, disc)
     eef = np.array([0.2, 0.0, 0.0])
+    choose = heading_chooser(points, disc, eef)
     visited = [eef]
     for _ in range(40):
         eef = eef + disc.movements.displacement(choose(eef, np.zeros(3)))
