@@ -227,6 +227,13 @@ def test_heading_chooser_passes_its_points_in_order() -> None:
     assert 0 < first_near[0] < first_near[1]
     # It then hovers at the last point (within a diagonal step of it).
     assert np.linalg.norm(visited_a[-1] - points[2]) <= np.sqrt(2) * step + 1e-12
+    # It plans on nominal positions: measured ones a few mm off give the same movements
+    # (a physics scene's noise must not change a seeded trajectory).
+    rng = np.random.default_rng(0)
+    clean, noisy = heading_chooser(points, disc, visited_a[0]), heading_chooser(points, disc,
+                                                                                 visited_a[0])
+    for p in visited_a[:-1]:
+        assert clean(p, np.zeros(3)) == noisy(p + rng.normal(0, 0.003, 3), np.zeros(3))
 
 
 def test_directed_task_random_mode_is_babbling() -> None:
