@@ -388,7 +388,12 @@ def babble_task(task: tuple[dict[str, Any], int, list[int], int, int]) -> Rollou
     the object moves.
     """
     cfg_d, start, prefix, seed, steps = task
-    cfg = FrameworkConfig(**cfg_d)
+    return _random_walk(FrameworkConfig(**cfg_d), start, prefix, seed, steps)
+
+
+def _random_walk(cfg: FrameworkConfig, start: int, prefix: Sequence[int], seed: int,
+                 steps: int) -> Rollout:
+    """`prefix`, then at most `steps` uniformly random movements from start `start`."""
     disc = _discretizers(cfg)
     rng = np.random.default_rng(seed)
     n = disc.movements.n_moves
@@ -463,7 +468,7 @@ def heading_chooser(points: np.ndarray, disc: Any, start: np.ndarray
 def directed_task(task: tuple[dict[str, Any], int, int, int]) -> Rollout:
     """One effect-directed babbling trajectory: ``(config, start, seed, steps)``.
 
-    ``directed_mode == "random"``: uniformly random movements (:func:`babble_task`);
+    ``directed_mode == "random"``: uniformly random movements (as :func:`babble_task`);
     ``"waypoints"``: a random waypoint trajectory (:func:`random_waypoints`,
     :func:`heading_chooser`) with via-points between ``dist_low`` and
     ``start_radius + step`` from the object. At most `steps` movements, until the object
@@ -472,7 +477,7 @@ def directed_task(task: tuple[dict[str, Any], int, int, int]) -> Rollout:
     cfg_d, start, seed, steps = task
     cfg = FrameworkConfig(**cfg_d)
     if cfg.directed_mode == "random":
-        return babble_task((cfg_d, start, [], seed, steps))
+        return _random_walk(cfg, start, [], seed, steps)
     disc = _discretizers(cfg)
     env = _env(cfg)
     offset = cfg.start_offsets()[start]
@@ -594,10 +599,10 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
     - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
       ``directed_per_pair`` effect-directed trajectories: random trajectories from that
       start (:func:`directed_task`; at most ``directed_steps`` movements), kept only when
-      they produce that effect. The
-      budget of a pair stuck for ``stuck_after + k`` iterations is ``k + 1`` times that
-      (trajectories and tries), at most ``directed_growth`` times: a pair whose failing
-      context cells are outvoted by the rest of the dataset gets more votes each iteration.
+      they produce that effect. The budget of a pair stuck for ``stuck_after + k``
+      iterations is ``k + 1`` times that (trajectories and tries), at most
+      ``directed_growth`` times: a pair whose failing context cells are outvoted by the
+      rest of the dataset gets more votes each iteration.
     """
     cfg_d = asdict(cfg)
     tasks = []
