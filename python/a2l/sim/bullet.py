@@ -371,6 +371,25 @@ class BulletScene(Scene):
                               f"target {tuple(np.round(target, 3))} leaves the workspace along "
                               f"{axis} ([{tuple(np.round(lo, 3))}, {tuple(np.round(hi, 3))}])",
                               target, start)
+        plan = self._plan_path(start, disp)
+        if isinstance(plan, MoveResult):
+            return plan
+        self._follow_path(plan, float(np.linalg.norm(disp)))
+        self._settle_at(target)
+        reached = self.eef_position()
+        err = float(np.linalg.norm(reached - target))
+        if err > cfg.reach_tolerance:
+            return MoveResult(False, "blocked", f"the end-effector stopped {err:.3f} m short "
+                              f"of its target {tuple(np.round(target, 3))}", target, reached)
+        return MoveResult(True, "ok", "", target, reached)
+
+    # The three phases of a movement, timed apart by benchmarks/bench_sim.py.
+    def _plan_path(self, start: NDArray[np.float64], disp: NDArray[np.float64]
+                   ) -> list[NDArray[np.float64]] | MoveResult:
+        """Joint positions (7,) of the straight line's waypoints, by the C++ IK, or why the
+        line cannot be followed (a MoveResult)."""
+        cfg = self.config
+        target = start + disp
         n = max(1, math.ceil(np.linalg.norm(disp) / cfg.waypoint_spacing - 1e-9))
         q = self._arm_q()
         plan = []
@@ -393,27 +412,30 @@ class BulletScene(Scene):
                                   "would swing around", target, start)
             plan.append(qi)
             q = qi
-        steps_per_wp = max(1, round(np.linalg.norm(disp) / n / cfg.speed / cfg.time_step))
+        return plan
+
+    def _follow_path(self, plan: list[NDArray[np.float64]], length: float) -> None:
+        """Send the waypoints one after the other, each held for the time the nominal speed
+        gives it (longer where a joint would exceed its URDF velocity limit)."""
+        cfg = self.config
+        steps_per_wp = max(1, round(length / len(plan) / cfg.speed / cfg.time_step))
         q = self._arm_q()
         for qi in plan:
-            # slower where a joint would exceed its URDF velocity limit at the nominal speed
             need = float(np.max(np.abs(qi - q) / self._vmax)) / cfg.time_step
             self._set_arm_targets(qi)
             self._command()
             for _ in range(max(steps_per_wp, math.ceil(need))):
                 self._sim_step()
             q = qi
-        settle_max = max(1, round(0.3 / cfg.time_step))
+
+    def _settle_at(self, target: NDArray[np.float64]) -> None:
+        """Step until the end-effector is within 2 mm of `target` (at least 5 steps, at most
+        0.3 s)."""
+        settle_max = max(1, round(0.3 / self.config.time_step))
         for i in range(settle_max):
             self._sim_step()
             if i >= 4 and np.linalg.norm(self.eef_position() - target) < 0.002:
                 break
-        reached = self.eef_position()
-        err = float(np.linalg.norm(reached - target))
-        if err > cfg.reach_tolerance:
-            return MoveResult(False, "blocked", f"the end-effector stopped {err:.3f} m short "
-                              f"of its target {tuple(np.round(target, 3))}", target, reached)
-        return MoveResult(True, "ok", "", target, reached)
 
     def _idle(self) -> None:
         cfg = self.config
