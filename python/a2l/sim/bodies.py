@@ -8,8 +8,9 @@ earlier episodes. Removing a body drops every manifold and pair it is part of; r
 it from its description (the same collision and visual shapes, created once) gives it the
 same body id (PyBullet reuses freed ids last-in first-out) and the same place in the world.
 With the overlapping pairs sorted (``deterministicOverlappingPairs``), a rollout then
-depends only on its start: :meth:`BodyCache.rebuild` costs about 0.1 ms a body, where a new
-world (``resetSimulation`` and loading Baxter again) costs about 200 ms.
+depends only on its start. A reset that rebuilds the push scene's floor, table and box costs
+well under a millisecond, where a new world (a new client, or ``resetSimulation``, and Baxter
+loaded again) costs about 0.2 s (``BENCHMARKS.md``, simulation).
 """
 
 from __future__ import annotations
