@@ -193,7 +193,8 @@ def run() -> str:
         tick = f"{tt['p50_us']:.2f} / {tt['p99.9_us']:.2f} us" if tt["n"] else "-"
         ticks = f"{s['control_ticks'] / s['elapsed_s']:,.0f}" if s["control_ticks"] else "-"
         lines.append(
-            f"| {name} | {s['starts']['description']} | {s['success']}/{s['episodes']} | {s['steps_per_s']:,.0f} | {ticks} | "
+            f"| {name} | {s['starts']['description']} | {s['success']}/{s['episodes']} | "
+            f"{s['steps_per_s']:,.0f} | {ticks} | "
             f"{st['p50_us']:.2f} / {st['p99.9_us']:.2f} us | {tick} |"
         )
     st, tt, lt = realtime["step_time"], realtime["tick_time"], realtime["wakeup_lateness"]
