@@ -63,3 +63,25 @@ def test_objects_keep_their_ids_and_properties_across_resets() -> None:
         assert scene._bodies.ids == ids  # rebuilt bodies reuse their ids
         assert "box" in scene.ground_truth()["objects"]  # a removed object comes back
         assert scene.button_depth() == pytest.approx(0.0, abs=1e-9)
+
+
+def test_same_rollout_after_perturbations_and_gripper_actions() -> None:
+    """A history with every kind of perturbation and the gripper closed and opened."""
+    with make_scene("push", seed=0, object_jitter=0.0, context_source="ground_truth") as scene:
+        home = np.asarray(scene.ground_truth()["objects"]["box"])
+        _begin(scene, home, (-0.13, 0.0, 0.0))
+        scene.close_gripper()
+        scene.execute((1, 0, 0))
+        scene.perturb("move_object", delta=(0.03, 0.02))
+        scene.execute((1, 0, 0))
+        scene.perturb("hold", steps=1)
+        scene.execute((1, 0, 0))
+        scene.perturb("remove_object")
+        scene.execute((0, 1, 0))
+        scene.open_gripper()
+        _begin(scene, home, (-0.13, 0.0, 0.0))
+        rows = [(*scene.ground_truth()["objects"]["box"], *scene.eef_position())]
+        for d in ROLLOUT:
+            scene.execute(d)
+            rows.append((*scene.ground_truth()["objects"]["box"], *scene.eef_position()))
+    assert np.array_equal(np.asarray(rows), _rollout("push", None))
