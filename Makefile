@@ -16,7 +16,7 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip --disable-pip-version-check
 
 APT_PACKAGES := build-essential git libeigen3-dev libbullet-dev liborocos-kdl-dev liburdfdom-dev \
-  libompl-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev zlib1g-dev \
+  libompl-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev zlib1g-dev libssl-dev \
   libboost-serialization-dev libboost-filesystem-dev libboost-system-dev clang libclang-rt-14-dev
 
 CXX_SOURCES := $(shell find cpp bindings -name '*.cpp' -o -name '*.hpp' 2>/dev/null) CMakeLists.txt

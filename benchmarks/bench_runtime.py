@@ -73,7 +73,10 @@ def _bench(bundle: Path, pattern: str) -> dict[str, dict]:
     return {b["name"].split("/")[0].removeprefix("BM_"): b for b in json.loads(out)["benchmarks"]}
 
 
-def _run(bundle: Path, *args: str, episodes: int = EPISODES) -> dict:
+def _run(bundle: Path, *args: str, episodes: int = EPISODES, circle: bool = True) -> dict:
+    """a2l-run's summary; starts on the data's circle (`--starts circle`), or a2l-run's
+    default random starts (seed 0) when `circle` is false."""
+    starts = ["--starts", "circle", "--radius", str(RADIUS)] if circle else []
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
         subprocess.run(
             [
@@ -81,8 +84,7 @@ def _run(bundle: Path, *args: str, episodes: int = EPISODES) -> dict:
                 str(bundle),
                 "--episodes",
                 str(episodes),
-                "--radius",
-                str(RADIUS),
+                *starts,
                 "--quiet",
                 "--summary",
                 f.name,
@@ -114,6 +116,7 @@ def run() -> str:
             "virtual, no robot": _run(planar, "--scene", "virtual", "--no-robot"),
             "bullet, Baxter IK": _run(planar, "--scene", "bullet"),
             "bullet, no robot": _run(planar, "--scene", "bullet", "--no-robot"),
+            "virtual, Baxter IK, random starts": _run(planar, "--scene", "virtual", circle=False),
         }
         realtime = _run(
             planar, "--scene", "virtual", "--rate", "1000", "--effect", "far,left", episodes=2
@@ -175,25 +178,30 @@ def run() -> str:
         f"`a2l-run` closed loop, as fast as possible, {EPISODES} start points x 4 effects, "
         "planar skill. With the robot every movement (5 cm) is executed as joint commands at "
         "1 kHz and 0.25 m/s (about 200 control ticks per movement); times measured inside "
-        "a2l-run around each call.",
+        "a2l-run around each call. Starts: the rows without a note start on the circle of "
+        f"radius {RADIUS} m the synthetic data was drawn on (`--starts circle --radius "
+        f"{RADIUS}`, not turned: seed 0); *random starts* = a2l-run's default, `--starts "
+        "random` with seed 0 (angle uniform, distance uniform in [0.10, 0.25] m), positions "
+        "the data's circle does not hold.",
         "",
-        "| scene | success | skill steps/s | control ticks/s | `step()` p50 / p99.9 | "
+        "| scene | starts | success | skill steps/s | control ticks/s | `step()` p50 / p99.9 | "
         "control tick p50 / p99.9 |",
-        "|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|",
     ]
     for name, s in runs.items():
         st, tt = s["step_time"], s["tick_time"]
         tick = f"{tt['p50_us']:.2f} / {tt['p99.9_us']:.2f} us" if tt["n"] else "-"
         ticks = f"{s['control_ticks'] / s['elapsed_s']:,.0f}" if s["control_ticks"] else "-"
         lines.append(
-            f"| {name} | {s['success']}/{s['episodes']} | {s['steps_per_s']:,.0f} | {ticks} | "
+            f"| {name} | {s['starts']['description']} | {s['success']}/{s['episodes']} | "
+            f"{s['steps_per_s']:,.0f} | {ticks} | "
             f"{st['p50_us']:.2f} / {st['p99.9_us']:.2f} us | {tick} |"
         )
     st, tt, lt = realtime["step_time"], realtime["tick_time"], realtime["wakeup_lateness"]
     lines += [
         "",
         "At Baxter's rate (`--rate 1000`: one joint command per 1 ms, `sleep_until` on a "
-        "stock kernel, shared machine; 2 start points x 2 effects): "
+        "stock kernel, shared machine; 2 start points on the data's circle x 2 effects): "
         f"{realtime['control_ticks']:,} ticks in {realtime['elapsed_s']:.2f} s, success "
         f"{realtime['success']}/{realtime['episodes']}; control tick p50 {tt['p50_us']:.2f} us, "
         f"p99.9 {tt['p99.9_us']:.2f} us; `step()` p50 {st['p50_us']:.2f} us (slower than "

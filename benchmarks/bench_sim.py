@@ -9,6 +9,7 @@ from collections.abc import Callable
 import numpy as np
 
 from a2l.sim import DIRECTIONS, make_scene
+from a2l.sim._pybullet import p
 from a2l.sim.bullet import BulletScene
 
 TITLE = "Simulation (a2l.sim scenes: physics, discrete movements, camera perception)"
@@ -91,6 +92,128 @@ def _row_cells(name: str) -> dict[str, str]:
     return cells
 
 
+#: Phases of one Baxter movement, timed by wrapping the scene's methods.
+_PHASES = {
+    "_snapshot": "observe the start (ground truth, or a camera frame when perceived)",
+    "_plan_path": "IK: the 5 waypoints of the straight line (C++)",
+    "_follow_path": "path following (joint targets, physics steps)",
+    "_settle_at": "settling (physics steps, end-effector checks)",
+}
+
+
+def _breakdown(context_source: str, n_moves: int = N_MOVES) -> dict[str, float]:
+    """Median ms per 5 cm Baxter movement (push scene) of each phase, of the physics steps
+    alone and of the whole movement; movements drawn as in :func:`_moves` (statuses ok)."""
+    rng = np.random.default_rng(1)
+    scene = make_scene("push", seed=0, context_source=context_source)
+    spent: dict[str, float] = {}
+    try:
+        def timed(name: str, fn: Callable[..., object]) -> Callable[..., object]:
+            def wrapper(*args: object, **kwargs: object) -> object:
+                t, c = time.perf_counter(), time.process_time()
+                out = fn(*args, **kwargs)
+                spent[name] = spent.get(name, 0.0) + time.perf_counter() - t
+                spent[name + "_cpu"] = spent.get(name + "_cpu", 0.0) + time.process_time() - c
+                return out
+            return wrapper
+
+        for name in (*_PHASES, "_sim_step"):
+            setattr(scene, name, timed(name, getattr(scene, name)))
+        home = np.asarray(scene.ground_truth()["objects"]["box"])
+        start = home + np.array([-0.15, 0.0, 0.05])
+        scene.reset(eef=start)
+        rows: list[dict[str, float]] = []
+        while len(rows) < n_moves:
+            d = DIRECTIONS[rng.integers(len(DIRECTIONS))]
+            spent.clear()
+            t, c = time.perf_counter(), time.process_time()
+            ok = scene.execute(d)
+            total, cpu = time.perf_counter() - t, time.process_time() - c
+            if ok:
+                rows.append({**spent, "total": total, "total_cpu": cpu})
+            if np.linalg.norm(scene.eef_position() - start) > 0.15:
+                scene.reset(eef=start)
+    finally:
+        scene.close()
+    return {k: 1e3 * float(np.median([r.get(k, 0.0) for r in rows]))
+            for k in (*_PHASES, "_sim_step", "total", "_sim_step_cpu", "total_cpu")}
+
+
+def _reset_costs() -> dict[str, float]:
+    """Median ms of the ways to start an episode on the push scene."""
+    with make_scene("push", seed=0, context_source="ground_truth") as scene:
+        c = scene.client
+        home = np.asarray(scene.ground_truth()["objects"]["box"])
+        eef = home + np.array([-0.15, 0.0, 0.0])
+        saved = p.saveState(physicsClientId=c)
+        out = {
+            "reset": np.median(_times(lambda: scene.reset(eef=eef), 40)),
+            "restore": np.median(_times(lambda: p.restoreState(saved, physicsClientId=c), 40)),
+        }
+        # what sorting the overlapping pairs costs a physics step (arm holding its pose)
+        for sort in (0, 1):
+            p.setPhysicsEngineParameter(deterministicOverlappingPairs=sort, physicsClientId=c)
+            out[f"step_sorted_{sort}"] = np.median(_times(
+                lambda: scene.settle(scene.config.time_step), N_STEPS))
+    out["new"] = np.median(_times(
+        lambda: make_scene("push", seed=0, context_source="ground_truth").close(), 5))
+    return {k: 1e3 * float(v) for k, v in out.items()}
+
+
+def _baxter_section() -> str:
+    truth, seen = _breakdown("ground_truth"), _breakdown("perceived", n_moves=N_MOVES // 2)
+    lines = [
+        "",
+        f"### Where a 5 cm Baxter movement's time goes (push scene, {N_MOVES} movements "
+        "carried out, median ms per movement)",
+        "",
+        "| phase | ground-truth context | perceived context (the config's default) |",
+        "|---|---|---|",
+    ]
+    for key, label in _PHASES.items():
+        lines.append(f"| {label} | {truth[key]:.2f} | {seen[key]:.2f} |")
+    lines += [
+        f"| of which physics steps (`stepSimulation`, {55} a movement) | "
+        f"{truth['_sim_step']:.2f} | {seen['_sim_step']:.2f} |",
+        f"| **whole movement** (`execute`) | **{truth['total']:.2f}** | **{seen['total']:.2f}** |",
+        f"| physics steps, CPU time of this process | {truth['_sim_step_cpu']:.2f} | "
+        f"{seen['_sim_step_cpu']:.2f} |",
+        f"| whole movement, CPU time of this process | {truth['total_cpu']:.2f} | "
+        f"{seen['total_cpu']:.2f} |",
+        "",
+        "The floor of a movement is its physics: 55 steps of the 56-link Baxter multibody "
+        "(19 joints held by position motors); the IK and the Python around the steps cost "
+        "the difference between the last two rows. This machine is shared: the process gets "
+        "a fraction of a core, so wall times run 2-3x the CPU time and vary between runs; "
+        "the CPU rows are what a movement costs on a free core. Before this branch's exact "
+        "starts (commit 15ce53e: `restoreState`, unsorted pairs) the 93 carried-out "
+        "movements of `tests/python/data/baxter_movements.json` (more contacts than the "
+        "movements above) took 13.3 and 13.6 ms of CPU (median, two runs alternating with "
+        "the new code), after 14.2 and 14.8 ms: sorting the pairs costs ~7 %. Cheaper "
+        "physics changes what movements do (contacts are chaotic: any change of the "
+        "solver's arithmetic moves the box by up to centimetres): merging Baxter's fixed "
+        "links (`URDF_MERGE_FIXED_LINKS`, 19 links) cut the steps' CPU time by ~30 % (16.2 "
+        "-> 11.0 ms a movement on that set) but changed 5 of its 96 effects, excluding the "
+        "floor from the robot's collisions saved ~5 % and changed 3; neither was adopted. "
+        "With a perceived context the scene renders a camera frame at every movement's "
+        "start (to observe effects from the camera): rollouts that read the simulator's "
+        "truth should say so (`context_source='ground_truth'`).",
+    ]
+    costs = _reset_costs()
+    lines += [
+        "",
+        "Episode start (`reset`), median ms: rebuilding every body but the robot from its "
+        f"cached description, the default since the starts are exact, {costs['reset']:.2f} "
+        f"(`restoreState` alone took {costs['restore']:.3f} but left Bullet's contact and "
+        "pair caches, so a rollout depended on the episodes before it); a new world (new "
+        "client, Baxter loaded again, which `resetSimulation` would also need) "
+        f"{costs['new']:.0f}. Sorting the overlapping pairs (`deterministicOverlappingPairs`, "
+        f"part of the exact start): a physics step {costs['step_sorted_1']:.3f} ms with, "
+        f"{costs['step_sorted_0']:.3f} ms without.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
 def run() -> str:
     rows = [_row_cells(name) for name in ("push", "grasp", "press", "virtual")]
     cols = list(rows[0])
@@ -112,7 +235,7 @@ def run() -> str:
         "part of an object from it. Physics steps/s: `stepSimulation` with the arm holding "
         "its pose, objects at rest. Movement statuses: `workspace_limit` = the target was "
         "below the table-top clearance or outside the bounds (nothing moved), `blocked` = "
-        "an object or the button stopped the arm short of the target.\n")
+        "an object or the button stopped the arm short of the target.\n") + _baxter_section()
 
 
 if __name__ == "__main__":

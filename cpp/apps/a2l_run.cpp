@@ -21,6 +21,7 @@
 
 #include "a2l/bundle.hpp"
 #include "a2l/executor.hpp"
+#include "a2l/file_hash.hpp"
 #include "a2l/kinematics.hpp"
 #include "a2l/scene/bullet.hpp"
 #include "a2l/scene/virtual.hpp"
@@ -34,7 +35,7 @@ namespace {
 constexpr const char* kUsage = R"(usage: a2l-run BUNDLE [options]
 
 Load a skill bundle and run it in closed loop against a C++ scene. Each episode starts the
-end-effector on a circle around the box (at the box's height), asks the skill for a movement
+end-effector around the box (at the box's height), asks the skill for a movement
 (a2l::step), executes it as joint commands by differential IK on the robot's arm (one command
 per control tick, with joint-limit, joint-velocity and workspace checks), moves the scene, and
 stops when the box moved (success if the effect is the wanted one), at the step cap, or on an
@@ -46,13 +47,20 @@ options:
                             end-effector sphere)
   --effect E                wanted effect (a name of the bundle's effect variable); repeat or
                             separate by commas for several (default: every effect)
-  --episodes N              episodes per effect: start points evenly on the circle (default 8)
-  --radius R                radius of the start circle around the box, m (default 0.2)
+  --episodes N              episodes per effect, from N start points (the same for every
+                            effect; default 8)
+  --starts {random,circle}  where the episodes start (default random): random = N points
+                            drawn from --seed, angle uniform around the box, distance uniform
+                            in --radius-range; circle = N points evenly on a circle of radius
+                            --radius, turned by a random angle drawn from --seed (none for
+                            seed 0: the framework's training starts)
+  --radius-range A,B        distances of random starts from the box, m (default 0.10,0.25)
+  --radius R                radius of the circle of --starts circle, m (default 0.2)
   --object X,Y,Z            box centre in the robot's base frame, m (default: the arm's
                             neutral end-effector position)
   --rate HZ                 control rate of the joint commands; 0 = as fast as possible
                             (default 0)
-  --seed S                  seed of the start circle's random rotation (default 0)
+  --seed S                  seed of the random starts, or of the circle's rotation (default 0)
   --trace FILE              write the trace: CSV if FILE ends in .csv, else JSON lines
   --summary FILE            write the results as JSON
   --urdf PATH               robot URDF (default: Baxter's, see below)
@@ -67,7 +75,9 @@ options:
 Baxter's URDF: --urdf PATH, else $A2L_ROBOTS_DIR/baxter_description/urdf/baxter.urdf, else the
 example-robot-data installed in the virtual environment a2l-run belongs to
 (<venv>/lib/python3*/site-packages/cmeel.prefix/share/example-robot-data/robots); this lookup
-happens once at start-up. `python -m a2l.robot --robots-dir` prints the directory.
+happens once at start-up. `python -m a2l.robot --robots-dir` prints the directory. When the
+bundle names the URDF it was learned on (its robot's urdf_sha256), the URDF loaded must have
+that SHA-256 (OpenSSL's libcrypto), else a2l-run refuses to run.
 
 exit status: 0 after the run (whatever the success rate), 2 on a bad argument, bundle or
 URDF, 1 on an I/O error while writing the outputs.
@@ -78,7 +88,11 @@ struct Args {
   std::string scene = "virtual";
   std::vector<std::string> effects;
   int episodes = 8;
+  std::string starts = "random";
   double radius = 0.2;
+  bool has_radius = false;
+  double radius_min = 0.10, radius_max = 0.25;
+  bool has_radius_range = false;
   bool has_object = false;
   Eigen::Vector3d object = Eigen::Vector3d::Zero();
   double rate = 0.0;
@@ -148,9 +162,24 @@ Args parse_args(int argc, char** argv) {
       for (auto& e : split(value(i), ',')) a.effects.push_back(e);
     } else if (o == "--episodes") {
       a.episodes = static_cast<int>(parse_int(o, value(i), 1, 100000));
+    } else if (o == "--starts") {
+      a.starts = value(i);
+      if (a.starts != "random" && a.starts != "circle") {
+        usage_error("--starts: '" + a.starts + "' is not one of random, circle");
+      }
     } else if (o == "--radius") {
       a.radius = parse_double(o, value(i));
+      a.has_radius = true;
       if (!(a.radius > 0.0)) usage_error("--radius: must be > 0");
+    } else if (o == "--radius-range") {
+      const auto parts = split(value(i), ',');
+      if (parts.size() != 2) usage_error("--radius-range: needs A,B");
+      a.radius_min = parse_double(o, parts[0]);
+      a.radius_max = parse_double(o, parts[1]);
+      a.has_radius_range = true;
+      if (!(a.radius_min > 0.0 && a.radius_min <= a.radius_max)) {
+        usage_error("--radius-range: needs 0 < A <= B");
+      }
     } else if (o == "--object") {
       const auto parts = split(value(i), ',');
       if (parts.size() != 3) usage_error("--object: needs X,Y,Z");
@@ -193,6 +222,14 @@ Args parse_args(int argc, char** argv) {
     }
   }
   if (a.bundle.empty()) usage_error("missing BUNDLE");
+  if (a.starts == "random" && a.has_radius) {
+    usage_error(
+        "--radius: sets the circle of --starts circle; random starts (the default) "
+        "take --radius-range A,B");
+  }
+  if (a.starts == "circle" && a.has_radius_range) {
+    usage_error("--radius-range: sets the random starts; --starts circle takes --radius R");
+  }
   return a;
 }
 
@@ -262,6 +299,56 @@ struct EffectResult {
   std::map<std::string, int> stops;
 };
 
+// The bundle's URDF hash against the URDF loaded: 0 if they agree (or the bundle names no
+// URDF), else 2 after a message naming both hashes.
+int check_urdf_hash(const a2l::Skill& skill, const std::string& bundle, const std::string& urdf,
+                    std::string& urdf_hash) {
+  if (const a2l::Result r = a2l::sha256_file(urdf, urdf_hash); !r.ok()) {
+    std::cerr << "a2l-run: --urdf: " << r.message << "\n";
+    return 2;
+  }
+  const a2l::RobotInfo& robot = skill.robot();
+  if (!robot.present || robot.urdf_sha256.empty() || robot.urdf_sha256 == urdf_hash) return 0;
+  std::cerr << "a2l-run: the URDF '" << urdf << "' is not the one the skill bundle '" << bundle
+            << "' was learned on: its SHA-256 is " << urdf_hash << ", the bundle's robot '"
+            << robot.name << "' has urdf_sha256 " << robot.urdf_sha256
+            << "; pass that URDF with --urdf\n";
+  return 2;
+}
+
+// The episodes' start points around `object`, the same for every effect (see --starts).
+std::vector<Eigen::Vector3d> start_points(const Args& args, const Eigen::Vector3d& object) {
+  const double kPi = 3.14159265358979323846;
+  std::mt19937_64 rng(args.seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(static_cast<std::size_t>(args.episodes));
+  const double rotation =
+      args.starts == "circle" && args.seed != 0 ? uni(rng) * 2.0 * kPi / args.episodes : 0.0;
+  for (int ep = 0; ep < args.episodes; ++ep) {
+    double angle = rotation + 2.0 * kPi * ep / args.episodes, radius = args.radius;
+    if (args.starts == "random") {
+      angle = uni(rng) * 2.0 * kPi;
+      radius = args.radius_min + uni(rng) * (args.radius_max - args.radius_min);
+    }
+    out.push_back(object + radius * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0));
+  }
+  return out;
+}
+
+std::string describe_starts(const Args& args) {
+  std::ostringstream s;
+  if (args.starts == "random") {
+    s << "random (seed " << args.seed << "): angle uniform, distance uniform in ["
+      << args.radius_min << ", " << args.radius_max << "] m";
+  } else {
+    s << "circle of radius " << args.radius << " m"
+      << (args.seed == 0 ? ", not turned (the framework's training starts)"
+                         : ", turned by a random angle (seed " + std::to_string(args.seed) + ")");
+  }
+  return s.str();
+}
+
 int run(const Args& args) {
   // ---- loading (start-up: allocation and I/O allowed) ----
   a2l::Skill skill;
@@ -314,7 +401,7 @@ int run(const Args& args) {
   a2l::Kinematics kin;
   a2l::Executor exec;
   a2l::JointVector q_neutral;
-  std::string robot_desc = "none (--no-robot)";
+  std::string robot_desc = "none (--no-robot)", urdf_hash;
   a2l::ExecutorOptions xo;
   if (args.rate > 0.0) xo.period = 1.0 / args.rate;
   if (!args.no_robot) {
@@ -326,6 +413,7 @@ int run(const Args& args) {
                 << tried << "\n";
       return 2;
     }
+    if (const int rc = check_urdf_hash(skill, args.bundle, urdf, urdf_hash); rc != 0) return rc;
     const std::string tip = args.arm + "_gripper";
     if (const a2l::Result r = a2l::Kinematics::load(urdf, "base", tip, kin); !r.ok()) {
       std::cerr << "a2l-run: " << r.message << "\n";
@@ -429,10 +517,7 @@ int run(const Args& args) {
   rows.reserve(trace_capacity);
   std::vector<EffectResult> results(static_cast<std::size_t>(n_effect_values));
 
-  std::mt19937_64 rng(args.seed);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  const double kPi = 3.14159265358979323846;
-  const double rotation = args.seed == 0 ? 0.0 : uni(rng) * 2.0 * kPi / args.episodes;
+  const std::vector<Eigen::Vector3d> starts = start_points(args, object0);
   long long total_steps = 0, total_ticks = 0;
   const auto t_start = Clock::now();
   auto next_tick = Clock::now();
@@ -443,8 +528,8 @@ int run(const Args& args) {
     std::cout << "a2l-run: skill '" << skill.name() << "' (" << disc.n_variables() << " variables, "
               << skill.n_moves() << " movements, step cap " << cap << "), scene " << args.scene
               << ", robot " << robot_desc << "\n"
-              << "  box at (" << object0.transpose() << "), start circle radius " << args.radius
-              << " m, " << args.episodes << " episodes per effect, rate "
+              << "  box at (" << object0.transpose() << "), starts " << describe_starts(args)
+              << ", " << args.episodes << " episodes per effect, rate "
               << (args.rate > 0 ? std::to_string(args.rate) + " Hz" : "as fast as possible")
               << "\n";
   }
@@ -453,9 +538,7 @@ int run(const Args& args) {
   for (int effect : wanted) {
     EffectResult& res = results[static_cast<size_t>(effect)];
     for (int ep = 0; ep < args.episodes; ++ep, ++episode_id) {
-      const double angle = rotation + 2.0 * kPi * ep / args.episodes;
-      Eigen::Vector3d start =
-          object0 + args.radius * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+      Eigen::Vector3d start = starts[static_cast<std::size_t>(ep)];
       std::string stop;
       if (!args.no_robot) {
         // Start-up of the episode (not real-time): full IK to the start point.
@@ -585,6 +668,13 @@ int run(const Args& args) {
   summary["episodes_per_effect"] = args.episodes;
   summary["rate_hz"] = args.rate;
   summary["seed"] = args.seed;
+  summary["starts"] = {{"mode", args.starts}, {"description", describe_starts(args)}};
+  if (args.starts == "random") {
+    summary["starts"]["radius_range"] = {args.radius_min, args.radius_max};
+  } else {
+    summary["starts"]["radius"] = args.radius;
+  }
+  if (!urdf_hash.empty()) summary["urdf_sha256"] = urdf_hash;
   int total_success = 0, total_episodes = 0;
   std::printf("%-12s %8s %10s %6s %14s  %s\n", "effect", "success", "false_pos", "fail",
               "steps/action", "stops");

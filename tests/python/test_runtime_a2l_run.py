@@ -56,7 +56,8 @@ def test_runtime_a2l_run_is_installed_and_documented() -> None:
     assert A2L_RUN.is_file() and os.access(A2L_RUN, os.X_OK)
     r = run("--help")
     assert r.returncode == 0
-    for opt in ("--scene", "--effect", "--episodes", "--rate", "--seed", "--trace", "--urdf"):
+    for opt in ("--scene", "--effect", "--episodes", "--starts", "--radius-range", "--rate",
+                "--seed", "--trace", "--urdf"):
         assert opt in r.stdout
 
 
@@ -68,6 +69,10 @@ def test_runtime_a2l_run_is_installed_and_documented() -> None:
         (("x.a2lb", "--episodes", "zero"), "--episodes"),
         (("x.a2lb", "--rate", "-5"), "--rate"),
         (("x.a2lb", "--frobnicate"), "unknown option"),
+        (("x.a2lb", "--starts", "grid"), "--starts: 'grid'"),
+        (("x.a2lb", "--radius", "0.2"), "--starts circle"),
+        (("x.a2lb", "--starts", "circle", "--radius-range", "0.1,0.2"), "--radius-range"),
+        (("x.a2lb", "--radius-range", "0.3,0.1"), "0 < A <= B"),
         (("/nonexistent/skill.a2lb",), "cannot open"),
     ],
 )
@@ -104,6 +109,8 @@ def test_runtime_a2l_run_reproduces_the_four_push_effects(
         "virtual",
         "--episodes",
         "16",
+        "--starts",
+        "circle",
         "--radius",
         RADIUS,
         "--trace",
@@ -153,6 +160,8 @@ def test_runtime_a2l_run_bullet_scene_and_jsonl_trace(tmp_path: Path, push_bundl
         "bullet",
         "--episodes",
         "4",
+        "--starts",
+        "circle",
         "--radius",
         RADIUS,
         "--effect",
@@ -185,6 +194,8 @@ def test_runtime_a2l_run_at_a_fixed_rate(push_bundle: Path, tmp_path: Path) -> N
         "far",
         "--rate",
         "200",
+        "--starts",
+        "circle",
         "--radius",
         RADIUS,
         "--summary",
@@ -207,7 +218,8 @@ def test_runtime_a2l_run_high_level_state(tmp_path: Path, push_bundle: Path) -> 
     spec.argmax = np.stack([np.full_like(spec.argmax, -1), spec.argmax], axis=-1)
     spec.variables = [*spec.variables, VariableSpec("light", "high_level", 2, values=("off", "on"))]
     path = save_bundle(spec, tmp_path / "light.a2lb")
-    common = ("--no-robot", "--episodes", "4", "--radius", str(RADIUS), "--summary")
+    common = ("--no-robot", "--episodes", "4", "--starts", "circle", "--radius", str(RADIUS),
+              "--summary")
     on, off_ = tmp_path / "on.json", tmp_path / "off.json"
     assert run(path, "--state", "light=on", *common, on).returncode == 0
     assert run(path, "--state", "light=off", *common, off_).returncode == 0
@@ -217,3 +229,85 @@ def test_runtime_a2l_run_high_level_state(tmp_path: Path, push_bundle: Path) -> 
     assert all(e["stops"] == {"unknown_context": 4} for e in s_off["effects"].values())
     r = run(path, "--state", "light=dim", "--no-robot")
     assert r.returncode == 2 and "'dim' is not a value" in r.stderr
+
+
+def _starts(push_bundle: Path, tmp_path: Path, *args: str) -> tuple[np.ndarray, dict]:
+    """Start points (episodes, 3) of a no-robot run and its summary."""
+    trace, summary = tmp_path / "starts.jsonl", tmp_path / "starts.json"
+    r = run(push_bundle, "--no-robot", "--effect", "far", "--episodes", "6", "--trace", trace,
+            "--summary", summary, *args)
+    assert r.returncode == 0, r.stderr
+    first = {}
+    for line in trace.read_text().splitlines():
+        rec = json.loads(line)
+        if rec["step"] == 0:
+            first[rec["episode"]] = np.asarray(rec["eef"]) - np.asarray(rec["object"])
+    return np.asarray([first[k] for k in sorted(first)]), json.loads(summary.read_text())
+
+
+def test_runtime_a2l_run_draws_random_starts_by_default(push_bundle: Path,
+                                                        tmp_path: Path) -> None:
+    rel, s = _starts(push_bundle, tmp_path, "--seed", "5")
+    assert s["starts"]["mode"] == "random" and s["starts"]["radius_range"] == [0.10, 0.25]
+    assert "random (seed 5)" in s["starts"]["description"]
+    dist = np.hypot(rel[:, 0], rel[:, 1])
+    assert len(rel) == 6 and np.all((dist >= 0.10) & (dist <= 0.25))
+    assert np.ptp(dist) > 0.01  # not a circle
+    assert np.all(np.abs(rel[:, 2]) < 1e-12)  # at the box's height
+    again, _ = _starts(push_bundle, tmp_path, "--seed", "5")
+    assert np.array_equal(rel, again)  # seeded
+    other, _ = _starts(push_bundle, tmp_path, "--seed", "6")
+    assert not np.allclose(rel, other)
+    narrow, s = _starts(push_bundle, tmp_path, "--radius-range", "0.12,0.13")
+    assert np.all(np.abs(np.hypot(narrow[:, 0], narrow[:, 1]) - 0.125) <= 0.005 + 1e-12)
+
+
+def test_runtime_a2l_run_fixed_circle_only_when_asked(push_bundle: Path, tmp_path: Path) -> None:
+    rel, s = _starts(push_bundle, tmp_path, "--starts", "circle", "--radius", "0.2")
+    assert s["starts"] == {"mode": "circle", "radius": 0.2,
+                           "description": s["starts"]["description"]}
+    angles = np.arctan2(rel[:, 1], rel[:, 0]) % (2 * np.pi)
+    np.testing.assert_allclose(np.hypot(rel[:, 0], rel[:, 1]), 0.2, atol=1e-12)
+    np.testing.assert_allclose(angles, 2 * np.pi * np.arange(6) / 6, atol=1e-9)  # seed 0
+    turned, _ = _starts(push_bundle, tmp_path, "--starts", "circle", "--seed", "3")
+    step = np.diff(np.unwrap(np.arctan2(turned[:, 1], turned[:, 0])))
+    np.testing.assert_allclose(step, 2 * np.pi / 6, atol=1e-9)  # evenly spaced, turned
+    assert not np.allclose(turned, rel)
+
+
+def test_runtime_a2l_run_checks_the_urdf_sha256(push_bundle: Path, tmp_path: Path) -> None:
+    """The bundle's robot.urdf_sha256 must be the SHA-256 of the URDF a2l-run loads."""
+    import hashlib
+
+    from a2l.robot import baxter_urdf
+
+    urdf = baxter_urdf()
+    true_hash = hashlib.sha256(urdf.read_bytes()).hexdigest()
+    spec = load_bundle(push_bundle)
+    robot = {"name": "baxter", "base_link": "base", "tip_link": "right_gripper"}
+    spec.robot = {**robot, "urdf_sha256": true_hash}
+    good = save_bundle(spec, tmp_path / "good.a2lb")
+    spec.robot = {**robot, "urdf_sha256": "0" * 64}
+    bad = save_bundle(spec, tmp_path / "bad.a2lb")
+    common = ("--episodes", "1", "--effect", "far", "--starts", "circle", "--radius",
+              str(RADIUS), "--urdf", str(urdf))
+
+    summary = tmp_path / "s.json"
+    r = run(good, *common, "--summary", summary)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(summary.read_text())["urdf_sha256"] == true_hash
+
+    r = run(bad, *common)
+    assert r.returncode == 2
+    assert true_hash in r.stderr and "0" * 64 in r.stderr and str(urdf) in r.stderr
+
+    edited = tmp_path / "baxter.urdf"  # same robot, one byte more: another hash
+    edited.write_bytes(urdf.read_bytes() + b"\n")
+    edited_hash = hashlib.sha256(edited.read_bytes()).hexdigest()
+    r = run(good, *common[:-1], str(edited))
+    assert r.returncode == 2
+    assert edited_hash in r.stderr and true_hash in r.stderr
+    assert str(edited) in r.stderr
+
+    r = run(good, *common[:-1], str(tmp_path / "missing.urdf"))
+    assert r.returncode == 2 and "missing.urdf" in r.stderr

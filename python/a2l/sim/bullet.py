@@ -17,6 +17,7 @@ from a2l.errors import A2LError, A2LValueError
 from a2l.robot import BAXTER_ARMS, arm_spec, pybullet_urdf
 from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
+from a2l.sim.bodies import BodyCache
 from a2l.sim.config import GraspConfig, PressConfig, PushConfig, SceneConfig
 from a2l.sim.perception import Camera, ColorTarget, Perception
 from a2l.sim.scene import MoveResult, Observation, Scene
@@ -68,10 +69,15 @@ class BulletScene(Scene):
             p.resetDebugVisualizerCamera(1.6, 120, -25, (0.65, -0.15, -0.15), physicsClientId=c)
         p.setGravity(0, 0, -9.81, physicsClientId=c)
         p.setTimeStep(cfg.time_step, physicsClientId=c)
+        # Contacts solved in an order that does not depend on the world's history (with the
+        # objects rebuilt at every reset, see a2l.sim.bodies): same start, same rollout.
+        p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
         self._tick = 0
         self._perceived_cache: tuple[int, Observation] | None = None
         self._objects: dict[str, _Object] = {}
         self._states: dict[str, str] = cfg.initial_states()
+        #: Every body but the robot, rebuilt at each reset (a2l.sim.bodies).
+        self._bodies = BodyCache(c)
         self._build_world()
         self._build_robot()
         self._build_objects()
@@ -86,7 +92,6 @@ class BulletScene(Scene):
                             for cam in self.cameras]
         self.camera = self.cameras[0]
         self.perception = self.perceptions[0]
-        self._saved = p.saveState(physicsClientId=c)
         self.reset()
 
     # --- construction -------------------------------------------------------------
@@ -100,7 +105,8 @@ class BulletScene(Scene):
         floor_vis = p.createVisualShape(
             p.GEOM_BOX, halfExtents=(3, 3, 0.001) if cfg.gui else (0.01, 0.01, 0.001),
             rgbaColor=(0.45, 0.45, 0.47, 1), physicsClientId=c)
-        p.createMultiBody(0, floor, floor_vis, (0, 0, _FLOOR_Z), physicsClientId=c)
+        self._bodies.add("floor", baseMass=0, baseCollisionShapeIndex=floor,
+                         baseVisualShapeIndex=floor_vis, basePosition=(0, 0, _FLOOR_Z))
         (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
         top_h = 0.04
         top = p.createCollisionShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
@@ -116,16 +122,17 @@ class BulletScene(Scene):
                 for iy in (-1, 1):
                     legs.append((leg_vis, (ix * (sx / 2 - 0.05), iy * (sy / 2 - 0.05),
                                            -top_h / 2 - leg_len / 2)))
-        self._table = p.createMultiBody(
-            0, top, top_vis, (cx, cy, cfg.table_z - top_h / 2),
-            linkMasses=[0] * len(legs), linkCollisionShapeIndices=[-1] * len(legs),
+        self._bodies.add(
+            "table", [(-1, {"lateralFriction": 0.5})], baseMass=0,
+            baseCollisionShapeIndex=top, baseVisualShapeIndex=top_vis,
+            basePosition=(cx, cy, cfg.table_z - top_h / 2), linkMasses=[0] * len(legs),
+            linkCollisionShapeIndices=[-1] * len(legs),
             linkVisualShapeIndices=[v for v, _ in legs], linkPositions=[q for _, q in legs],
             linkOrientations=[(0, 0, 0, 1)] * len(legs),
             linkInertialFramePositions=[(0, 0, 0)] * len(legs),
             linkInertialFrameOrientations=[(0, 0, 0, 1)] * len(legs),
             linkParentIndices=[0] * len(legs), linkJointTypes=[p.JOINT_FIXED] * len(legs),
-            linkJointAxis=[(0, 0, 1)] * len(legs), physicsClientId=c)
-        p.changeDynamics(self._table, -1, lateralFriction=0.5, physicsClientId=c)
+            linkJointAxis=[(0, 0, 1)] * len(legs))
 
     def _build_robot(self) -> None:
         c, cfg = self._client, self.config
@@ -185,9 +192,9 @@ class BulletScene(Scene):
         col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=c)
         vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=rgba,
                                   physicsClientId=c)
-        body = p.createMultiBody(mass, col, vis, (xy[0], xy[1], self.config.table_z + half[2]),
-                                 physicsClientId=c)
-        p.changeDynamics(body, -1, lateralFriction=friction, physicsClientId=c)
+        body = self._bodies.add(name, [(-1, {"lateralFriction": friction})], baseMass=mass,
+                                baseCollisionShapeIndex=col, baseVisualShapeIndex=vis,
+                                basePosition=(xy[0], xy[1], self.config.table_z + half[2]))
         self._objects[name] = _Object(name, body, tuple(size), tuple(rgba), tuple(xy))
 
     def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
@@ -267,7 +274,12 @@ class BulletScene(Scene):
                 cfg.check_on_table(f"{o.name} position", (float(xy[0]), float(xy[1])),
                                    (o.size[0] / 2, o.size[1] / 2))
                 moves.append((o, xy))
-        p.restoreState(self._saved, physicsClientId=c)
+        # New bodies but the robot: no contact or pair cache survives from earlier episodes
+        # (restoreState would not clear them, a2l.sim.bodies); the robot's joints are all
+        # reset below, its base is fixed.
+        ids = self._bodies.rebuild()
+        for o in self._objects.values():
+            o.body = ids[o.name]
         self._removed = set()
         self._hold = 0
         self._states = cfg.initial_states()
@@ -359,6 +371,25 @@ class BulletScene(Scene):
                               f"target {tuple(np.round(target, 3))} leaves the workspace along "
                               f"{axis} ([{tuple(np.round(lo, 3))}, {tuple(np.round(hi, 3))}])",
                               target, start)
+        plan = self._plan_path(start, disp)
+        if isinstance(plan, MoveResult):
+            return plan
+        self._follow_path(plan, float(np.linalg.norm(disp)))
+        self._settle_at(target)
+        reached = self.eef_position()
+        err = float(np.linalg.norm(reached - target))
+        if err > cfg.reach_tolerance:
+            return MoveResult(False, "blocked", f"the end-effector stopped {err:.3f} m short "
+                              f"of its target {tuple(np.round(target, 3))}", target, reached)
+        return MoveResult(True, "ok", "", target, reached)
+
+    # The three phases of a movement, timed apart by benchmarks/bench_sim.py.
+    def _plan_path(self, start: NDArray[np.float64], disp: NDArray[np.float64]
+                   ) -> list[NDArray[np.float64]] | MoveResult:
+        """Joint positions (7,) of the straight line's waypoints, by the C++ IK, or why the
+        line cannot be followed (a MoveResult)."""
+        cfg = self.config
+        target = start + disp
         n = max(1, math.ceil(np.linalg.norm(disp) / cfg.waypoint_spacing - 1e-9))
         q = self._arm_q()
         plan = []
@@ -381,27 +412,30 @@ class BulletScene(Scene):
                                   "would swing around", target, start)
             plan.append(qi)
             q = qi
-        steps_per_wp = max(1, round(np.linalg.norm(disp) / n / cfg.speed / cfg.time_step))
+        return plan
+
+    def _follow_path(self, plan: list[NDArray[np.float64]], length: float) -> None:
+        """Send the waypoints one after the other, each held for the time the nominal speed
+        gives it (longer where a joint would exceed its URDF velocity limit)."""
+        cfg = self.config
+        steps_per_wp = max(1, round(length / len(plan) / cfg.speed / cfg.time_step))
         q = self._arm_q()
         for qi in plan:
-            # slower where a joint would exceed its URDF velocity limit at the nominal speed
             need = float(np.max(np.abs(qi - q) / self._vmax)) / cfg.time_step
             self._set_arm_targets(qi)
             self._command()
             for _ in range(max(steps_per_wp, math.ceil(need))):
                 self._sim_step()
             q = qi
-        settle_max = max(1, round(0.3 / cfg.time_step))
+
+    def _settle_at(self, target: NDArray[np.float64]) -> None:
+        """Step until the end-effector is within 2 mm of `target` (at least 5 steps, at most
+        0.3 s)."""
+        settle_max = max(1, round(0.3 / self.config.time_step))
         for i in range(settle_max):
             self._sim_step()
             if i >= 4 and np.linalg.norm(self.eef_position() - target) < 0.002:
                 break
-        reached = self.eef_position()
-        err = float(np.linalg.norm(reached - target))
-        if err > cfg.reach_tolerance:
-            return MoveResult(False, "blocked", f"the end-effector stopped {err:.3f} m short "
-                              f"of its target {tuple(np.round(target, 3))}", target, reached)
-        return MoveResult(True, "ok", "", target, reached)
 
     def _idle(self) -> None:
         cfg = self.config
@@ -539,17 +573,15 @@ class PressScene(BulletScene):
         # the cap rests with its top button_travel above the housing: it can go down by
         # button_travel before touching it
         cap_z = hb / 2 + cfg.button_travel + sz / 2 - 0.004
-        body = p.createMultiBody(
-            0, base_col, base_vis, (bx, by, cfg.table_z + hb / 2),
+        body = self._bodies.add(
+            "button", [(0, {"jointLowerLimit": -cfg.button_travel, "jointUpperLimit": 0.0})],
+            baseMass=0, baseCollisionShapeIndex=base_col, baseVisualShapeIndex=base_vis,
+            basePosition=(bx, by, cfg.table_z + hb / 2),
             linkMasses=[0.05], linkCollisionShapeIndices=[cap_col],
             linkVisualShapeIndices=[cap_vis], linkPositions=[(0, 0, cap_z)],
             linkOrientations=[(0, 0, 0, 1)], linkInertialFramePositions=[(0, 0, 0)],
             linkInertialFrameOrientations=[(0, 0, 0, 1)], linkParentIndices=[0],
-            linkJointTypes=[p.JOINT_PRISMATIC], linkJointAxis=[(0, 0, 1)],
-            physicsClientId=c)
-        p.changeDynamics(body, 0, jointLowerLimit=-cfg.button_travel, jointUpperLimit=0.0,
-                         physicsClientId=c)
-        self._button = body
+            linkJointTypes=[p.JOINT_PRISMATIC], linkJointAxis=[(0, 0, 1)])
         self._objects["button"] = _Object("button", body, (sx, sy, sz), tuple(cfg.button_color),
                                           (bx, by), movable=False, link=0)
         lr = cfg.lamp_radius
@@ -557,10 +589,18 @@ class PressScene(BulletScene):
         lamp_vis = p.createVisualShape(p.GEOM_SPHERE, radius=lr, rgbaColor=_LAMP_OFF,
                                        physicsClientId=c)
         lx, ly = cfg.lamp_position
-        self._lamp = p.createMultiBody(0, lamp_col, lamp_vis, (lx, ly, cfg.table_z + lr),
-                                       physicsClientId=c)
+        self._bodies.add("lamp", baseMass=0, baseCollisionShapeIndex=lamp_col,
+                         baseVisualShapeIndex=lamp_vis, basePosition=(lx, ly, cfg.table_z + lr))
         self._presses = 0
         self._button_down = False
+
+    @property
+    def _button(self) -> int:
+        return self._bodies.ids["button"]
+
+    @property
+    def _lamp(self) -> int:
+        return self._bodies.ids["lamp"]
 
     def _spring(self) -> None:
         p.setJointMotorControl2(self._button, 0, p.POSITION_CONTROL, targetPosition=0.0,
