@@ -1,8 +1,8 @@
 """Run a PDDL planner with a hard time limit: pyperplan (default) or Fast Downward.
 
-Every search runs in a child process of its own (multiprocessing's ``forkserver``; the child
-leads a new process group) that is killed, with whatever it started, when the time limit
-is reached: an unsolvable or timed-out problem always ends in a :class:`PlanResult` that
+Every search runs in a child process of its own (``python -m a2l.planning._child``, leading
+a new process group) that is killed, with whatever it started, when the time limit is
+reached: an unsolvable or timed-out problem always ends in a :class:`PlanResult` that
 says so, never in a hang.
 
 - ``pyperplan``: the pure-Python planner, called through its Python API in the child;
@@ -16,9 +16,11 @@ says so, never in a hang.
 
 from __future__ import annotations
 
-import multiprocessing as mp
+import json
 import os
 import signal
+import subprocess
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -83,68 +85,12 @@ class PlanResult:
         return f"{self.planner}: no plan ({self.status}) after {self.time_s:.2f} s: {self.message}"
 
 
-def _pyperplan(domain: str, problem: str, search: str, heuristic: str) -> tuple[str, Any]:
-    from pyperplan import planner as pp
-
-    searches = pp.SEARCHES
-    heuristics = pp.HEURISTICS
-    if not isinstance(heuristics, dict):  # older releases: a list of classes
-        heuristics = {h.__name__[:-len("Heuristic")].lower(): h for h in heuristics}
-    if search not in searches:
-        return "error", f"unknown pyperplan search {search!r}; choose from {sorted(searches)}"
-    if heuristic not in heuristics:
-        return "error", (f"unknown pyperplan heuristic {heuristic!r}; choose from "
-                         f"{sorted(heuristics)}")
-    blind_search = search in ("bfs", "ids", "sat")
-    plan = pp.search_plan(domain, problem, searches[search],
-                          None if blind_search else heuristics[heuristic])
-    if plan is None:
-        return "unsolvable", f"pyperplan's {search} search exhausted the state space"
-    steps = []
-    for op in plan:
-        tokens = op.name.strip("()").split()
-        steps.append((tokens[0], tuple(tokens[1:])))
-    return "solved", steps
-
-
-def _fast_downward(domain: str, problem: str, time_limit: float) -> tuple[str, Any]:
-    from unified_planning.engines import PlanGenerationResultStatus as S
-    from unified_planning.io import PDDLReader
-    from unified_planning.shortcuts import OneshotPlanner, get_environment
-
-    get_environment().credits_stream = None
-    task = PDDLReader().parse_problem(domain, problem)
-    with OneshotPlanner(name="fast-downward") as planner:
-        res = planner.solve(task, timeout=time_limit)
-    if res.status in (S.SOLVED_SATISFICING, S.SOLVED_OPTIMALLY):
-        return "solved", [(a.action.name, tuple(str(p) for p in a.actual_parameters))
-                          for a in res.plan.actions]
-    if res.status in (S.UNSOLVABLE_PROVEN, S.UNSOLVABLE_INCOMPLETELY):
-        return "unsolvable", f"Fast Downward (LAMA-first) reports {res.status.name}"
-    if res.status == S.TIMEOUT:
-        return "timeout", "Fast Downward reached the time limit"
-    return "error", f"Fast Downward ended with {res.status.name}: {res.log_messages}"
-
-
-def _worker(conn: Any, planner: str, domain: str, problem: str, options: dict) -> None:
-    os.setsid()  # a group of our own: the parent kills it whole (Fast Downward's process too)
-    try:
-        if planner == "pyperplan":
-            out = _pyperplan(domain, problem, options["search"], options["heuristic"])
-        else:
-            out = _fast_downward(domain, problem, options["time_limit"])
-    except Exception as exc:  # reported to the parent, which names it
-        out = ("error", f"{type(exc).__name__}: {exc}")
-    conn.send(out)
-    conn.close()
-
-
-def _kill(proc: mp.process.BaseProcess) -> None:
+def _kill(proc: subprocess.Popen) -> None:
     try:
         os.killpg(proc.pid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):
         proc.kill()
-    proc.join(5)
+    proc.communicate()
 
 
 def solve_files(domain: str | os.PathLike[str], problem: str | os.PathLike[str],
@@ -184,30 +130,36 @@ def solve_files(domain: str | os.PathLike[str], problem: str | os.PathLike[str],
         if not Path(f).is_file():
             raise A2LFileNotFoundError(f"PDDL file '{f}' does not exist")
     t0 = time.perf_counter()
-    ctx = mp.get_context("forkserver")
-    recv, send = ctx.Pipe(duplex=False)
-    options = {"search": search, "heuristic": heuristic, "time_limit": time_limit}
-    proc = ctx.Process(target=_worker, args=(send, planner, str(domain), str(problem), options),
-                       daemon=True)
-    proc.start()
-    send.close()
-    left = time_limit - (time.perf_counter() - t0)
+    args = {"planner": planner, "domain": str(domain), "problem": str(problem),
+            "search": search, "heuristic": heuristic, "time_limit": time_limit}
+    # a new session: the child leads its own process group, killed whole at the limit
+    # (Fast Downward's own process included)
+    proc = subprocess.Popen([sys.executable, "-m", "a2l.planning._child", json.dumps(args)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
     out: tuple[str, Any] | None = None
-    if recv.poll(max(left, 0.0)):
+    try:
+        stdout, stderr = proc.communicate(timeout=max(time_limit - (time.perf_counter() - t0),
+                                                      0.0))
+        lines = stdout.strip().splitlines()
         try:
-            out = recv.recv()
-        except EOFError:
-            out = ("error", f"the {planner} process ended without an answer "
-                            f"(exit code {proc.exitcode})")
-    recv.close()
-    _kill(proc)
+            answer = json.loads(lines[-1]) if lines else None
+        except json.JSONDecodeError:
+            answer = None
+        if answer is None:
+            out = ("error", f"the {planner} process ended without an answer (exit code "
+                            f"{proc.returncode}): {stderr.strip()[-500:]}")
+        else:
+            out = (answer["status"], answer["payload"])
+    except subprocess.TimeoutExpired:
+        _kill(proc)
     elapsed = time.perf_counter() - t0
     if out is None:
         return PlanResult("timeout", planner, (), elapsed,
                           f"stopped at the time limit of {time_limit:g} s")
     status, payload = out
     if status == "solved":
-        return PlanResult("solved", planner, tuple(PlanStep(n, a) for n, a in payload), elapsed)
+        return PlanResult("solved", planner, tuple(PlanStep(n, tuple(a)) for n, a in payload), elapsed)
     return PlanResult(status, planner, (), elapsed, str(payload))
 
 
