@@ -262,19 +262,25 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
   const og::PathGeometric raw = *pdef->getSolutionPath()->as<og::PathGeometric>();
   og::PathGeometric path = raw;
   if (o.shorten) {
-    // bounded work (no time-based loop that could overrun the limit; no smoothing, which
-    // would add vertices where the trajectory stops): drop needless vertices, shortcut,
-    // and drop again
+    // bounded work, in slices that stop at the time limit (no smoothing, which would add
+    // vertices where the trajectory stops): drop needless vertices, up to 200 shortcut
+    // attempts, drop again
+    const auto left = [&] {
+      return o.time_limit - std::chrono::duration<double>(clock::now() - t0).count();
+    };
     og::PathSimplifier simplifier(si);
-    simplifier.reduceVertices(path);
-    simplifier.shortcutPath(path, 200, 50);
-    simplifier.reduceVertices(path);
-    // the new edges are checked at other points than the planner's: if the check of the
-    // whole path finds a collision there, keep the planner's path
-    if (!path.check()) path = raw;
+    if (left() > 0) simplifier.reduceVertices(path);
+    for (int k = 0; k < 20 && left() > 0; ++k) simplifier.shortcutPath(path, 10);
+    if (left() > 0) simplifier.reduceVertices(path);
   }
-  if (!path.check())
-    return finish(TransitStatus::no_path, "the path failed its final collision check");
+  // the shortened path's new edges are checked at other points than the planner's: if the
+  // check of the whole path finds a collision there, keep the planner's path
+  bool valid = path.check();
+  if (!valid && o.shorten) {
+    path = raw;
+    valid = path.check();
+  }
+  if (!valid) return finish(TransitStatus::no_path, "the path failed its final collision check");
   res.waypoints.resize(path.getStateCount(), n);
   for (size_t k = 0; k < path.getStateCount(); ++k) {
     const auto* rv = path.getState(k)->as<ob::RealVectorStateSpace::StateType>();

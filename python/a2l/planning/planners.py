@@ -159,7 +159,8 @@ def solve_files(domain: str | os.PathLike[str], problem: str | os.PathLike[str],
                           f"stopped at the time limit of {time_limit:g} s")
     status, payload = out
     if status == "solved":
-        return PlanResult("solved", planner, tuple(PlanStep(n, tuple(a)) for n, a in payload), elapsed)
+        steps = tuple(PlanStep(n, tuple(a)) for n, a in payload)
+        return PlanResult("solved", planner, steps, elapsed)
     return PlanResult(status, planner, (), elapsed, str(payload))
 
 
