@@ -79,20 +79,14 @@ def _pddl_table() -> str:
         PerceivedState,
         TableRegions,
         domain_pddl,
-        grasp_skill,
-        gripper_skill,
-        place_skill,
-        press_skills,
         problem_pddl,
-        push_skill,
         solve,
+        tabletop_repertoire,
     )
 
     pushes = ("left", "right", "close", "far")
     regions = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
-    skills = [push_skill(e) for e in pushes] + [grasp_skill(), place_skill()]
-    skills += press_skills("light", ("on", "off"), learned_under={"gripper": "closed"})
-    skills += [gripper_skill("open"), gripper_skill("closed")]
+    skills = tabletop_repertoire(pushes)
     state = PerceivedState(regions.names, {"block": "mid-centre", "box": "mid-right"},
                            ("button",), {"light": "on", "gripper": "open"},
                            static=regions.neighbour_facts(pushes))

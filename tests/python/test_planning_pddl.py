@@ -14,13 +14,12 @@ from a2l.planning import (
     TableRegions,
     domain_pddl,
     grasp_skill,
-    gripper_skill,
     place_skill,
-    press_skills,
     problem_pddl,
     push_skill,
     simulate_plan,
     solve,
+    tabletop_repertoire,
     unmet,
 )
 
@@ -33,10 +32,11 @@ PUSHES = ("left", "right", "close", "far")
 def repertoire() -> list[Skill]:
     """Push in 4 directions, grasp, place, press (learned with the gripper closed), and the
     gripper primitives."""
-    skills = [push_skill(e) for e in PUSHES]
-    skills += [grasp_skill(), place_skill()]
-    skills += press_skills("light", ("on", "off"), learned_under={"gripper": "closed"})
-    skills += [gripper_skill("open"), gripper_skill("closed")]
+    skills = tabletop_repertoire(PUSHES)
+    assert [s.name for s in skills] == [
+        "push-left", "push-right", "push-close", "push-far", "grasp", "place",
+        "press-light-off", "press-light-on", "open-gripper", "close-gripper"]
+    assert skills[6].learned_under == ("(gripper-closed)",)
     return skills
 
 

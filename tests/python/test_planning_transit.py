@@ -155,6 +155,12 @@ def test_execute_transit_in_pybullet(world) -> None:
     np.testing.assert_allclose(scene.joint_positions(), q1, atol=0.02)
     for name, pos in scene.ground_truth()["objects"].items():  # the transit disturbed nothing
         assert np.linalg.norm(np.subtract(pos, before[name])) < 1e-3
+    with pytest.raises(a2l.A2LValueError, match="increasing times"):
+        scene.follow_joint_trajectory(plan.times, plan.positions[:, :3])
+    failed = transit.plan(q0, np.full(7, 9.0))
+    assert failed.status == "goal_out_of_limits"
+    with pytest.raises(a2l.A2LValueError, match="no trajectory"):
+        execute_transit(scene, failed)
 
 
 def test_goal_in_collision_and_no_path_are_reported(world) -> None:

@@ -17,6 +17,7 @@ from a2l.planning.repertoire import (
     place_skill,
     press_skills,
     push_skill,
+    tabletop_repertoire,
 )
 from a2l.planning.simulate import apply_step, goal_literals, simulate_plan, unmet
 
@@ -41,6 +42,7 @@ __all__ = [
     "simulate_plan",
     "solve",
     "solve_files",
+    "tabletop_repertoire",
     "unmet",
     "write_task",
 ]

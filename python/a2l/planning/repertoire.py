@@ -24,6 +24,7 @@ __all__ = [
     "DIRECTIONS",
     "TableRegions",
     "gripper_skill",
+    "tabletop_repertoire",
     "grasp_skill",
     "place_skill",
     "press_skills",
@@ -109,6 +110,17 @@ def gripper_skill(value: str) -> Skill:
                  effects=(state_literal("gripper", value),
                           f"(not {state_literal('gripper', other)})"),
                  kind="gripper", effect=value)
+
+
+def tabletop_repertoire(pushes: Sequence[str] = ("left", "right", "close", "far"),
+                        press_under: Mapping[str, str] | None = None) -> list[Skill]:
+    """The tabletop repertoire: push in each direction of `pushes`, grasp, place, press the
+    light's button (learned under `press_under`, by default with the gripper closed), and the
+    gripper primitives."""
+    skills = [push_skill(e) for e in pushes] + [grasp_skill(), place_skill()]
+    under = {"gripper": "closed"} if press_under is None else press_under
+    skills += press_skills("light", ("on", "off"), learned_under=under)
+    return skills + [gripper_skill("open"), gripper_skill("closed")]
 
 
 @dataclass(frozen=True)

@@ -65,6 +65,10 @@ class TransitPlan:
     times : ndarray, shape (k,)
     positions, velocities, accelerations : ndarray, shape (k, n)
         The time-parameterised trajectory.
+    duration : float
+        s, of the trajectory.
+    path_length : float
+        rad, summed joint-space length of `waypoints`.
     """
 
     status: str
