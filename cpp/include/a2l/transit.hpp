@@ -39,7 +39,7 @@ bool transit_available() noexcept;
 
 //! Options of TransitPlanner::plan().
 struct TransitOptions {
-  double time_limit = 1.0;        //!< s: the whole call (search + shortening) ends by then
+  double time_limit = 1.0;        //!< s: the search stops at 90 % of it, the shortening at it
   double resolution = 0.01;       //!< rad: longest joint-space step between collision checks
   bool shorten = true;            //!< shortcut and reduce the path (OMPL's PathSimplifier)
   double velocity_scale = 1.0;    //!< fraction (0, 1] of the URDF's velocity limits
