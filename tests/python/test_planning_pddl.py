@@ -121,6 +121,16 @@ def test_timeout_is_reported_not_hung(tmp_path) -> None:
     assert time.perf_counter() - t0 < 1.5 + 5.0
 
 
+def test_bad_pddl_is_an_error_report(tmp_path) -> None:
+    skills = repertoire()
+    res = solve("(define (domain broken", problem_pddl(skills, state(), GOAL), tmp_path,
+                planner="pyperplan", time_limit=30)
+    assert res.status == "error" and not res.solved and res.message
+    with pytest.raises(A2LValueError, match="unknown planner"):
+        solve(domain_pddl(skills), problem_pddl(skills, state(), GOAL), tmp_path,
+              planner="lama")
+
+
 def test_bad_input_is_named() -> None:
     skills = repertoire()
     with pytest.raises(A2LValueError, match="unknown predicate"):

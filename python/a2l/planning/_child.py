@@ -27,6 +27,8 @@ def _pyperplan(domain: str, problem: str, search: str, heuristic: str) -> tuple[
     plan = pp.search_plan(domain, problem, searches[search],
                           None if blind_search else heuristics[heuristic])
     if plan is None:
+        if search in ("ehs", "ids", "sat"):  # incomplete or bounded: no proof
+            return "unsolvable", f"pyperplan's {search} search found no plan (not a proof)"
         return "unsolvable", f"pyperplan's {search} search exhausted the state space"
     steps = []
     for op in plan:
