@@ -155,6 +155,13 @@ def test_execute_transit_in_pybullet(world) -> None:
     np.testing.assert_allclose(scene.joint_positions(), q1, atol=0.02)
     for name, pos in scene.ground_truth()["objects"].items():  # the transit disturbed nothing
         assert np.linalg.norm(np.subtract(pos, before[name])) < 1e-3
+    # an object left out of the obstacles: the gripper may then stand where it is
+    box = next(b for b in scene.obstacle_boxes() if b[0] == "box")
+    q_in_box = _ik(scene, box[1])
+    assert transit.in_collision(q_in_box)
+    free = ArmTransit("baxter", "right")
+    free.sync(scene, ignore=("box",))
+    assert not free.in_collision(q_in_box)
     with pytest.raises(a2l.A2LValueError, match="increasing times"):
         scene.follow_joint_trajectory(plan.times, plan.positions[:, :3])
     failed = transit.plan(q0, np.full(7, 9.0))

@@ -145,11 +145,13 @@ class ArmTransit:
             [_core.CollisionBox(n, np.asarray(c, float), np.asarray(h, float))
              for n, c, h in boxes], self.padding)
 
-    def sync(self, scene: Any) -> None:
+    def sync(self, scene: Any, ignore: tuple[str, ...] = ()) -> None:
         """Take the other joints and the obstacles from a PyBullet scene
-        (:class:`a2l.sim.bullet.BulletScene`)."""
+        (:class:`a2l.sim.bullet.BulletScene`), leaving out the objects named in `ignore`
+        (an object in the gripper moves with it: it is no obstacle)."""
         self.set_robot_joints(scene.other_joint_positions())
-        self.set_obstacles(scene.obstacle_boxes())
+        self.set_obstacles([b for b in scene.obstacle_boxes()
+                            if b[0] not in ignore and b[0].split("_")[0] not in ignore])
 
     def in_collision(self, q: ArrayLike) -> bool:
         """True if the arm at `q` (n,) collides with an obstacle or the robot."""
