@@ -13,13 +13,14 @@ import numpy as np
 
 from a2l.robot.descriptions import cached_urdf
 
-__all__ = ["collision_render_urdf"]
+__all__ = ["collision_render_urdf", "mesh_vertices"]
 
 _GREY = "0.55 0.55 0.55 1"
 
 
-def _mesh_vertices(path: Path) -> np.ndarray | None:
-    """Vertices (n, 3) of a COLLADA or STL mesh file, or None if it cannot be read."""
+def mesh_vertices(path: Path) -> np.ndarray | None:
+    """Vertices (n, 3) of a COLLADA (its first vertex array, as Baxter's meshes store
+    them) or STL mesh file, or None if it cannot be read."""
     try:
         if path.suffix.lower() == ".dae":
             text = path.read_text(errors="replace")
@@ -53,7 +54,7 @@ def _mesh_to_box(vis: ET.Element, base: Path) -> None:
     path = Path(mesh.get("filename", ""))
     if not path.is_absolute():
         path = base / path
-    verts = _mesh_vertices(path)
+    verts = mesh_vertices(path)
     if verts is None or verts.size == 0:
         return
     scale = np.asarray([float(v) for v in mesh.get("scale", "1 1 1").split()])

@@ -496,6 +496,86 @@ class BulletScene(Scene):
         pts = p.getContactPoints(self._robot, o.body, physicsClientId=self._client)
         return any(pt[3] in self._finger_links for pt in pts)
 
+    # --- transit (a2l.planning.transit) -------------------------------------------
+    @property
+    def robot(self) -> int:
+        """PyBullet body id of the robot."""
+        return self._robot
+
+    @property
+    def arm_joints(self) -> list[int]:
+        """PyBullet joint indices of the acting arm, base to tip (kinematics' order)."""
+        return list(self._arm)
+
+    def other_joint_positions(self) -> dict[str, float]:
+        """Positions of the robot's movable joints outside the acting arm, by URDF name."""
+        names = {j: n for n, j in self._joint_index.items()}
+        return {names[j]: float(p.getJointState(self._robot, j, physicsClientId=self._client)[0])
+                for j in self._movable if j not in self._arm}
+
+    def obstacle_boxes(self) -> list[tuple[str, NDArray[np.float64], NDArray[np.float64]]]:
+        """Everything but the robot as axis-aligned boxes, from PyBullet's current state.
+
+        Returns
+        -------
+        list of (str, ndarray (3,), ndarray (3,))
+            Name, centre and half-extents (m) of the table top, of every object (the
+            button's housing and cap, the lamp...) and of the floor.
+        """
+        c = self._client
+        out = [("floor", np.array([0.0, 0.0, _FLOOR_Z - 0.05]), np.array([3.0, 3.0, 0.05]))]
+        bodies = [("table", self._table, [-1])]
+        bodies += [(o.name, o.body, list(range(-1, p.getNumJoints(o.body, physicsClientId=c))))
+                   for o in self._objects.values() if o.name not in self._removed]
+        if getattr(self, "_lamp", None) is not None:
+            bodies.append(("lamp", self._lamp, [-1]))
+        for name, body, links in bodies:
+            for link in links:
+                if link >= 0 and p.getCollisionShapeData(body, link, physicsClientId=c) == ():
+                    continue
+                lo, hi = (np.asarray(v, dtype=float)
+                          for v in p.getAABB(body, link, physicsClientId=c))
+                label = name if link < 0 else f"{name}_{link}"
+                out.append((label, (lo + hi) / 2, np.maximum((hi - lo) / 2, 1e-4)))
+        return out
+
+    def follow_joint_trajectory(self, times: ArrayLike, positions: ArrayLike) -> float:
+        """Track a joint trajectory of the acting arm with position targets, one per physics
+        step (linear interpolation between samples), then let the arm settle (<= 0.3 s).
+
+        Parameters
+        ----------
+        times : array_like, shape (k,)
+            Increasing sample times (s), from 0.
+        positions : array_like, shape (k, 7)
+            Joint positions of the arm at `times`.
+
+        Returns
+        -------
+        float
+            Largest joint error (rad) to the last sample at the end.
+        """
+        t = np.asarray(times, dtype=float).reshape(-1)
+        q = np.asarray(positions, dtype=float)
+        if q.ndim != 2 or q.shape != (t.size, len(self._arm)) or t.size == 0 or \
+                np.any(np.diff(t) < 0) or not np.all(np.isfinite(q)):
+            raise A2LValueError(f"follow_joint_trajectory: need increasing times (k,) and "
+                                f"finite positions (k, {len(self._arm)}), got {t.shape} and "
+                                f"{q.shape}")
+        dt = self.config.time_step
+        for k in range(1, max(1, math.ceil(t[-1] / dt)) + 1):
+            tk = min(k * dt, t[-1])
+            self._set_arm_targets(np.array([np.interp(tk, t, q[:, i])
+                                            for i in range(q.shape[1])]))
+            self._command()
+            self._sim_step()
+        for _ in range(round(0.3 / dt)):
+            if np.max(np.abs(self._arm_q() - q[-1])) < 2e-3:
+                break
+            self._sim_step()
+        self._perceived_cache = None
+        return float(np.max(np.abs(self._arm_q() - q[-1])))
+
     def close(self) -> None:
         if getattr(self, "_client", -1) >= 0:
             try:

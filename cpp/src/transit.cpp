@@ -1,0 +1,303 @@
+#include "a2l/transit.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#if A2L_HAVE_BULLET && A2L_HAVE_OMPL
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <mutex>
+#endif
+
+namespace a2l {
+
+const char* transit_status_name(TransitStatus status) noexcept {
+  switch (status) {
+    case TransitStatus::ok:
+      return "ok";
+    case TransitStatus::invalid_argument:
+      return "invalid_argument";
+    case TransitStatus::start_out_of_limits:
+      return "start_out_of_limits";
+    case TransitStatus::goal_out_of_limits:
+      return "goal_out_of_limits";
+    case TransitStatus::start_in_collision:
+      return "start_in_collision";
+    case TransitStatus::goal_in_collision:
+      return "goal_in_collision";
+    case TransitStatus::no_path:
+      return "no_path";
+  }
+  return "unknown";
+}
+
+bool transit_available() noexcept {
+#if A2L_HAVE_BULLET && A2L_HAVE_OMPL
+  return true;
+#else
+  return false;
+#endif
+}
+
+namespace {
+
+// Rest-to-rest profile of s in [0, 1] with |s'| <= v and |s''| <= a.
+struct Profile {
+  double v = 0, a = 0, t_acc = 0, t_total = 0, v_peak = 0;
+  explicit Profile(double vmax, double amax) : v(vmax), a(amax) {
+    t_acc = v / a;
+    if (a * t_acc * t_acc >= 1.0) {  // triangle: never reaches v
+      t_acc = std::sqrt(1.0 / a);
+      v_peak = a * t_acc;
+      t_total = 2 * t_acc;
+    } else {
+      v_peak = v;
+      t_total = 2 * t_acc + (1.0 - a * t_acc * t_acc) / v;
+    }
+  }
+  // s, s', s'' at time t in [0, t_total]
+  void at(double t, double& s, double& sd, double& sdd) const {
+    const double s_acc = 0.5 * a * t_acc * t_acc;
+    if (t <= t_acc) {
+      s = 0.5 * a * t * t, sd = a * t, sdd = a;
+    } else if (t >= t_total - t_acc) {
+      const double r = std::max(0.0, t_total - t);
+      s = 1.0 - 0.5 * a * r * r, sd = a * r, sdd = -a;
+    } else {
+      s = s_acc + v_peak * (t - t_acc), sd = v_peak, sdd = 0.0;
+    }
+    s = std::min(1.0, std::max(0.0, s));
+  }
+};
+
+}  // namespace
+
+Result time_parameterize(const Eigen::Ref<const Eigen::MatrixXd>& waypoints,
+                         const Eigen::Ref<const Eigen::VectorXd>& velocity,
+                         const Eigen::Ref<const Eigen::VectorXd>& acceleration,
+                         double sample_period, TransitResult& out) {
+  const Eigen::Index m = waypoints.rows(), n = waypoints.cols();
+  if (m < 1 || velocity.size() != n || acceleration.size() != n)
+    return Result::failure(Status::size_mismatch,
+                           "time_parameterize: need (m >= 1, n) waypoints and (n,) limits");
+  if (!waypoints.allFinite() || !(velocity.array() > 0).all() ||
+      !(acceleration.array() > 0).all() || !(sample_period > 0) || !velocity.allFinite() ||
+      !acceleration.allFinite())
+    return Result::failure(Status::invalid_argument,
+                           "time_parameterize: limits and sample period must be finite and > 0");
+  std::vector<Profile> profiles;
+  std::vector<Eigen::Index> edges;
+  std::vector<double> starts;
+  double t = 0.0;
+  for (Eigen::Index k = 0; k + 1 < m; ++k) {
+    const Eigen::VectorXd d = waypoints.row(k + 1) - waypoints.row(k);
+    double vs = INFINITY, as = INFINITY;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double di = std::abs(d[i]);
+      if (di <= 0) continue;
+      vs = std::min(vs, velocity[i] / di);
+      as = std::min(as, acceleration[i] / di);
+    }
+    if (!std::isfinite(vs)) continue;  // a repeated vertex
+    profiles.emplace_back(vs, as);
+    edges.push_back(k);
+    starts.push_back(t);
+    t += profiles.back().t_total;
+  }
+  out.duration = t;
+  const Eigen::Index k_samples = static_cast<Eigen::Index>(std::ceil(t / sample_period - 1e-9)) + 1;
+  out.times.resize(k_samples);
+  out.positions.resize(k_samples, n);
+  out.velocities.resize(k_samples, n);
+  out.accelerations.resize(k_samples, n);
+  size_t e = 0;
+  for (Eigen::Index j = 0; j < k_samples; ++j) {
+    const double tj = std::min(t, j * sample_period);
+    out.times[j] = tj;
+    while (e + 1 < profiles.size() && tj > starts[e] + profiles[e].t_total) ++e;
+    if (profiles.empty()) {
+      out.positions.row(j) = waypoints.row(m - 1);
+      out.velocities.row(j).setZero();
+      out.accelerations.row(j).setZero();
+      continue;
+    }
+    double s, sd, sdd;
+    profiles[e].at(std::min(tj - starts[e], profiles[e].t_total), s, sd, sdd);
+    const Eigen::RowVectorXd q0 = waypoints.row(edges[e]);
+    const Eigen::RowVectorXd d = waypoints.row(edges[e] + 1) - q0;
+    out.positions.row(j) = q0 + s * d;
+    out.velocities.row(j) = sd * d;
+    out.accelerations.row(j) = sdd * d;
+  }
+  return Result::success();
+}
+
+#if A2L_HAVE_BULLET && A2L_HAVE_OMPL
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace {
+
+// Uniform sampling with a per-call seed (OMPL's samplers otherwise draw from a global seed).
+class SeededSampler : public ob::RealVectorStateSampler {
+ public:
+  SeededSampler(const ob::StateSpace* space, std::uint32_t seed) : RealVectorStateSampler(space) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
+void seed_ompl_once(std::uint32_t seed) {
+  static std::once_flag flag;
+  std::call_once(flag, [seed] {
+    ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+    ompl::RNG::setSeed(seed == 0 ? 1u : seed);  // OMPL reads 0 as "pick one from the clock"
+  });
+}
+
+std::string pairs_text(const std::vector<CollisionPair>& pairs) {
+  std::ostringstream ss;
+  for (size_t i = 0; i < pairs.size() && i < 3; ++i)
+    ss << (i ? ", " : "") << "'" << pairs[i].first << "'/'" << pairs[i].second << "'";
+  if (pairs.size() > 3) ss << " and " << pairs.size() - 3 << " more";
+  return ss.str();
+}
+
+}  // namespace
+
+struct TransitPlanner::Impl {
+  CollisionModel model;
+};
+
+TransitPlanner::TransitPlanner(CollisionModel model) : impl_(std::make_unique<Impl>()) {
+  impl_->model = std::move(model);
+}
+TransitPlanner::~TransitPlanner() = default;
+TransitPlanner::TransitPlanner(TransitPlanner&&) noexcept = default;
+TransitPlanner& TransitPlanner::operator=(TransitPlanner&&) noexcept = default;
+
+CollisionModel& TransitPlanner::model() noexcept { return impl_->model; }
+
+TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_start,
+                                   const Eigen::Ref<const Eigen::VectorXd>& q_goal,
+                                   const TransitOptions& o) {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  TransitResult res;
+  CollisionModel& model = impl_->model;
+  const long long checks0 = model.loaded() ? model.checks() : 0;
+  auto finish = [&](TransitStatus s, std::string msg) {
+    res.status = s;
+    res.message = std::move(msg);
+    res.planning_time = std::chrono::duration<double>(clock::now() - t0).count();
+    res.collision_checks = model.loaded() ? model.checks() - checks0 : 0;
+    return res;
+  };
+  if (!model.loaded()) return finish(TransitStatus::invalid_argument, "the model is not loaded");
+  const Kinematics& kin = model.kinematics();
+  const int n = kin.n_joints();
+  if (q_start.size() != n || q_goal.size() != n)
+    return finish(TransitStatus::invalid_argument,
+                  "q_start and q_goal must have " + std::to_string(n) + " entries");
+  if (!q_start.allFinite() || !q_goal.allFinite())
+    return finish(TransitStatus::invalid_argument, "q_start or q_goal contains NaN or inf");
+  if (!(o.time_limit > 0) || !(o.resolution > 0) || !(o.velocity_scale > 0) ||
+      o.velocity_scale > 1 || !(o.acceleration > 0) || !(o.sample_period > 0) ||
+      !(o.default_velocity > 0))
+    return finish(TransitStatus::invalid_argument,
+                  "options: time_limit, resolution, acceleration, sample_period and "
+                  "default_velocity must be > 0, velocity_scale in (0, 1]");
+  if (!kin.within_limits(q_start, 1e-9))
+    return finish(TransitStatus::start_out_of_limits, "the start violates the joint limits");
+  if (!kin.within_limits(q_goal, 1e-9))
+    return finish(TransitStatus::goal_out_of_limits, "the goal violates the joint limits");
+  if (auto p = model.colliding_pairs(q_start); !p.empty())
+    return finish(TransitStatus::start_in_collision, "the start collides: " + pairs_text(p));
+  if (auto p = model.colliding_pairs(q_goal); !p.empty())
+    return finish(TransitStatus::goal_in_collision, "the goal collides: " + pairs_text(p));
+
+  seed_ompl_once(o.seed);
+  auto space = std::make_shared<ob::RealVectorStateSpace>(n);
+  ob::RealVectorBounds bounds(n);
+  for (int i = 0; i < n; ++i) {
+    bounds.setLow(i, std::isfinite(kin.lower()[i]) ? kin.lower()[i] : -M_PI);
+    bounds.setHigh(i, std::isfinite(kin.upper()[i]) ? kin.upper()[i] : M_PI);
+  }
+  space->setBounds(bounds);
+  const std::uint32_t seed = o.seed;
+  space->setStateSamplerAllocator(
+      [seed](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s, seed); });
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  Eigen::VectorXd q(n);
+  si->setStateValidityChecker([&](const ob::State* s) {
+    const auto* rv = s->as<ob::RealVectorStateSpace::StateType>();
+    for (int i = 0; i < n; ++i) q[i] = rv->values[i];
+    return si->satisfiesBounds(s) && !model.in_collision(q);
+  });
+  si->setStateValidityCheckingResolution(o.resolution / space->getMaximumExtent());
+  si->setup();
+  ob::ScopedState<ob::RealVectorStateSpace> start(space), goal(space);
+  for (int i = 0; i < n; ++i) start[i] = q_start[i], goal[i] = q_goal[i];
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  pdef->setStartAndGoalStates(start, goal);
+  auto planner = std::make_shared<og::RRTConnect>(si);
+  planner->setProblemDefinition(pdef);
+  planner->setup();
+  // the search gets 90 % of the time limit, shortening what is left (it stops at the limit)
+  const ob::PlannerStatus st =
+      planner->solve(ob::timedPlannerTerminationCondition(0.9 * o.time_limit));
+  if (st != ob::PlannerStatus::EXACT_SOLUTION) {
+    std::ostringstream ss;
+    ss << "no collision-free path found within the time limit of " << o.time_limit << " s ("
+       << st.asString() << ")";
+    return finish(TransitStatus::no_path, ss.str());
+  }
+  const og::PathGeometric raw = *pdef->getSolutionPath()->as<og::PathGeometric>();
+  og::PathGeometric path = raw;
+  if (o.shorten) {
+    // bounded work, in slices that stop at the time limit (no smoothing, which would add
+    // vertices where the trajectory stops): drop needless vertices, up to 200 shortcut
+    // attempts, drop again
+    const auto left = [&] {
+      return o.time_limit - std::chrono::duration<double>(clock::now() - t0).count();
+    };
+    og::PathSimplifier simplifier(si);
+    if (left() > 0) simplifier.reduceVertices(path);
+    for (int k = 0; k < 20 && left() > 0; ++k) simplifier.shortcutPath(path, 10);
+    if (left() > 0) simplifier.reduceVertices(path);
+  }
+  // the shortened path's new edges are checked at other points than the planner's: if the
+  // check of the whole path finds a collision there, keep the planner's path (every edge of
+  // which the planner checked)
+  if (o.shorten && !path.check()) path = raw;
+  res.waypoints.resize(path.getStateCount(), n);
+  for (size_t k = 0; k < path.getStateCount(); ++k) {
+    const auto* rv = path.getState(k)->as<ob::RealVectorStateSpace::StateType>();
+    for (int i = 0; i < n; ++i) res.waypoints(k, i) = rv->values[i];
+  }
+  res.path_length = 0;
+  for (Eigen::Index k = 0; k + 1 < res.waypoints.rows(); ++k)
+    res.path_length += (res.waypoints.row(k + 1) - res.waypoints.row(k)).norm();
+  Eigen::VectorXd vel(n), acc(n);
+  for (int i = 0; i < n; ++i) {
+    const double v = kin.velocity_limits()[i];
+    vel[i] = (v > 0 ? v : o.default_velocity) * o.velocity_scale;
+    acc[i] = o.acceleration;
+  }
+  const Result r = time_parameterize(res.waypoints, vel, acc, o.sample_period, res);
+  if (!r.ok()) return finish(TransitStatus::invalid_argument, r.message);
+  return finish(TransitStatus::ok, "");
+}
+
+#endif  // A2L_HAVE_BULLET && A2L_HAVE_OMPL
+
+}  // namespace a2l

@@ -1,0 +1,76 @@
+"""The child process of :func:`a2l.planning.solve_files`: runs one planner, prints JSON.
+
+Run as ``python -m a2l.planning._child '{"planner": ..., "domain": ..., "problem": ...}'``;
+prints ``{"status": ..., "payload": ...}`` on its last line of output.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from typing import Any
+
+
+def _pyperplan(domain: str, problem: str, search: str, heuristic: str) -> tuple[str, Any]:
+    from pyperplan import planner as pp
+
+    searches = pp.SEARCHES
+    heuristics = pp.HEURISTICS
+    if not isinstance(heuristics, dict):  # older releases: a list of classes
+        heuristics = {h.__name__[:-len("Heuristic")].lower(): h for h in heuristics}
+    if search not in searches:
+        return "error", f"unknown pyperplan search {search!r}; choose from {sorted(searches)}"
+    if heuristic not in heuristics:
+        return "error", (f"unknown pyperplan heuristic {heuristic!r}; choose from "
+                         f"{sorted(heuristics)}")
+    blind_search = search in ("bfs", "ids", "sat")
+    plan = pp.search_plan(domain, problem, searches[search],
+                          None if blind_search else heuristics[heuristic])
+    if plan is None:
+        if search in ("ehs", "ids", "sat"):  # incomplete or bounded: no proof
+            return "unsolvable", f"pyperplan's {search} search found no plan (not a proof)"
+        return "unsolvable", f"pyperplan's {search} search exhausted the state space"
+    steps = []
+    for op in plan:
+        tokens = op.name.strip("()").split()
+        steps.append((tokens[0], tuple(tokens[1:])))
+    return "solved", steps
+
+
+def _fast_downward(domain: str, problem: str, time_limit: float) -> tuple[str, Any]:
+    from unified_planning.engines import PlanGenerationResultStatus as S
+    from unified_planning.io import PDDLReader
+    from unified_planning.shortcuts import OneshotPlanner, get_environment
+
+    get_environment().credits_stream = None
+    task = PDDLReader().parse_problem(domain, problem)
+    with OneshotPlanner(name="fast-downward") as planner:
+        res = planner.solve(task, timeout=time_limit)
+    if res.status in (S.SOLVED_SATISFICING, S.SOLVED_OPTIMALLY):
+        return "solved", [(a.action.name, tuple(str(p) for p in a.actual_parameters))
+                          for a in res.plan.actions]
+    if res.status in (S.UNSOLVABLE_PROVEN, S.UNSOLVABLE_INCOMPLETELY):
+        return "unsolvable", f"Fast Downward (LAMA-first) reports {res.status.name}"
+    if res.status == S.TIMEOUT:
+        return "timeout", "Fast Downward reached the time limit"
+    return "error", f"Fast Downward ended with {res.status.name}: {res.log_messages}"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the planner named in the JSON argument and print the outcome as JSON."""
+    args = json.loads((argv if argv is not None else sys.argv[1:])[0])
+    try:
+        if args["planner"] == "pyperplan":
+            status, payload = _pyperplan(args["domain"], args["problem"], args["search"],
+                                         args["heuristic"])
+        else:
+            status, payload = _fast_downward(args["domain"], args["problem"],
+                                             args["time_limit"])
+    except Exception as exc:  # reported to the parent, which names it
+        status, payload = "error", f"{type(exc).__name__}: {exc}"
+    print("\n" + json.dumps({"status": status, "payload": payload}), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,203 @@
+"""Collision-free transit of an arm between skills: the C++ planner (OMPL + Bullet) from Python.
+
+:class:`ArmTransit` builds :class:`a2l._core.TransitPlanner` for one arm of a robot from its
+URDF (collision meshes read by :func:`a2l.sim.assets.mesh_vertices` and turned into convex
+hulls in C++), ignores the link pairs that touch at the neutral pose, and plans with the
+obstacles of a PyBullet scene; :func:`execute_transit` runs a planned trajectory in that
+scene as joint position targets. See ``docs/planning.md``.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from a2l import _core
+from a2l.errors import A2LError, A2LValueError, URDFError
+from a2l.robot import arm_spec, pybullet_urdf
+from a2l.sim.assets import mesh_vertices
+
+__all__ = ["ArmTransit", "TransitPlan", "execute_transit", "urdf_collision_meshes"]
+
+
+def urdf_collision_meshes(urdf: str | Path) -> dict[str, NDArray[np.float64]]:
+    """Vertices (k, 3) of every collision mesh of a URDF, keyed by its filename attribute.
+
+    Raises
+    ------
+    a2l.URDFError
+        A mesh cannot be read.
+    """
+    out: dict[str, NDArray[np.float64]] = {}
+    root = ET.parse(str(urdf)).getroot()
+    for col in root.iter("collision"):
+        for mesh in col.iter("mesh"):
+            name = mesh.get("filename", "")
+            path = Path(name)
+            if not path.is_absolute():
+                path = Path(urdf).parent / path
+            verts = mesh_vertices(path)
+            if verts is None or len(verts) < 4:
+                raise URDFError(f"URDF '{urdf}': cannot read collision mesh '{name}'")
+            out[name] = verts
+    return out
+
+
+@dataclass(frozen=True)
+class TransitPlan:
+    """A planned transit (or why there is none).
+
+    Attributes
+    ----------
+    status : str
+        ``ok`` or a :class:`a2l._core.TransitStatus` name (``no_path``, ``goal_in_collision``...).
+    message : str
+        Why, when not ok.
+    planning_time : float
+        s.
+    waypoints : ndarray, shape (m, n)
+        The collision-free joint-space polyline.
+    times : ndarray, shape (k,)
+    positions, velocities, accelerations : ndarray, shape (k, n)
+        The time-parameterised trajectory.
+    duration : float
+        s, of the trajectory.
+    path_length : float
+        rad, summed joint-space length of `waypoints`.
+    """
+
+    status: str
+    message: str
+    planning_time: float
+    waypoints: NDArray[np.float64]
+    times: NDArray[np.float64]
+    positions: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    accelerations: NDArray[np.float64]
+    duration: float
+    path_length: float
+
+    @property
+    def ok(self) -> bool:
+        """True if a path was found."""
+        return self.status == "ok"
+
+
+class ArmTransit:
+    """Transit planning for one arm of a robot.
+
+    Parameters
+    ----------
+    robot : str
+        ``"baxter"`` (or ``"panda"``).
+    arm : str
+        ``"right"`` or ``"left"``.
+    padding : float
+        m added around every obstacle box.
+    velocity_scale : float
+        Fraction of the URDF velocity limits the trajectory may use.
+    acceleration : float
+        rad/s^2, every joint.
+    time_limit : float
+        s per planning call.
+    """
+
+    def __init__(self, robot: str = "baxter", arm: str = "right", padding: float = 0.02,
+                 velocity_scale: float = 0.5, acceleration: float = 1.5,
+                 time_limit: float = 2.0, resolution: float = 0.01) -> None:
+        if not _core.transit_available():
+            raise A2LError("this build of a2l has no transit planner (needs Bullet and OMPL)")
+        spec = arm_spec(robot, arm)
+        urdf = pybullet_urdf(spec.urdf)
+        self.spec = spec
+        self.padding = float(padding)
+        self.planner = _core.TransitPlanner(str(urdf), spec.base_link, spec.tip_link,
+                                            urdf_collision_meshes(urdf))
+        self.neutral = np.asarray(spec.neutral, dtype=float)
+        self.options = _core.TransitOptions()
+        self.options.velocity_scale = velocity_scale
+        self.options.acceleration = acceleration
+        self.options.time_limit = time_limit
+        self.options.resolution = resolution
+        self._neutral_allowed = False
+
+    @property
+    def joint_names(self) -> list[str]:
+        """The arm's joints, base to tip."""
+        return list(self.planner.joint_names)
+
+    def set_robot_joints(self, positions: dict[str, float]) -> None:
+        """Positions of the joints outside the arm (the other arm, head, fingers); the pairs
+        in collision at the neutral pose are then ignored (once)."""
+        self.planner.set_joint_positions(positions)
+        if not self._neutral_allowed:
+            self.planner.allow_collisions_at(self.neutral)
+            self._neutral_allowed = True
+
+    def set_obstacles(self, boxes: list[tuple[str, ArrayLike, ArrayLike]]) -> None:
+        """Replace the obstacles: (name, centre (3,), half-extents (3,)) axis-aligned boxes."""
+        self.planner.set_obstacles(
+            [_core.CollisionBox(n, np.asarray(c, float), np.asarray(h, float))
+             for n, c, h in boxes], self.padding)
+
+    def sync(self, scene: Any, ignore: tuple[str, ...] = ()) -> None:
+        """Take the other joints and the obstacles from a PyBullet scene
+        (:class:`a2l.sim.bullet.BulletScene`), leaving out the objects named in `ignore`
+        (an object in the gripper moves with it: it is no obstacle)."""
+        self.set_robot_joints(scene.other_joint_positions())
+        self.set_obstacles([b for b in scene.obstacle_boxes()
+                            if b[0] not in ignore and b[0].split("_")[0] not in ignore])
+
+    def in_collision(self, q: ArrayLike) -> bool:
+        """True if the arm at `q` (n,) collides with an obstacle or the robot."""
+        return bool(self.planner.in_collision(np.asarray(q, dtype=float)))
+
+    def plan(self, q_start: ArrayLike, q_goal: ArrayLike, seed: int = 0,
+             time_limit: float | None = None) -> TransitPlan:
+        """Plan from `q_start` to `q_goal` (n,) each; never raises for a failed search."""
+        if not self._neutral_allowed:
+            self.set_robot_joints({})
+        opts = _core.TransitOptions()
+        for k in ("velocity_scale", "acceleration", "resolution", "sample_period", "shorten",
+                  "default_velocity"):
+            setattr(opts, k, getattr(self.options, k))
+        opts.time_limit = self.options.time_limit if time_limit is None else float(time_limit)
+        opts.seed = int(seed)
+        r = self.planner.plan(np.asarray(q_start, float), np.asarray(q_goal, float), opts)
+        return TransitPlan(_core.transit_status_name(r.status), r.message, r.planning_time,
+                           np.asarray(r.waypoints), np.asarray(r.times), np.asarray(r.positions),
+                           np.asarray(r.velocities), np.asarray(r.accelerations), r.duration,
+                           r.path_length)
+
+    def velocity_limits(self) -> NDArray[np.float64]:
+        """Joint velocity limits (n,) the trajectories respect (URDF x velocity_scale)."""
+        from a2l import Kinematics
+
+        k = Kinematics(self.spec.urdf, self.spec.base_link, self.spec.tip_link)
+        v = np.asarray(k.velocity_limits, dtype=float)
+        v = np.where(v > 0, v, self.options.default_velocity)
+        return v * self.options.velocity_scale
+
+
+def execute_transit(scene: Any, plan: TransitPlan) -> float:
+    """Run a planned transit in a PyBullet scene as joint position targets.
+
+    Returns
+    -------
+    float
+        Largest joint error (rad) to the goal at the end.
+
+    Raises
+    ------
+    a2l.A2LValueError
+        The plan has no trajectory.
+    """
+    if not plan.ok:
+        raise A2LValueError(f"execute_transit: the plan has no trajectory ({plan.status}: "
+                            f"{plan.message})")
+    return scene.follow_joint_trajectory(plan.times, plan.positions)
