@@ -23,8 +23,6 @@ from a2l.planning import (
     unmet,
 )
 
-pytest.importorskip("pyperplan")
-
 REGIONS = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
 PUSHES = ("left", "right", "close", "far")
 
@@ -63,8 +61,6 @@ def test_regions_and_state() -> None:
 
 @pytest.mark.parametrize("planner", ["pyperplan", "fast-downward"])
 def test_realistic_repertoire_solves(planner: str, tmp_path) -> None:
-    if planner == "fast-downward":
-        pytest.importorskip("up_fast_downward")
     skills = repertoire()
     dom = domain_pddl(skills)
     prob = problem_pddl(skills, state(), GOAL)
@@ -79,7 +75,6 @@ def test_realistic_repertoire_solves(planner: str, tmp_path) -> None:
 
 
 def test_both_planners_same_length(tmp_path) -> None:
-    pytest.importorskip("up_fast_downward")
     skills = repertoire()
     dom, prob = domain_pddl(skills), problem_pddl(skills, state(), GOAL)
     a = solve(dom, prob, tmp_path, planner="pyperplan", time_limit=60)
@@ -94,8 +89,6 @@ def test_both_planners_same_length(tmp_path) -> None:
 
 @pytest.mark.parametrize("planner", ["pyperplan", "fast-downward"])
 def test_impossible_goal_no_plan_within_limit(planner: str, tmp_path) -> None:
-    if planner == "fast-downward":
-        pytest.importorskip("up_fast_downward")
     skills = repertoire()
     goal = "(and (holding block) (at block far-left))"  # held objects are on no region
     t0 = time.perf_counter()
