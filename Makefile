@@ -17,7 +17,7 @@ PIP := $(PY) -m pip --disable-pip-version-check
 
 APT_PACKAGES := build-essential git libeigen3-dev libbullet-dev liborocos-kdl-dev liburdfdom-dev \
   libompl-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev zlib1g-dev libssl-dev \
-  libboost-serialization-dev libboost-filesystem-dev libboost-system-dev clang libclang-rt-14-dev
+  libboost-serialization-dev libboost-filesystem-dev libboost-system-dev clang clang-format libclang-rt-14-dev
 
 CXX_SOURCES := $(shell find cpp bindings -name '*.cpp' -o -name '*.hpp' 2>/dev/null) CMakeLists.txt
 CXX_TEST_SOURCES := $(shell find tests/cpp benchmarks/cpp -name '*.cpp' 2>/dev/null)
