@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "a2l/bundle.hpp"
 #include "a2l/diffeo.hpp"
 #include "common.hpp"
 
@@ -314,6 +315,46 @@ dict
         return "<a2l._core.DiffeoDS d=" + std::to_string(p.maps.dim) +
                ", K=" + std::to_string(p.maps.n_maps()) + ">";
       });
+
+  m.def(
+      "load_ds",
+      [](const py::object& path) {
+        const std::string s = py::str(py::module_::import("os").attr("fspath")(path));
+        DiffeoMaps maps;
+        Result r;
+        {
+          py::gil_scoped_release release;
+          r = load_ds_bundle(s, maps);
+        }
+        check_bundle(r);
+        return make_ds(std::move(maps));
+      },
+      py::arg("path"), R"doc(Load the DS of a bundle file (kind "ds", or a skill with a DS).
+
+Raises
+------
+a2l.BundleError
+    Malformed, corrupted, of another schema version, without a DS, or a map breaking the
+    invertibility bound (the message names the field or the map's index).
+a2l.A2LFileNotFoundError
+    The file cannot be read.
+)doc");
+  m.def(
+      "load_ds_from_memory",
+      [](const py::bytes& data, const std::string& source) {
+        const std::string_view v = data;
+        DiffeoMaps maps;
+        Result r;
+        {
+          py::gil_scoped_release release;
+          r = load_ds_bundle_from_memory(reinterpret_cast<const std::uint8_t*>(v.data()), v.size(),
+                                         maps, source);
+        }
+        check_bundle(r);
+        return make_ds(std::move(maps));
+      },
+      py::arg("data"), py::arg("source") = "<memory>",
+      "Load the DS of bundle bytes; raises a2l.BundleError naming the field or the map.");
 }
 
 }  // namespace a2l::bindings
