@@ -130,18 +130,43 @@ DiffeoMaps DiffeoDS<D>::maps() const {
   return m;
 }
 
+namespace {
+
+// exp(phi) for |phi| <= 1/32: Taylor polynomial of degree 8 (Estrin's scheme); relative error
+// below 1e-19.
+inline double exp_small(double phi) noexcept {
+  const double p2 = phi * phi, p4 = p2 * p2;
+  const double q01 = 1.0 + phi, q23 = 0.5 + phi * (1.0 / 6.0);
+  const double q45 = 1.0 / 24.0 + phi * (1.0 / 120.0), q67 = 1.0 / 720.0 + phi * (1.0 / 5040.0);
+  return (q01 + p2 * q23) + p4 * ((q45 + p2 * q67) + p4 * (1.0 / 40320.0));
+}
+
+constexpr double kSmallPhi = 1.0 / 32.0;
+// Halley's error after a step s is about C |s|^3 with C = O(1 / g'^2) under the invertibility
+// bound (the second and third derivatives of g are O(1)): accepting |s|^3 <= kAccept g'^2 leaves
+// an error below ~1e-17.
+constexpr double kAccept = 3e-20;
+
+}  // namespace
+
+// Undo one map at y, z = y - c. With t0 = rho^2 ||z||^2, a = 2 rho^2 z.v and b = rho^2 ||v||^2,
+// the weight k solves g(k) = k - exp(-t0) exp(phi(k)) = 0 with phi(k) = k (a - b k):
+// g(0) <= 0 <= g(1) and g' >= 1 - rho ||v|| / sqrt(e/2) > 0 under the bound, so [0, 1] brackets
+// the one root. At k: g' = 1 - e (a - 2 b k), g'' = -e ((a - 2 b k)^2 - 2 b), e = exp(-t0 + phi).
+// While |phi| <= 1/32, exp(phi) is a short polynomial: most solves need one exp, exp(-t0).
 template <int D>
 double DiffeoDS<D>::solve_weight(const Map& m, const Vec& z) noexcept {
-  if (z.squaredNorm() > m.skip_zz) return 0.0;  // the weight underflows for every k
-  // g(k) = k - exp(-rho^2 ||z - k v||^2): g(0) <= 0 <= g(1) and g' >= 1 - rho ||v|| / sqrt(e/2)
-  // > 0 under the bound, so [0, 1] brackets the one root. Halley steps (Newton's with the
-  // curvature g'', cubic convergence) safeguarded as Numerical Recipes' rtsafe: bisection
-  // whenever a step leaves the bracket or does not halve the step before last.
-  double k = 0.0, lo = 0.0, hi = 1.0, dx_old = 2.0, dx = 2.0;
-  Vec w = z;
+  const double zz = z.squaredNorm();
+  if (zz > m.skip_zz) return 0.0;  // the weight underflows for every k
+  const double t0 = m.rho2 * zz;
+  const double a = 2.0 * m.rho2 * z.dot(m.v), b = m.rho2 * m.vv;
+  const double e0 = std::exp(-t0);
+  if (e0 == 0.0) return 0.0;         // g(0) = 0
+  const bool factored = t0 < 700.0;  // exp(-t0) is a normal number
+  // Halley steps safeguarded as Numerical Recipes' rtsafe (bisection whenever a step
+  // leaves the bracket or does not halve the step before last), at most kDiffeoMaxIterations.
+  double k = 0.0, lo = 0.0, hi = 1.0, dx_old = 2.0, dx = 2.0, e = e0;
   for (int it = 0; it < kDiffeoMaxIterations; ++it) {
-    const double wv = w.dot(m.v);
-    const double e = std::exp(-m.rho2 * w.squaredNorm());
     const double g = k - e;
     if (g < 0.0) {
       lo = k;
@@ -150,11 +175,11 @@ double DiffeoDS<D>::solve_weight(const Map& m, const Vec& z) noexcept {
     } else {
       return k;
     }
-    const double gp = 1.0 - 2.0 * m.rho2 * e * wv;
-    const double gpp = -2.0 * m.rho2 * e * (2.0 * m.rho2 * wv * wv - m.vv);
-    const double newton = g / gp;
-    const double denom = 1.0 - 0.5 * newton * gpp / gp;
-    const double step = denom > 0.5 ? newton / denom : newton;
+    const double ak = a - 2.0 * b * k;
+    const double gp = 1.0 - e * ak, gpp = -e * (ak * ak - 2.0 * b);
+    const double den = 2.0 * gp * gp - g * gpp;
+    // Halley's step while its correction to Newton's is mild, else Newton's
+    const double step = den > gp * gp ? 2.0 * g * gp / den : g / gp;
     double kn = k - step;
     if (!(kn > lo && kn < hi) || std::abs(2.0 * step) > std::abs(dx_old)) {
       dx_old = dx;
@@ -164,12 +189,12 @@ double DiffeoDS<D>::solve_weight(const Map& m, const Vec& z) noexcept {
     } else {
       dx_old = dx;
       dx = step;
-      // Halley's error after this step is about C |step|^3 with C = O(1 / g'^2) under the
-      // bound (the second and third derivatives of g are O(1)): below ~1e-17 here.
-      if (std::abs(step) * step * step <= 3e-20 * gp * gp) return kn;
+      if (std::abs(step) * step * step <= kAccept * gp * gp) return kn;
     }
     k = kn;
-    w = z - k * m.v;
+    const double phi = k * (a - b * k);
+    e = factored && std::abs(phi) <= kSmallPhi ? e0 * exp_small(phi)
+                                               : std::exp(-m.rho2 * (z - k * m.v).squaredNorm());
   }
   return k;
 }

@@ -211,6 +211,24 @@ void check_velocity(std::uint64_t seed) {
 }
 
 TEST(Diffeo, VelocityMatchesPlainImplementation2D) { check_velocity<2>(21); }
+TEST(Diffeo, VelocityMatchesPlainImplementationGentleWideMaps) {
+  // as fitted on LASA: wide maps (every weight far from underflow) with rho ||v|| well below
+  // the bound, where the weight's exponential is mostly a short polynomial
+  const DiffeoMaps m = random_maps(2, 150, 23, 0.01, 0.2, 3.0);
+  const DiffeoDS<2> ds = make<2>(m);
+  const Plain<2> plain{m};
+  std::mt19937_64 rng(24);
+  for (int n = 0; n < 300; ++n) {
+    const Eigen::Vector2d x = random_point<2>(rng, 5.0);
+    Eigen::Vector2d f, z, y, back;
+    ASSERT_EQ(ds.velocity(x, f, z), Status::ok);
+    const Eigen::Vector2d ref = plain.velocity(x);
+    EXPECT_LT((f - ref).norm(), 1e-9 * (1.0 + ref.norm())) << "x = " << x.transpose();
+    ASSERT_EQ(ds.forward(x, y), Status::ok);
+    ASSERT_EQ(ds.inverse(y, back), Status::ok);
+    EXPECT_LT((back - x).lpNorm<Eigen::Infinity>(), 1e-10);
+  }
+}
 TEST(Diffeo, VelocityMatchesPlainImplementation3D) { check_velocity<3>(22); }
 
 TEST(Diffeo, NoMapsIsTheLinearSystem) {
