@@ -13,7 +13,7 @@
 //! velocity, rollout) uses fixed-size Eigen vectors, allocates nothing, throws nothing and
 //! returns a Status: `invalid_argument` for a non-finite input (or a result that overflows),
 //! `size_mismatch` for a wrong buffer size. The inverse of one map is a scalar equation in its
-//! weight k (see DiffeoDS::inverse), solved by safeguarded Newton iterations inside a
+//! weight k (see DiffeoDS::inverse), solved by safeguarded Halley iterations inside a
 //! guaranteed bracket with at most kDiffeoMaxIterations iterations: bounded time. Maps whose
 //! weight underflows to 0 in double (rho^2 ||.||^2 > kDiffeoUnderflow) are skipped, which gives
 //! the same result as evaluating them.
@@ -95,7 +95,7 @@ class DiffeoDS {
   //! x = Phi^{-1}(y), maps undone in reverse index order. For one map, with z = y - c and
   //! x = y - k v, the weight k solves g(k) = k - exp(-rho^2 ||z - k v||^2) = 0 in (0, 1];
   //! g(0) <= 0 <= g(1) and g is strictly increasing under the invertibility bound, so
-  //! safeguarded Newton (bisection when a step leaves the bracket) converges within
+  //! safeguarded Halley steps (bisection when a step leaves the bracket) converge within
   //! kDiffeoMaxIterations iterations. \return `invalid_argument` if y is not finite.
   Status inverse(const Vec& y, Vec& x) const noexcept;
 
