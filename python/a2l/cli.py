@@ -189,10 +189,12 @@ def _add_lasa_parser(exps: argparse._SubParsersAction) -> None:
     lasa.add_argument("--shapes", metavar="A,B,...", default=None,
                       help="comma-separated shape names (default: all 30)")
     lasa.add_argument("--K", type=_positive_int, default=150, help="maps (default 150)")
-    lasa.add_argument("--beta", type=float, default=0.5,
-                      help="fraction of the largest error one map corrects (default 0.5)")
-    lasa.add_argument("--mu", type=float, default=0.9,
-                      help="safety factor of the invertibility bound (default 0.9)")
+    lasa.add_argument("--beta", type=float, default=None,
+                      help="fraction of the largest error one map corrects (default: the "
+                      "original implementation's schedule, 1/3 -> 0.9 over the maps)")
+    lasa.add_argument("--mu", type=float, default=None,
+                      help="safety factor of the invertibility bound (default: a schedule "
+                      "0.8 -> 0.65 over the maps)")
     lasa.add_argument("--starts", type=_positive_int, default=10_000, metavar="N",
                       help="random starts per shape for the convergence test (default 10000)")
     lasa.add_argument("--seed", type=_nonnegative_int, default=0,

@@ -56,6 +56,19 @@ def test_fit_reduces_the_error_with_more_maps():
     assert errs[0] > errs[1] > errs[2]
 
 
+def test_fit_with_schedules_respects_each_maps_bound():
+    from a2l.lfd.fit import BETA_SCHEDULE, MU_SCHEDULE, schedule
+
+    mus = schedule(MU_SCHEDULE, 100)
+    assert mus[0] == MU_SCHEDULE[0] and mus[-1] == MU_SCHEDULE[-1]
+    res = fit_diffeo(_curve(2), K=100, beta=schedule(BETA_SCHEDULE, 99), mu=mus)
+    k = len(res.rhos)
+    used = np.concatenate([mus[: k - 1], mus[-1:]])
+    assert np.all(res.rhos * np.linalg.norm(res.vectors, axis=1) <= used * SQRT_E_HALF + 1e-12)
+    with pytest.raises(ValueError):
+        fit_diffeo(_curve(2), K=10, mu=np.full(9, 0.5))     # one mu per map: 10 needed
+
+
 def test_cpp_evaluation_agrees_with_the_numpy_reference(fitted):
     ds, x = fitted
     rng = np.random.default_rng(1)

@@ -42,8 +42,13 @@ class LasaConfig:
 
     Attributes
     ----------
-    K, beta, mu : int, float, float
-        Fit parameters (METHOD.md; paper values).
+    K : int
+        Maps per DS.
+    beta, mu : float or None
+        Constant fit parameters; None (default) uses the schedules over the maps
+        :data:`a2l.lfd.fit.BETA_SCHEDULE` and :data:`a2l.lfd.fit.MU_SCHEDULE`.
+    regularisation : float
+        Weight of rho^2 in the width search.
     n_starts : int
         Random starts per shape for the convergence test.
     tolerance : float
@@ -63,8 +68,9 @@ class LasaConfig:
     """
 
     K: int = 150
-    beta: float = 0.5
-    mu: float = 0.9
+    beta: float | None = None
+    mu: float | None = None
+    regularisation: float = 1e-5
     n_starts: int = 10_000
     tolerance: float = 0.5
     enlarge: float = 0.5
@@ -78,10 +84,20 @@ class LasaConfig:
         """Raise ValueError naming the first out-of-range parameter."""
         if self.K < 1:
             raise ValueError(f"K must be >= 1, got {self.K}")
-        if not 0 < self.beta <= 1:
+        if self.beta is not None and not 0 < self.beta <= 1:
             raise ValueError(f"beta must be in (0, 1], got {self.beta}")
-        if not 0 < self.mu < 1:
+        if self.mu is not None and not 0 < self.mu < 1:
             raise ValueError(f"mu must be in (0, 1), got {self.mu}")
+        if not self.regularisation >= 0:
+            raise ValueError(f"regularisation must be >= 0, got {self.regularisation}")
+
+    def fit_parameters(self) -> dict[str, Any]:
+        """Keyword arguments of :func:`a2l.lfd.fit.fit_diffeo` (K, beta, mu, regularisation)."""
+        from a2l.lfd.fit import BETA_SCHEDULE, MU_SCHEDULE, schedule
+
+        beta = schedule(BETA_SCHEDULE, max(self.K - 1, 1)) if self.beta is None else self.beta
+        mu = schedule(MU_SCHEDULE, self.K) if self.mu is None else self.mu
+        return {"K": self.K, "beta": beta, "mu": mu, "regularisation": self.regularisation}
         for name in ("n_starts", "start_steps", "dmp_weights", "grid"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
@@ -159,11 +175,12 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
     speed = speed_gain(duration)
 
     w0, c0 = time.perf_counter(), time.thread_time()
-    fitted = fit_diffeo(ref, K=cfg.K, beta=cfg.beta, mu=cfg.mu)
+    fitted = fit_diffeo(ref, **cfg.fit_parameters())
     fit_ms = (time.perf_counter() - w0) * 1e3
     fit_cpu_ms = (time.thread_time() - c0) * 1e3
     ds = DiffeoDS.from_maps(fitted.target, fitted.centers, fitted.vectors, fitted.rhos, speed,
-                            {"shape": name, "K": cfg.K, "beta": cfg.beta, "mu": cfg.mu,
+                            {"shape": name, "K": cfg.K, "beta": cfg.beta or "schedule",
+                             "mu": cfg.mu or "schedule", "regularisation": cfg.regularisation,
                              "max_error": fitted.max_error, "duration": duration})
 
     reps = [ds.rollout(d[0], t / (len(d) - 1), len(d), "rk4")
@@ -239,8 +256,10 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     if unknown:
         raise ValueError(f"unknown LASA shape(s) {unknown}; known: {', '.join(known)}")
     run_dir = make_run_dir("lasa", out)
-    command = (f"a2l experiment lasa --out {run_dir} --K {cfg.K} --beta {cfg.beta} "
-               f"--mu {cfg.mu} --starts {cfg.n_starts} --seed {cfg.seed} --workers {workers}"
+    command = (f"a2l experiment lasa --out {run_dir} --K {cfg.K}"
+               + ("" if cfg.beta is None else f" --beta {cfg.beta}")
+               + ("" if cfg.mu is None else f" --mu {cfg.mu}")
+               + f" --starts {cfg.n_starts} --seed {cfg.seed} --workers {workers}"
                + ("" if shapes == known else f" --shapes {','.join(shapes)}"))
     write_json(run_dir / "config.json", {"experiment": "lasa", "lasa": asdict(cfg),
                                          "shapes": shapes, "workers": workers,

@@ -39,7 +39,8 @@ def report_markdown(metrics: dict[str, Any], cfg: Any, command: str, plots: bool
     return "\n".join([
         f"# LASA handwriting benchmark ({len(metrics['shapes'])} shapes)",
         "",
-        f"Command: `{command}`; K = {cfg.K}, beta = {cfg.beta}, mu = {cfg.mu}, "
+        f"Command: `{command}`; K = {cfg.K}, beta = {cfg.beta or 'schedule'}, "
+        f"mu = {cfg.mu or 'schedule'}, regularisation = {cfg.regularisation:g}, "
         f"{cfg.n_starts} random starts per shape (seed {cfg.seed} + shape index), "
         f"{metrics['workers']} worker(s), {metrics['wall_s']:.0f} s.",
         "",

@@ -67,7 +67,8 @@ class DiffeoDS:
 
     @classmethod
     def fit(cls, trajectory: Trajectory | Sequence[Trajectory], K: int = 150,
-            beta: float = 0.5, mu: float = 0.9, duration: float | None = None,
+            beta: float | np.ndarray = 0.5, mu: float | np.ndarray = 0.9,
+            duration: float | None = None,
             regularisation: float = 1e-4) -> DiffeoDS:
         """Fit a DS to one demonstration, or to the time-aligned mean of several.
 
@@ -77,8 +78,9 @@ class DiffeoDS:
             The demonstration(s); the target is the (mean) last point. Several are
             resampled on their own normalised time and averaged point by point
             (:func:`a2l.lfd.fit.mean_demonstration`).
-        K, beta, mu : int, float, float
-            Maps, correction fraction and safety factor (:func:`a2l.lfd.fit.fit_diffeo`).
+        K, beta, mu : int, float or array, float or array
+            Maps, correction fraction and safety factor, constant or per map
+            (:func:`a2l.lfd.fit.fit_diffeo`, :func:`a2l.lfd.fit.schedule`).
         duration : float, optional
             Demonstration duration (s) the reproduction should last; default: the
             Demonstrations' mean duration, or 1 s for bare arrays. Sets the speed gain
@@ -99,7 +101,8 @@ class DiffeoDS:
         t0 = time.perf_counter()
         res = fit_diffeo(ref, K=K, beta=beta, mu=mu, regularisation=regularisation)
         fit_ms = (time.perf_counter() - t0) * 1e3
-        meta = {"K": K, "beta": beta, "mu": mu, "regularisation": regularisation,
+        meta = {"K": K, "beta": np.asarray(beta).tolist(), "mu": np.asarray(mu).tolist(),
+                "regularisation": regularisation,
                 "duration": duration, "n_demonstrations": len(arrays),
                 "max_error": res.max_error, "fit_ms": fit_ms}
         first = items[0]

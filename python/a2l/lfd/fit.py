@@ -30,7 +30,24 @@ import numpy as np
 
 from a2l.lfd.reference import SQRT_E_HALF
 
-__all__ = ["FitResult", "fit_diffeo", "line_source", "mean_demonstration", "speed_gain"]
+__all__ = [
+    "BETA_SCHEDULE",
+    "MU_SCHEDULE",
+    "FitResult",
+    "fit_diffeo",
+    "line_source",
+    "mean_demonstration",
+    "schedule",
+    "speed_gain",
+]
+
+#: beta over the maps in the original implementation (``schlepil/diffeo``): the inverses of
+#: its division coefficients 3, 3, 2.5, 2, 1.66, 1.33, 1.1 at 7 equally spaced maps.
+BETA_SCHEDULE = tuple(1.0 / np.array([3.0, 3.0, 2.5, 2.0, 1.66, 1.33, 1.1]))
+#: mu over the maps used by the LASA benchmark: the original implementation's safety
+#: coefficients (0.9, 0.9, 0.9, 0.85, 0.8, 0.75, 0.75) lowered by 0.1, which keeps the DS
+#: less stiff (selected on LASA itself: see the README's LASA section).
+MU_SCHEDULE = (0.8, 0.8, 0.8, 0.75, 0.7, 0.65, 0.65)
 
 _GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 
@@ -105,6 +122,14 @@ def mean_demonstration(trajectories: list[np.ndarray], n: int | None = None) -> 
     return out / len(trajs)
 
 
+def schedule(values: tuple[float, ...], n: int) -> np.ndarray:
+    """`values` at equally spaced anchors, linearly interpolated over `n` maps, shape (n,)."""
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    anchors = np.linspace(0.0, max(n - 1, 1), len(values))
+    return np.interp(np.arange(n, dtype=float), anchors, np.asarray(values, dtype=float))
+
+
 def speed_gain(duration: float, fraction: float = 0.01) -> float:
     """Gain ``k`` of ``ydot = -k (y - target)`` so that a reproduction lasts `duration`.
 
@@ -140,9 +165,10 @@ def _golden_min(a2: float, r2: np.ndarray, av: np.ndarray, vv: float, n: int, hi
     return 0.5 * (lo + hi)
 
 
-def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float = 0.5, mu: float = 0.9,
+def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 0.5,
+               mu: float | np.ndarray = 0.9,
                regularisation: float = 1e-4, tol: float = 1e-6,
-               search_iterations: int = 30) -> FitResult:
+               search_iterations: int = 30, source: np.ndarray | None = None) -> FitResult:
     """Fit the maps of a diffeomorphism from the line space onto `trajectory`.
 
     Parameters
@@ -151,16 +177,19 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float = 0.5, mu: floa
         The demonstration; its last point is the target.
     K : int
         Maximum number of maps (the last one matches the end point).
-    beta : float in (0, 1]
-        Fraction of the largest error that one map corrects.
-    mu : float in (0, 1)
-        Safety factor of the invertibility bound: ``rho ||v|| <= mu sqrt(e/2)``.
+    beta : float in (0, 1], or array (K - 1,)
+        Fraction of the largest error that one map corrects (per map if an array).
+    mu : float in (0, 1), or array (K,)
+        Safety factor of the invertibility bound: ``rho ||v|| <= mu sqrt(e/2)`` (per map
+        if an array; the last entry is the end-point map's).
     regularisation : float
         Weight of ``rho^2`` (normalised units) in the search's cost.
     tol : float
         Stop when every error is below it (normalised units).
     search_iterations : int
         Golden-section iterations per map.
+    source : array (N, d), optional
+        The line-space points matched with `trajectory` (default :func:`line_source`).
 
     Returns
     -------
@@ -169,24 +198,28 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float = 0.5, mu: floa
     x = _as_trajectory(trajectory)
     if K < 1:
         raise ValueError(f"K must be >= 1, got {K}")
-    if not 0 < beta <= 1:
+    betas = np.broadcast_to(np.asarray(beta, dtype=float), (K - 1,))
+    mus = np.broadcast_to(np.asarray(mu, dtype=float), (K,))
+    if not np.all((betas > 0) & (betas <= 1)):
         raise ValueError(f"beta must be in (0, 1], got {beta}")
-    if not 0 < mu < 1:
+    if not np.all((mus > 0) & (mus < 1)):
         raise ValueError(f"mu must be in (0, 1), got {mu}")
     target = x[-1].copy()
     scale = float(np.max(np.std(x, axis=0)))
     if not scale > 0:
         raise ValueError("trajectory is a single point: nothing to fit")
     goal = (x - target) / scale
-    cur = (line_source(x) - target) / scale
+    src = line_source(x) if source is None else np.asarray(source, dtype=float)
+    if src.shape != x.shape:
+        raise ValueError(f"source must have the trajectory's shape {x.shape}, got {src.shape}")
+    cur = (src - target) / scale
     n = len(goal)
-    bound = mu * SQRT_E_HALF
     centers, vectors, rhos = [], [], []
 
     res = goal - cur                                   # residual (N, d)
     err = np.einsum("ij,ij->i", res, res)
 
-    def add_map(j: int, b: float) -> None:
+    def add_map(j: int, b: float, m: float) -> None:
         c = cur[j].copy()
         v = b * res[j]
         vn = float(np.sqrt(v @ v))
@@ -195,8 +228,8 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float = 0.5, mu: floa
         diff = cur - c
         r2 = np.einsum("ij,ij->i", diff, diff)
         av = res @ v
-        rho = _golden_min(float(err.sum()), r2, av, vn * vn, n, bound / vn, regularisation,
-                          search_iterations)
+        rho = _golden_min(float(err.sum()), r2, av, vn * vn, n, m * SQRT_E_HALF / vn,
+                          regularisation, search_iterations)
         w = np.exp(-(rho * rho) * r2)
         cur[:] += w[:, None] * v
         res[:] -= w[:, None] * v
@@ -205,12 +238,12 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float = 0.5, mu: floa
         vectors.append(v)
         rhos.append(rho)
 
-    for _ in range(K - 1):
+    for i in range(K - 1):
         j = int(np.argmax(err))
         if err[j] < tol * tol:
             break
-        add_map(j, beta)
-    add_map(n - 1, 1.0)
+        add_map(j, float(betas[i]), float(mus[i]))
+    add_map(n - 1, 1.0, float(mus[-1]))
     d = x.shape[1]
     c = np.asarray(centers).reshape(-1, d)
     v = np.asarray(vectors).reshape(-1, d)
