@@ -161,7 +161,13 @@ double DiffeoDS<D>::solve_weight(const Map& m, const Vec& z) noexcept {
   const double t0 = m.rho2 * zz;
   const double a = 2.0 * m.rho2 * z.dot(m.v), b = m.rho2 * m.vv;
   const double e0 = std::exp(-t0);
-  if (e0 == 0.0) return 0.0;         // g(0) = 0
+  if (e0 == 0.0) return 0.0;  // g(0) = 0
+  if (e0 <= 1e-6) {
+    // A far map: the root's series in e0 (Lagrange inversion of k = e0 exp(phi(k))) to third
+    // order. Here rho ||z|| >= 3.7, so |a| e0 <= 2 rho||z|| rho||v|| e0 < 1e-5 and the first
+    // omitted term, e0^4 a (8 a^2 / 3 - 4 b), is below 1e-20.
+    return e0 * (1.0 + e0 * (a + e0 * (1.5 * a * a - b)));
+  }
   const bool factored = t0 < 700.0;  // exp(-t0) is a normal number
   // Halley steps safeguarded as Numerical Recipes' rtsafe (bisection whenever a step
   // leaves the bracket or does not halve the step before last), at most kDiffeoMaxIterations.
