@@ -88,9 +88,10 @@ def _inverse_one(y: np.ndarray, c: np.ndarray, v: np.ndarray, r: float) -> np.nd
         step = k - g / dg
         inside = (step > lo) & (step < hi)
         k_new = np.where(g == 0, k, np.where(inside, step, 0.5 * (lo + hi)))
-        if np.array_equal(k_new, k):     # converged everywhere: further iterations are no-ops
-            break
+        done = np.max(np.abs(k_new - k)) <= 1e-16   # converged everywhere (k in [0, 1])
         k = k_new
+        if done:
+            break
     return y - k[:, None] * v
 
 
