@@ -20,15 +20,6 @@ namespace py = pybind11;
 namespace a2l::bindings {
 namespace {
 
-// Bundle failures: a missing file is a FileNotFoundError, everything else a BundleError.
-void check_bundle(const Result& r) {
-  if (r.ok()) return;
-  const char* cls = r.status == Status::file_error ? "A2LFileNotFoundError" : "BundleError";
-  py::object type = py::module_::import("a2l.errors").attr(cls);
-  PyErr_SetString(type.ptr(), r.message.c_str());
-  throw py::error_already_set();
-}
-
 std::vector<int> to_bins(const PolicyTable& t, const std::vector<int>& bins) {
   if (static_cast<int>(bins.size()) != t.n_axes()) {
     raise(Status::size_mismatch, "bins: expected " + std::to_string(t.n_axes()) +

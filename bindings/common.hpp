@@ -50,4 +50,14 @@ inline void check(const Result& r) {
   if (!r.ok()) raise(r.status, r.message);
 }
 
+//! Raise if a bundle failed to load: a missing file is an A2LFileNotFoundError, everything
+//! else a BundleError.
+inline void check_bundle(const Result& r) {
+  if (r.ok()) return;
+  const char* cls = r.status == Status::file_error ? "A2LFileNotFoundError" : "BundleError";
+  py::object type = py::module_::import("a2l.errors").attr(cls);
+  PyErr_SetString(type.ptr(), r.message.c_str());
+  throw py::error_already_set();
+}
+
 }  // namespace a2l::bindings

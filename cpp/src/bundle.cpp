@@ -12,6 +12,8 @@
 #include <sstream>
 #include <vector>
 
+#include "bundle_json.hpp"
+
 namespace a2l {
 
 const char kBundleMagic[8] = {'A', '2', 'L', 'B', 'N', 'D', 'L', '\0'};
@@ -30,107 +32,7 @@ std::uint32_t bundle_crc32(const void* data, std::size_t size) noexcept {
 
 namespace {
 
-using json = nlohmann::json;
-
-std::uint32_t read_u32(const std::uint8_t* p) noexcept {
-  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
-         (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
-}
-
-// Collects the first error; every parse helper returns false after setting it.
-struct Errors {
-  Status status = Status::ok;
-  std::string message;
-  bool fail(Status s, std::string msg) {
-    status = s;
-    message = std::move(msg);
-    return false;
-  }
-  bool parse(std::string msg) { return fail(Status::parse_error, std::move(msg)); }
-};
-
-const char* type_name(const json& j) noexcept { return j.type_name(); }
-
-bool get_member(const json& obj, const std::string& where, const char* key, const json*& out,
-                Errors& e) {
-  const auto it = obj.find(key);
-  if (it == obj.end()) return e.parse(where + key + ": missing");
-  out = &*it;
-  return true;
-}
-
-bool get_object(const json& obj, const std::string& where, const char* key, const json*& out,
-                Errors& e) {
-  if (!get_member(obj, where, key, out, e)) return false;
-  if (!out->is_object()) {
-    return e.parse(where + key + ": must be an object, got " + type_name(*out));
-  }
-  return true;
-}
-
-bool get_array(const json& obj, const std::string& where, const char* key, const json*& out,
-               Errors& e) {
-  if (!get_member(obj, where, key, out, e)) return false;
-  if (!out->is_array()) return e.parse(where + key + ": must be an array, got " + type_name(*out));
-  return true;
-}
-
-bool as_string(const json& j, const std::string& field, std::string& out, Errors& e) {
-  if (!j.is_string()) return e.parse(field + ": must be a string, got " + type_name(j));
-  out = j.get<std::string>();
-  return true;
-}
-
-bool get_string(const json& obj, const std::string& where, const char* key, std::string& out,
-                Errors& e) {
-  const json* j = nullptr;
-  return get_member(obj, where, key, j, e) && as_string(*j, where + key, out, e);
-}
-
-bool as_int(const json& j, const std::string& field, std::int64_t lo, std::int64_t hi,
-            std::int64_t& out, Errors& e) {
-  if (j.is_number_unsigned()) {
-    const auto u = j.get<std::uint64_t>();
-    if (u > static_cast<std::uint64_t>(hi)) {
-      return e.parse(field + ": " + std::to_string(u) + " is outside [" + std::to_string(lo) +
-                     ", " + std::to_string(hi) + "]");
-    }
-    out = static_cast<std::int64_t>(u);
-  } else if (j.is_number_integer()) {
-    out = j.get<std::int64_t>();
-  } else {
-    return e.parse(field + ": must be an integer, got " + type_name(j));
-  }
-  if (out < lo || out > hi) {
-    return e.parse(field + ": " + std::to_string(out) + " is outside [" + std::to_string(lo) +
-                   ", " + std::to_string(hi) + "]");
-  }
-  return true;
-}
-
-bool get_int(const json& obj, const std::string& where, const char* key, std::int64_t lo,
-             std::int64_t hi, std::int64_t& out, Errors& e) {
-  const json* j = nullptr;
-  return get_member(obj, where, key, j, e) && as_int(*j, where + key, lo, hi, out, e);
-}
-
-bool get_number(const json& obj, const std::string& where, const char* key, double& out,
-                Errors& e) {
-  const json* j = nullptr;
-  if (!get_member(obj, where, key, j, e)) return false;
-  if (!j->is_number()) return e.parse(where + key + ": must be a number, got " + type_name(*j));
-  out = j->get<double>();
-  if (!std::isfinite(out)) return e.parse(where + key + ": must be finite");
-  return true;
-}
-
-bool get_bool(const json& obj, const std::string& where, const char* key, bool& out, Errors& e) {
-  const json* j = nullptr;
-  if (!get_member(obj, where, key, j, e)) return false;
-  if (!j->is_boolean()) return e.parse(where + key + ": must be a boolean, got " + type_name(*j));
-  out = j->get<bool>();
-  return true;
-}
+using namespace bundle_detail;  // NOLINT: the loader's own helpers
 
 bool parse_robot(const json& m, RobotInfo& robot, Errors& e) {
   const json* r = nullptr;
@@ -251,71 +153,69 @@ bool parse_execution(const json& m, SkillSettings& s, Errors& e) {
   return true;
 }
 
-struct ArrayEntry {
-  std::string name;
-  std::uint64_t offset = 0, nbytes = 0;
-  std::uint32_t crc = 0;
-};
+// The skill of a validated bundle's arrays, checked for consistency (into `out` if not null).
+Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const ArrayEntry& amax,
+                   std::string name, std::vector<Variable> vars,
+                   const std::vector<std::int64_t>& shape, double step,
+                   std::vector<Eigen::Vector3i> dirs, std::vector<std::string> labels,
+                   const SkillSettings& settings, RobotInfo robot, Skill* out) {
+  std::vector<double> posterior(post.nbytes / 8);
+  std::vector<std::int32_t> argmax(amax.nbytes / 4);
+  if (!posterior.empty()) std::memcpy(posterior.data(), blob + post.offset, post.nbytes);
+  if (!argmax.empty()) std::memcpy(argmax.data(), blob + amax.offset, amax.nbytes);
 
-// Parse arrays.<name> and check it against the expected dtype and shape.
-bool parse_array(const json& arrays, const char* name, const char* dtype, std::size_t itemsize,
-                 const std::vector<std::int64_t>& shape, std::uint64_t max_bytes, ArrayEntry& a,
-                 Errors& e) {
-  const json* j = nullptr;
-  const std::string where = std::string("arrays.") + name + ".";
-  if (!get_object(arrays, "arrays.", name, j, e)) return false;
-  a.name = name;
-  std::string dt;
-  if (!get_string(*j, where, "dtype", dt, e)) return false;
-  if (dt != dtype) return e.parse(where + "dtype: must be '" + dtype + "', got '" + dt + "'");
-  const json* sh = nullptr;
-  if (!get_array(*j, where, "shape", sh, e)) return false;
-  std::ostringstream want;
-  want << "[";
-  for (size_t i = 0; i < shape.size(); ++i) want << (i ? ", " : "") << shape[i];
-  want << "]";
-  if (sh->size() != shape.size()) {
-    return e.parse(where + "shape: has " + std::to_string(sh->size()) +
-                   " axes, the variables and movements give " + want.str());
-  }
-  for (size_t i = 0; i < shape.size(); ++i) {
-    std::int64_t x = 0;
-    if (!as_int((*sh)[i], where + "shape[" + std::to_string(i) + "]", 0, kMaxBins, x, e)) {
-      return false;
+  Discretizer disc;
+  Result r = Discretizer::create(std::move(vars), disc);
+  if (!r.ok()) return Result::failure(Status::parse_error, r.message);
+  PolicyTable table;
+  std::vector<int> ishape(shape.begin(), shape.end());
+  r = PolicyTable::create(std::move(ishape), static_cast<int>(dirs.size()), std::move(posterior),
+                          std::move(argmax), table);
+  if (!r.ok()) return Result::failure(Status::parse_error, "arrays: " + r.message);
+  // argmax agrees with the posterior: -1 exactly where the row is uniform within
+  // execution.uniform_tolerance, else a most probable movement (so the runtime never guesses).
+  const int nm = table.n_moves();
+  for (std::size_t row = 0; row < table.n_rows(); ++row) {
+    const double* p = table.posterior_row(row);
+    bool uniform = true;
+    double best = p[0];
+    for (int k = 0; k < nm; ++k) {
+      uniform = uniform && std::abs(p[k] - 1.0 / nm) <= settings.uniform_tolerance;
+      best = std::max(best, p[k]);
     }
-    if (x != shape[i]) {
-      return e.parse(where + "shape: does not match the variables and movements, which give " +
-                     want.str());
+    const int a = table.argmax(row);
+    if (a < 0 && !uniform) {
+      return Result::failure(
+          Status::parse_error,
+          "arrays.argmax[" + std::to_string(row) +
+              "]: -1 (no information) but the posterior row is not uniform within "
+              "execution.uniform_tolerance");
+    }
+    if (a >= 0 && uniform) {
+      return Result::failure(Status::parse_error, "arrays.argmax[" + std::to_string(row) +
+                                                      "]: " + std::to_string(a) +
+                                                      " for a uniform posterior row (must be -1)");
+    }
+    if (a >= 0 && p[a] < best - 1e-9) {
+      return Result::failure(Status::parse_error,
+                             "arrays.argmax[" + std::to_string(row) + "]: movement " +
+                                 std::to_string(a) +
+                                 " is not the most probable of its posterior row");
     }
   }
-  std::int64_t off = 0, nb = 0, crc = 0;
-  const std::int64_t big = std::numeric_limits<std::int64_t>::max();
-  if (!get_int(*j, where, "offset", 0, big, off, e) ||
-      !get_int(*j, where, "nbytes", 0, big, nb, e) ||
-      !get_int(*j, where, "crc32", 0, 0xFFFFFFFFll, crc, e)) {
-    return false;
-  }
-  // product(shape) * itemsize, saturating above max_bytes (the shape's entries are <= 1024).
-  std::uint64_t expected = itemsize;
-  for (std::int64_t x : shape) {
-    expected *= static_cast<std::uint64_t>(x);
-    if (expected > max_bytes) break;
-  }
-  if (static_cast<std::uint64_t>(nb) != expected) {
-    return e.parse(where + "nbytes: " + std::to_string(nb) + " != product(shape) * " +
-                   std::to_string(itemsize) +
-                   (expected > max_bytes ? std::string(" (larger than the file)")
-                                         : " = " + std::to_string(expected)));
-  }
-  if (off % 8 != 0)
-    return e.parse(where + "offset: " + std::to_string(off) + " is not a multiple of 8");
-  a.offset = static_cast<std::uint64_t>(off);
-  a.nbytes = static_cast<std::uint64_t>(nb);
-  a.crc = static_cast<std::uint32_t>(crc);
-  return true;
+  MovementRepertoire moves;
+  r = MovementRepertoire::create(step, std::move(dirs), std::move(labels), moves);
+  if (!r.ok()) return Result::failure(Status::parse_error, r.message);
+  Skill skill;
+  r = Skill::create(std::move(name), std::move(disc), std::move(table), std::move(moves), settings,
+                    std::move(robot), skill);
+  if (!r.ok()) return Result::failure(Status::parse_error, r.message);
+  if (out != nullptr) *out = std::move(skill);
+  return Result::success();
 }
 
-Result parse(const std::uint8_t* data, std::size_t size, Skill& out, const std::string& source) {
+Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::string& source,
+                       Skill* skill, DiffeoMaps* ds) {
   auto fail = [&](Status s, const std::string& msg) {
     return Result::failure(s, "skill bundle '" + source + "': " + msg);
   };
@@ -378,119 +278,100 @@ Result parse(const std::uint8_t* data, std::size_t size, Skill& out, const std::
   }
   std::string kind, name, created_by, target;
   if (!get_string(m, "", "kind", kind, e)) return err();
-  if (kind != "skill")
-    return fail(Status::parse_error, "kind: must be 'skill', got '" + kind + "'");
-  if (!get_string(m, "", "name", name, e) || !get_string(m, "", "created_by", created_by, e) ||
-      !get_string(m, "", "target", target, e)) {
+  if (kind != "skill" && kind != "ds") {
+    return fail(Status::parse_error, "kind: must be 'skill' or 'ds', got '" + kind + "'");
+  }
+  const bool is_skill = kind == "skill";
+  if (skill != nullptr && !is_skill) {
+    return fail(Status::parse_error,
+                "kind: 'ds', a bundle holding only a DS (no skill table): load it as a DS");
+  }
+  if (!get_string(m, "", "name", name, e) || !get_string(m, "", "created_by", created_by, e)) {
     return err();
   }
+  const json* arrays = nullptr;
+  const std::uint64_t room = size - blob;
+  std::vector<ArrayEntry> entries;
   RobotInfo robot;
   std::vector<Variable> vars;
   double step = 0.0;
   std::vector<Eigen::Vector3i> dirs;
   std::vector<std::string> labels;
   SkillSettings settings;
-  if (!parse_robot(m, robot, e) || !parse_variables(m, vars, e) ||
-      !parse_movements(m, step, dirs, labels, e) || !parse_execution(m, settings, e)) {
-    return err();
-  }
   std::vector<std::int64_t> shape;
-  for (const Variable& v : vars) shape.push_back(v.n_bins);
-  std::vector<std::int64_t> pshape = shape;
-  pshape.push_back(static_cast<std::int64_t>(dirs.size()));
-
-  const json* arrays = nullptr;
-  if (!get_object(m, "", "arrays", arrays, e)) return err();
-  ArrayEntry post, amax;
-  const std::uint64_t room = size - blob;
-  if (!parse_array(*arrays, "posterior", "float64", 8, pshape, room, post, e) ||
-      !parse_array(*arrays, "argmax", "int32", 4, shape, room, amax, e)) {
+  if (is_skill) {
+    if (!get_string(m, "", "target", target, e) || !parse_robot(m, robot, e) ||
+        !parse_variables(m, vars, e) || !parse_movements(m, step, dirs, labels, e) ||
+        !parse_execution(m, settings, e)) {
+      return err();
+    }
+    for (const Variable& v : vars) shape.push_back(v.n_bins);
+    std::vector<std::int64_t> pshape = shape;
+    pshape.push_back(static_cast<std::int64_t>(dirs.size()));
+    if (!get_object(m, "", "arrays", arrays, e)) return err();
+    entries.resize(2);
+    if (!parse_array(*arrays, "posterior", "float64", 8, pshape, room, entries[0], e) ||
+        !parse_array(*arrays, "argmax", "int32", 4, shape, room, entries[1], e)) {
+      return err();
+    }
+  } else if (!get_object(m, "", "arrays", arrays, e)) {
     return err();
   }
-  for (const ArrayEntry* a : {&post, &amax}) {
-    if (a->offset > room || a->nbytes > room - a->offset) {
-      return fail(Status::parse_error,
-                  "arrays." + a->name + ": bytes [" + std::to_string(a->offset) + ", +" +
-                      std::to_string(a->nbytes) + ") lie outside the file's blob (" +
-                      std::to_string(room) + " bytes): truncated?");
+  DiffeoMaps maps;
+  const bool has_ds = m.contains("ds");
+  if (!has_ds && (!is_skill || ds != nullptr)) {
+    return fail(Status::parse_error, "ds: missing (this bundle holds no DS)");
+  }
+  if (has_ds && !parse_ds_section(m, *arrays, room, maps, entries, e)) return err();
+  for (const ArrayEntry& a : entries) {
+    if (a.offset > room || a.nbytes > room - a.offset) {
+      return fail(Status::parse_error, "arrays." + a.name + ": bytes [" + std::to_string(a.offset) +
+                                           ", +" + std::to_string(a.nbytes) +
+                                           ") lie outside the file's blob (" +
+                                           std::to_string(room) + " bytes): truncated?");
     }
   }
-  if (post.offset < amax.offset + amax.nbytes && amax.offset < post.offset + post.nbytes) {
-    return fail(Status::parse_error, "arrays: posterior and argmax overlap");
+  std::uint64_t end = 0;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const ArrayEntry& a = entries[i];
+    for (std::size_t j = 0; j < i; ++j) {
+      const ArrayEntry& b = entries[j];
+      if (a.offset < b.offset + b.nbytes && b.offset < a.offset + a.nbytes) {
+        return fail(Status::parse_error, "arrays: " + b.name + " and " + a.name + " overlap");
+      }
+    }
+    end = std::max(end, a.offset + a.nbytes);
   }
-  const std::uint64_t end = std::max(post.offset + post.nbytes, amax.offset + amax.nbytes);
   if (end != room) {
     return fail(Status::parse_error, "file size: " + std::to_string(size) +
                                          " bytes, the arrays end at " + std::to_string(blob + end) +
                                          " (trailing bytes)");
   }
-  for (const ArrayEntry* a : {&post, &amax}) {
-    const std::uint32_t c = bundle_crc32(data + blob + a->offset, a->nbytes);
-    if (c != a->crc) {
-      return fail(Status::checksum_mismatch, "arrays." + a->name + ".crc32: the manifest says " +
-                                                 std::to_string(a->crc) + ", the data give " +
+  for (const ArrayEntry& a : entries) {
+    const std::uint32_t c = bundle_crc32(data + blob + a.offset, a.nbytes);
+    if (c != a.crc) {
+      return fail(Status::checksum_mismatch, "arrays." + a.name + ".crc32: the manifest says " +
+                                                 std::to_string(a.crc) + ", the data give " +
                                                  std::to_string(c));
     }
   }
-  std::vector<double> posterior(post.nbytes / 8);
-  std::vector<std::int32_t> argmax(amax.nbytes / 4);
-  if (!posterior.empty()) std::memcpy(posterior.data(), data + blob + post.offset, post.nbytes);
-  if (!argmax.empty()) std::memcpy(argmax.data(), data + blob + amax.offset, amax.nbytes);
-
-  Discretizer disc;
-  Result r = Discretizer::create(std::move(vars), disc);
-  if (!r.ok()) return fail(Status::parse_error, r.message);
-  PolicyTable table;
-  std::vector<int> ishape(shape.begin(), shape.end());
-  r = PolicyTable::create(std::move(ishape), static_cast<int>(dirs.size()), std::move(posterior),
-                          std::move(argmax), table);
-  if (!r.ok()) return fail(Status::parse_error, "arrays: " + r.message);
-  // argmax agrees with the posterior: -1 exactly where the row is uniform within
-  // execution.uniform_tolerance, else a most probable movement (so the runtime never guesses).
-  const int nm = table.n_moves();
-  for (std::size_t row = 0; row < table.n_rows(); ++row) {
-    const double* p = table.posterior_row(row);
-    bool uniform = true;
-    double best = p[0];
-    for (int k = 0; k < nm; ++k) {
-      uniform = uniform && std::abs(p[k] - 1.0 / nm) <= settings.uniform_tolerance;
-      best = std::max(best, p[k]);
-    }
-    const int a = table.argmax(row);
-    if (a < 0 && !uniform) {
-      return fail(Status::parse_error,
-                  "arrays.argmax[" + std::to_string(row) +
-                      "]: -1 (no information) but the posterior row is not uniform within "
-                      "execution.uniform_tolerance");
-    }
-    if (a >= 0 && uniform) {
-      return fail(Status::parse_error, "arrays.argmax[" + std::to_string(row) +
-                                           "]: " + std::to_string(a) +
-                                           " for a uniform posterior row (must be -1)");
-    }
-    if (a >= 0 && p[a] < best - 1e-9) {
-      return fail(Status::parse_error, "arrays.argmax[" + std::to_string(row) + "]: movement " +
-                                           std::to_string(a) +
-                                           " is not the most probable of its posterior row");
-    }
+  if (has_ds && !read_ds_arrays(data + blob, entries, maps, e)) return err();
+  if (is_skill) {
+    Result r =
+        build_skill(data + blob, entries[0], entries[1], std::move(name), std::move(vars), shape,
+                    step, std::move(dirs), std::move(labels), settings, std::move(robot), skill);
+    if (!r.ok()) return fail(Status::parse_error, r.message);
   }
-  MovementRepertoire moves;
-  r = MovementRepertoire::create(step, std::move(dirs), std::move(labels), moves);
-  if (!r.ok()) return fail(Status::parse_error, r.message);
-  Skill skill;
-  r = Skill::create(std::move(name), std::move(disc), std::move(table), std::move(moves), settings,
-                    std::move(robot), skill);
-  if (!r.ok()) return fail(Status::parse_error, r.message);
-  out = std::move(skill);
+  if (ds != nullptr) *ds = std::move(maps);
   return Result::success();
 }
 
 }  // namespace
 
-Result load_bundle_from_memory(const std::uint8_t* data, std::size_t size, Skill& out,
-                               const std::string& source) {
+Result bundle_detail::parse_bundle(const std::uint8_t* data, std::size_t size,
+                                   const std::string& source, Skill* skill, DiffeoMaps* ds) {
   try {
-    return parse(data, size, out, source);
+    return parse_unguarded(data, size, source, skill, ds);
   } catch (const std::bad_alloc&) {
     return Result::failure(Status::parse_error,
                            "skill bundle '" + source + "': out of memory while loading");
@@ -502,8 +383,7 @@ Result load_bundle_from_memory(const std::uint8_t* data, std::size_t size, Skill
   }
 }
 
-Result load_bundle(const std::string& path, Skill& out) {
-  std::vector<std::uint8_t> bytes;
+Result bundle_detail::read_file(const std::string& path, std::vector<std::uint8_t>& bytes) {
   try {
     std::ifstream f(path, std::ios::binary);
     if (!f) {
@@ -519,6 +399,18 @@ Result load_bundle(const std::string& path, Skill& out) {
     return Result::failure(Status::file_error,
                            "skill bundle '" + path + "': cannot read: " + ex.what());
   }
+  return Result::success();
+}
+
+Result load_bundle_from_memory(const std::uint8_t* data, std::size_t size, Skill& out,
+                               const std::string& source) {
+  return parse_bundle(data, size, source, &out, nullptr);
+}
+
+Result load_bundle(const std::string& path, Skill& out) {
+  std::vector<std::uint8_t> bytes;
+  Result r = read_file(path, bytes);
+  if (!r.ok()) return r;
   return load_bundle_from_memory(bytes.data(), bytes.size(), out, path);
 }
 

@@ -37,7 +37,7 @@ inline BundleParts sample_parts(std::uint64_t seed = 1, double uniform_share = 0
                                 bool smoothing = false) {
   BundleParts p;
   p.manifest = {
-      {"schema_version", 1},
+      {"schema_version", kBundleSchemaVersion},
       {"kind", "skill"},
       {"name", "push"},
       {"created_by", "a2l tests"},
@@ -97,7 +97,7 @@ inline BundleParts sample_parts(std::uint64_t seed = 1, double uniform_share = 0
 //! Serialise `p`. The "arrays" entry is computed (offsets, nbytes, CRCs) and then patched with
 //! `arrays_patch` (JSON merge patch) so that tests can corrupt it.
 inline std::vector<std::uint8_t> build(const BundleParts& p, const json& arrays_patch = json(),
-                                       std::uint32_t header_version = 1) {
+                                       std::uint32_t header_version = kBundleSchemaVersion) {
   json m = p.manifest;
   std::vector<std::int64_t> pshape = p.shape;
   pshape.push_back(p.n_moves);

@@ -118,8 +118,12 @@ TEST(Bundle, WrongChecksums) {
 }
 
 TEST(Bundle, WrongVersions) {
-  expect_error(load(build(sample_parts(), json(), 2)), Status::version_mismatch, "schema version");
-  expect_error(load(with([](json& m) { m["schema_version"] = 2; })), Status::version_mismatch,
+  const std::uint32_t next = a2l::kBundleSchemaVersion + 1;
+  expect_error(load(build(sample_parts(), json(), next)), Status::version_mismatch,
+               "schema version");
+  // version 1 (before the DS section) is not read either
+  expect_error(load(build(sample_parts(), json(), 1)), Status::version_mismatch, "schema version");
+  expect_error(load(with([&](json& m) { m["schema_version"] = next; })), Status::version_mismatch,
                "schema_version");
 }
 

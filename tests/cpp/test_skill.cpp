@@ -253,7 +253,7 @@ TEST(Step, TraceRingBufferKeepsTheNewestRecords) {
 a2l::Skill smoothing_skill(const std::vector<double>& bin0, const std::vector<double>& bin1) {
   BundleParts p;
   p.manifest = {
-      {"schema_version", 1},
+      {"schema_version", a2l::kBundleSchemaVersion},
       {"kind", "skill"},
       {"name", "s"},
       {"created_by", "t"},

@@ -4,7 +4,8 @@
 // its checksums repaired (manifest CRC in the header, then the arrays' CRCs in the manifest),
 // which lets the fuzzer reach the JSON parser and every validator behind the checksums. When
 // the bytes do load, the skill must be consistent: step() on contexts derived from the input
-// stays in bounds.
+// stays in bounds. The DS section is loaded too (load_ds_bundle_from_memory): loaded maps must
+// build a DiffeoDS, whose evaluation on points derived from the input returns a status.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "a2l/bundle.hpp"
+#include "a2l/diffeo.hpp"
 #include "a2l/skill.hpp"
 
 namespace {
@@ -26,7 +28,42 @@ void put_u32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
 }
 
+double coordinate(const std::uint8_t* data, std::size_t size, std::size_t at) {
+  std::uint64_t bits = 0;
+  if (size >= 8) std::memcpy(&bits, data + (at % (size - 7)), 8);
+  return static_cast<double>(bits % 4001) / 1000.0 - 2.0;  // [-2, 2]
+}
+
+template <int D>
+void exercise_ds(const a2l::DiffeoMaps& maps, const std::uint8_t* data, std::size_t size) {
+  a2l::DiffeoDS<D> ds;
+  if (!a2l::DiffeoDS<D>::create(maps, ds).ok()) __builtin_trap();  // the loader validated them
+  using Vec = typename a2l::DiffeoDS<D>::Vec;
+  Vec out[4];
+  for (int k = 0; k < 8; ++k) {
+    Vec x, y, z;
+    for (int j = 0; j < D; ++j)
+      x[j] = coordinate(data, size, static_cast<std::size_t>(k * D + j) * 8);
+    for (const a2l::Status s :
+         {ds.forward(x, y), ds.inverse(x, y), ds.velocity(x, y, z), ds.rollout(x, 0.1, 4, out)}) {
+      if (s != a2l::Status::ok && s != a2l::Status::invalid_argument) __builtin_trap();
+    }
+  }
+}
+
 void exercise(const std::uint8_t* data, std::size_t size) {
+  a2l::DiffeoMaps maps;
+  const a2l::Result rd = a2l::load_ds_bundle_from_memory(data, size, maps, "fuzz");
+  if (!rd.ok() && rd.message.empty()) __builtin_trap();
+  if (rd.ok()) {
+    if (maps.dim == 2) {
+      exercise_ds<2>(maps, data, size);
+    } else if (maps.dim == 3) {
+      exercise_ds<3>(maps, data, size);
+    } else {
+      __builtin_trap();
+    }
+  }
   a2l::Skill skill;
   const a2l::Result r = a2l::load_bundle_from_memory(data, size, skill, "fuzz");
   if (!r.ok()) {

@@ -1,4 +1,6 @@
-"""Write a few small valid skill bundles as the seed corpus of tests/fuzz/fuzz_bundle.cpp.
+"""Write a few small valid bundles as the seed corpus of tests/fuzz/fuzz_bundle.cpp.
+
+Skill bundles, DS-only bundles (d = 2 and d = 3) and a skill with a DS (the ``ds`` section).
 
 Usage: ``python tests/fuzz/make_seeds.py DIR``
 """
@@ -10,7 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
+from a2l.atomic import atomic_write_bytes
 from a2l.skills import SkillSpec, VariableSpec, save_bundle
+from a2l.skills.bundle import DSArrays, bundle_bytes, save_ds_bundle
+
+_BOUND = float(np.sqrt(np.e / 2.0))
 
 
 def spec(seed: int, variables: list[VariableSpec], n_moves: int, robot: bool) -> SkillSpec:
@@ -41,6 +47,20 @@ def spec(seed: int, variables: list[VariableSpec], n_moves: int, robot: bool) ->
     )
 
 
+def ds(seed: int, d: int, k: int) -> DSArrays:
+    """K random maps in [-1, 1]^d with rho * ||v|| in [0.2, 0.9] * sqrt(e/2)."""
+    rng = np.random.default_rng(seed)
+    vectors = 0.3 * rng.uniform(-1.0, 1.0, (k, d))
+    mu = rng.uniform(0.2, 0.9, k)
+    return DSArrays(
+        target=0.1 * rng.uniform(-1.0, 1.0, d),
+        centers=rng.uniform(-1.0, 1.0, (k, d)),
+        vectors=vectors,
+        rhos=mu * _BOUND / np.linalg.norm(vectors, axis=1),
+        speed=1.0 + seed,
+    )
+
+
 def main() -> None:
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
@@ -53,6 +73,10 @@ def main() -> None:
     save_bundle(spec(1, [eff, ori, inc, light], 6, True), out / "seed1.a2lb")
     save_bundle(spec(2, [dist], 2, False), out / "seed2.a2lb")
     save_bundle(spec(3, [], 3, True), out / "seed3.a2lb")
+    save_ds_bundle(out / "seed4.a2lb", ds(4, 2, 6), name="ds2")
+    save_ds_bundle(out / "seed5.a2lb", ds(5, 3, 4), name="ds3", metadata={"K": 4})
+    save_ds_bundle(out / "seed6.a2lb", ds(6, 2, 0), name="linear")
+    atomic_write_bytes(out / "seed7.a2lb", bundle_bytes(spec(7, [dist], 2, False), ds=ds(7, 3, 3)))
 
 
 if __name__ == "__main__":

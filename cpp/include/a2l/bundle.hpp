@@ -13,13 +13,14 @@
 #include <cstdint>
 #include <string>
 
+#include "a2l/diffeo.hpp"
 #include "a2l/skill.hpp"
 #include "a2l/status.hpp"
 
 namespace a2l {
 
 //! Schema version this build reads.
-constexpr std::uint32_t kBundleSchemaVersion = 1;
+constexpr std::uint32_t kBundleSchemaVersion = 2;
 //! Size of the fixed header (magic, version, manifest length, manifest CRC, reserved).
 constexpr std::size_t kBundleHeaderSize = 24;
 //! The 8 magic bytes "A2LBNDL\0".
@@ -28,7 +29,8 @@ extern const char kBundleMagic[8];
 //! zlib's CRC-32 of `size` bytes.
 std::uint32_t bundle_crc32(const void* data, std::size_t size) noexcept;
 
-//! Load and validate a bundle file into `out` (left untouched on failure).
+//! Load and validate a skill bundle file (kind "skill") into `out` (left untouched on
+//! failure). A DS section, if present, is validated too.
 //! \return `file_error` (missing or unreadable file), `version_mismatch` (schema version of
 //!         the header or manifest is not kBundleSchemaVersion), `checksum_mismatch` (manifest
 //!         or array CRC), `parse_error` (anything else: magic, JSON, a missing or mistyped
@@ -39,5 +41,16 @@ Result load_bundle(const std::string& path, Skill& out);
 //! Same as load_bundle() for bundle bytes held in memory; `source` names them in messages.
 Result load_bundle_from_memory(const std::uint8_t* data, std::size_t size, Skill& out,
                                const std::string& source = "<memory>");
+
+//! Load and validate the DS section of a bundle file (kind "ds", or kind "skill" with a DS)
+//! into `out` (left untouched on failure); every other section present is validated too.
+//! \return the statuses of load_bundle(); `parse_error` when the bundle holds no DS or a map
+//!         breaks validate_diffeo_maps() (the message names the map's index, e.g.
+//!         "ds: ... map 7: rho * ||v|| = 1.3 >= sqrt(e/2)").
+Result load_ds_bundle(const std::string& path, DiffeoMaps& out);
+
+//! Same as load_ds_bundle() for bundle bytes held in memory; `source` names them in messages.
+Result load_ds_bundle_from_memory(const std::uint8_t* data, std::size_t size, DiffeoMaps& out,
+                                  const std::string& source = "<memory>");
 
 }  // namespace a2l

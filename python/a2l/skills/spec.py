@@ -14,7 +14,7 @@ import numpy as np
 __all__ = ["BUNDLE_SCHEMA_VERSION", "VARIABLE_KINDS", "SkillSpec", "VariableSpec"]
 
 #: Schema version written and read by this version of a2l.
-BUNDLE_SCHEMA_VERSION = 1
+BUNDLE_SCHEMA_VERSION = 2
 
 #: Kinds of evidence variables a bundle may hold.
 VARIABLE_KINDS = ("effect", "distance", "orientation", "inclination", "high_level")

@@ -1,0 +1,159 @@
+//! \file diffeo.hpp
+//! \brief The diffeomorphic dynamical system of fast diffeomorphic matching (Perrin &
+//! Schlehuber-Caissier 2016; METHOD.md, chapter 6): evaluation for d = 2 and d = 3.
+//!
+//! A diffeomorphism Phi = psi_{K-1} o ... o psi_0 (maps applied in index order) made of K
+//! elementary maps psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i, each invertible because
+//! rho_i ||v_i|| < sqrt(e/2). It maps the "line space", where the DS is the linear system
+//! z_dot = -(z - target), onto the demonstration, and Phi(target) = target. The DS is
+//!
+//!     x_dot = speed * J_Phi(Phi^{-1}(x)) * (target - Phi^{-1}(x)),
+//!
+//! globally asymptotically stable at `target`. Evaluation (forward, inverse, jacobian,
+//! velocity, rollout) uses fixed-size Eigen vectors, allocates nothing, throws nothing and
+//! returns a Status: `invalid_argument` for a non-finite input (or a result that overflows),
+//! `size_mismatch` for a wrong buffer size. The inverse of one map is a scalar equation in its
+//! weight k (see DiffeoDS::inverse), solved by safeguarded Halley iterations inside a
+//! guaranteed bracket with at most kDiffeoMaxIterations iterations: bounded time. Maps whose
+//! weight underflows to 0 in double (rho^2 ||.||^2 > kDiffeoUnderflow) are skipped, which gives
+//! the same result as evaluating them.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+#include "a2l/status.hpp"
+
+namespace a2l {
+
+//! sqrt(e / 2): an elementary map is a diffeomorphism iff rho * ||v|| < this bound.
+inline constexpr double kDiffeoInvertibilityBound = 1.165821990798562;
+//! Most iterations of the scalar solve of one map's inverse (bisection alone reaches double
+//! precision on [0, 1] within 64 halvings).
+inline constexpr int kDiffeoMaxIterations = 64;
+//! exp(-t) is exactly 0 in double for t above this: such a map's weight underflows.
+inline constexpr double kDiffeoUnderflow = 746.0;
+//! Most maps a DS may hold (bundles and bindings refuse more).
+inline constexpr int kDiffeoMaxMaps = 100000;
+
+//! The maps of a diffeomorphic DS, dimension-agnostic (for loading, writing and bindings).
+//! Arrays are row-major: map i's center is centers[i*dim .. i*dim + dim).
+struct DiffeoMaps {
+  int dim = 0;                  //!< space dimension, 2 or 3
+  std::vector<double> target;   //!< (dim,) attractor; Phi(target) = target
+  std::vector<double> centers;  //!< (K, dim) centers c_i
+  std::vector<double> vectors;  //!< (K, dim) displacements v_i
+  std::vector<double> rhos;     //!< (K,) inverse widths rho_i >= 0
+  double speed = 1.0;           //!< gain of the line-space system (> 0)
+
+  //! Number of maps K (rhos.size()).
+  int n_maps() const noexcept { return static_cast<int>(rhos.size()); }
+};
+
+//! Check a DS description: dim in {2, 3}; sizes (target dim, centers and vectors K*dim);
+//! K <= kDiffeoMaxMaps; every value finite; speed > 0; per map rho >= 0 and
+//! rho * ||v|| < kDiffeoInvertibilityBound.
+//! \return `size_mismatch` / `invalid_argument` with a message naming the first bad map
+//!         ("map 7: rho * ||v|| = 1.2 >= sqrt(e/2) = 1.16582 (not invertible)"), else `ok`.
+Result validate_diffeo_maps(const DiffeoMaps& maps);
+
+//! How DiffeoDS::rollout integrates the DS.
+enum class DiffeoIntegrator : int {
+  exact = 0,  //!< the exact flow: z(t) = target + (z0 - target) exp(-speed t), x = Phi(z)
+  euler = 1,  //!< explicit Euler on x_dot = f(x) (what a controller applying f each tick does)
+  rk4 = 2,    //!< classical Runge-Kutta 4 on x_dot = f(x)
+};
+
+//! A diffeomorphic DS in dimension D (2 or 3). Immutable after create(): every method is
+//! const, noexcept, allocation-free and may be called from several threads at once.
+//! A default-constructed DS has no maps: Phi is the identity, the DS is x_dot = -x.
+template <int D>
+class DiffeoDS {
+ public:
+  static_assert(D == 2 || D == 3, "DiffeoDS is instantiated for d = 2 and d = 3");
+  using Vec = Eigen::Matrix<double, D, 1>;  //!< a point or a velocity
+  using Mat = Eigen::Matrix<double, D, D>;  //!< a Jacobian
+
+  //! Build from `maps` after validate_diffeo_maps() (and maps.dim == D).
+  //! \return the validation failure (naming the map), else `ok`; `out` is untouched on failure.
+  static Result create(const DiffeoMaps& maps, DiffeoDS& out);
+
+  //! The description it was built from (same values, dim = D).
+  DiffeoMaps maps() const;
+
+  //! Number of maps K.
+  int n_maps() const noexcept { return static_cast<int>(maps_.size()); }
+  //! The attractor.
+  const Vec& target() const noexcept { return target_; }
+  //! The gain of the line-space system.
+  double speed() const noexcept { return speed_; }
+
+  //! y = Phi(x). \return `invalid_argument` if x is not finite or y overflows.
+  Status forward(const Vec& x, Vec& y) const noexcept;
+
+  //! x = Phi^{-1}(y), maps undone in reverse index order. For one map, with z = y - c and
+  //! x = y - k v, the weight k solves g(k) = k - exp(-rho^2 ||z - k v||^2) = 0 in (0, 1];
+  //! g(0) <= 0 <= g(1) and g is strictly increasing under the invertibility bound, so
+  //! safeguarded Halley steps (bisection when a step leaves the bracket) converge within
+  //! kDiffeoMaxIterations iterations. \return `invalid_argument` if y is not finite.
+  Status inverse(const Vec& y, Vec& x) const noexcept;
+
+  //! y = Phi(x) and its Jacobian J = dPhi/dx at x. \return `invalid_argument` if not finite.
+  Status jacobian(const Vec& x, Vec& y, Mat& jac) const noexcept;
+
+  //! The DS's velocity at x: speed * J_Phi(z) * (target - z), z = Phi^{-1}(x) (one inverse
+  //! sweep; the Jacobian is accumulated on the way). \return `invalid_argument` if x is not
+  //! finite or the velocity overflows.
+  Status velocity(const Vec& x, Vec& xdot) const noexcept;
+
+  //! Same as velocity(), also returning z = Phi^{-1}(x).
+  Status velocity(const Vec& x, Vec& xdot, Vec& z) const noexcept;
+
+  //! A trajectory from x0: out[0] = x0, out[i] = the state at time i * dt, i < steps.
+  //! \param out      `steps` points, written in order
+  //! \param method   exact flow (default), explicit Euler or RK4 with step dt
+  //! \return `invalid_argument` for a non-finite x0, dt <= 0 or a non-finite state on the
+  //!         way (the points before it are written), else `ok`.
+  Status rollout(const Vec& x0, double dt, std::size_t steps, Vec* out,
+                 DiffeoIntegrator method = DiffeoIntegrator::exact) const noexcept;
+
+ private:
+  struct Map {
+    Vec c;                 // center
+    Vec v;                 // displacement
+    double rho = 0.0;      // inverse width
+    double rho2 = 0.0;     // rho^2
+    double skip_zz = 0.0;  // ||y - c||^2 beyond which the weight underflows for every k
+    double vv = 0.0;       // ||v||^2
+    double vnorm = 0.0;    // ||v||
+  };
+  // Undo map m at y (z = y - c): returns the weight k, x = y - k v.
+  static double solve_weight(const Map& m, const Vec& z) noexcept;
+
+  std::vector<Map> maps_;
+  Vec target_ = Vec::Zero();
+  double speed_ = 1.0;
+};
+
+extern template class DiffeoDS<2>;
+extern template class DiffeoDS<3>;
+
+//! Per-query timing of DiffeoDS::velocity measured in C++ (std::chrono::steady_clock).
+struct DiffeoTiming {
+  double median_ns = 0.0;  //!< median time of one query
+  double p999_ns = 0.0;    //!< 99.9th percentile
+  double mean_ns = 0.0;    //!< mean
+  double max_ns = 0.0;     //!< slowest query
+  std::size_t n = 0;       //!< number of timed queries
+};
+
+//! Time `repeats` passes over `n_points` query points (row-major, D per point), each query
+//! timed on its own (two steady_clock reads around it) after one untimed warm-up pass.
+//! Not real-time (it allocates its n_points * repeats times).
+//! \return `size_mismatch` / `invalid_argument` for bad sizes or a failing query.
+template <int D>
+Result time_velocity(const DiffeoDS<D>& ds, const double* points, std::size_t n_points, int repeats,
+                     DiffeoTiming& out);
+
+}  // namespace a2l

@@ -1,0 +1,81 @@
+// The DS section of a skill bundle (docs/bundle_format.md, "ds"): parsing, and loading a
+// bundle's DS (kind "ds", or kind "skill" with a DS).
+#include <cstring>
+
+#include "a2l/bundle.hpp"
+#include "bundle_json.hpp"
+
+namespace a2l {
+
+bool bundle_detail::parse_ds_section(const json& m, const json& arrays, std::uint64_t room,
+                                     DiffeoMaps& maps, std::vector<ArrayEntry>& entries,
+                                     Errors& e) {
+  const json* ds = nullptr;
+  if (!get_object(m, "", "ds", ds, e)) return false;
+  std::int64_t dim = 0, k = 0;
+  if (!get_int(*ds, "ds.", "dim", 2, 3, dim, e) ||
+      !get_int(*ds, "ds.", "n_maps", 0, kDiffeoMaxMaps, k, e)) {
+    return false;
+  }
+  maps = DiffeoMaps{};
+  maps.dim = static_cast<int>(dim);
+  if (!get_number(*ds, "ds.", "speed", maps.speed, e)) return false;
+  if (!(maps.speed > 0.0)) return e.parse("ds.speed: must be > 0");
+  const json* target = nullptr;
+  if (!get_array(*ds, "ds.", "target", target, e)) return false;
+  if (target->size() != static_cast<std::size_t>(dim)) {
+    return e.parse("ds.target: has " + std::to_string(target->size()) + " coordinates, ds.dim is " +
+                   std::to_string(dim));
+  }
+  for (std::size_t j = 0; j < target->size(); ++j) {
+    const json& t = (*target)[j];
+    const std::string field = "ds.target[" + std::to_string(j) + "]";
+    if (!t.is_number()) return e.parse(field + ": must be a number, got " + type_name(t));
+    const double x = t.get<double>();
+    if (!std::isfinite(x)) return e.parse(field + ": must be finite");
+    maps.target.push_back(x);
+  }
+  const char* given_by = "ds.n_maps and ds.dim";
+  const std::vector<std::int64_t> kd = {k, dim}, kk = {k};
+  ArrayEntry c, v, r;
+  if (!parse_array(arrays, "ds_centers", "float64", 8, kd, room, c, e, given_by, kDiffeoMaxMaps) ||
+      !parse_array(arrays, "ds_vectors", "float64", 8, kd, room, v, e, given_by, kDiffeoMaxMaps) ||
+      !parse_array(arrays, "ds_rhos", "float64", 8, kk, room, r, e, given_by, kDiffeoMaxMaps)) {
+    return false;
+  }
+  entries.push_back(c);
+  entries.push_back(v);
+  entries.push_back(r);
+  return true;
+}
+
+bool bundle_detail::read_ds_arrays(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries,
+                                   DiffeoMaps& maps, Errors& e) {
+  for (const ArrayEntry& a : entries) {
+    std::vector<double>* dst = a.name == "ds_centers"   ? &maps.centers
+                               : a.name == "ds_vectors" ? &maps.vectors
+                               : a.name == "ds_rhos"    ? &maps.rhos
+                                                        : nullptr;
+    if (dst == nullptr) continue;
+    dst->resize(a.nbytes / 8);
+    if (a.nbytes > 0) std::memcpy(dst->data(), blob + a.offset, a.nbytes);
+  }
+  // the validator names the first bad map ("map 7: rho * ||v|| = ... >= sqrt(e/2)")
+  const Result r = validate_diffeo_maps(maps);
+  if (!r.ok()) return e.parse("ds: " + r.message);
+  return true;
+}
+
+Result load_ds_bundle_from_memory(const std::uint8_t* data, std::size_t size, DiffeoMaps& out,
+                                  const std::string& source) {
+  return bundle_detail::parse_bundle(data, size, source, nullptr, &out);
+}
+
+Result load_ds_bundle(const std::string& path, DiffeoMaps& out) {
+  std::vector<std::uint8_t> bytes;
+  Result r = bundle_detail::read_file(path, bytes);
+  if (!r.ok()) return r;
+  return load_ds_bundle_from_memory(bytes.data(), bytes.size(), out, path);
+}
+
+}  // namespace a2l

@@ -1,0 +1,462 @@
+// The diffeomorphic DS (diffeo.hpp): inverse(forward(x)) = x, the Jacobian against finite
+// differences, the velocity against an independent plain implementation (bisection inverse,
+// explicit matrix products), rollouts from far outside the data, refusal of maps that break
+// the invertibility bound (naming the map), non-finite input, and no allocation per call.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <type_traits>
+#include <vector>
+
+#include "a2l/diffeo.hpp"
+#include "alloc_counter.hpp"
+
+namespace {
+
+using a2l::DiffeoDS;
+using a2l::DiffeoIntegrator;
+using a2l::DiffeoMaps;
+using a2l::Status;
+
+static_assert(noexcept(std::declval<const DiffeoDS<2>&>().velocity(
+                  std::declval<const Eigen::Vector2d&>(), std::declval<Eigen::Vector2d&>())),
+              "velocity() must be noexcept");
+static_assert(noexcept(std::declval<const DiffeoDS<3>&>().inverse(
+                  std::declval<const Eigen::Vector3d&>(), std::declval<Eigen::Vector3d&>())),
+              "inverse() must be noexcept");
+
+// K random maps in [-scale, scale]^d with rho ||v|| = mu * sqrt(e/2), mu in [mu_lo, mu_hi].
+DiffeoMaps random_maps(int d, int k, std::uint64_t seed, double mu_lo = 0.2, double mu_hi = 0.9,
+                       double scale = 10.0) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(-scale, scale), mu(mu_lo, mu_hi), len(0.5, 4.0);
+  std::normal_distribution<double> n01;
+  DiffeoMaps m;
+  m.dim = d;
+  m.speed = 1.7;
+  for (int j = 0; j < d; ++j) m.target.push_back(0.5 * pos(rng));
+  for (int i = 0; i < k; ++i) {
+    std::vector<double> v(static_cast<std::size_t>(d));
+    double nv = 0.0;
+    for (double& x : v) {
+      x = n01(rng);
+      nv += x * x;
+    }
+    nv = std::sqrt(nv);
+    const double l = len(rng);
+    for (int j = 0; j < d; ++j) {
+      m.centers.push_back(pos(rng));
+      m.vectors.push_back(v[static_cast<std::size_t>(j)] / nv * l);
+    }
+    m.rhos.push_back(mu(rng) * a2l::kDiffeoInvertibilityBound / l);
+  }
+  return m;
+}
+
+template <int D>
+DiffeoDS<D> make(const DiffeoMaps& m) {
+  DiffeoDS<D> ds;
+  const a2l::Result r = DiffeoDS<D>::create(m, ds);
+  EXPECT_TRUE(r.ok()) << r.message;
+  return ds;
+}
+
+template <int D>
+typename DiffeoDS<D>::Vec random_point(std::mt19937_64& rng, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  typename DiffeoDS<D>::Vec x;
+  for (int j = 0; j < D; ++j) x[j] = u(rng);
+  return x;
+}
+
+// ---- an independent plain implementation: per-map bisection, explicit matrices ------------
+template <int D>
+struct Plain {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+  const DiffeoMaps& m;
+  Vec c(int i) const { return Eigen::Map<const Vec>(m.centers.data() + i * D); }
+  Vec v(int i) const { return Eigen::Map<const Vec>(m.vectors.data() + i * D); }
+  double r2(int i) const { return m.rhos[static_cast<std::size_t>(i)] * m.rhos[i]; }
+  Mat jac_map(int i, const Vec& x) const {
+    const double k = std::exp(-r2(i) * (x - c(i)).squaredNorm());
+    return Mat::Identity() - 2.0 * r2(i) * k * v(i) * (x - c(i)).transpose();
+  }
+  Vec forward(Vec x) const {
+    for (int i = 0; i < m.n_maps(); ++i) x += std::exp(-r2(i) * (x - c(i)).squaredNorm()) * v(i);
+    return x;
+  }
+  Vec inverse(Vec y) const {
+    for (int i = m.n_maps() - 1; i >= 0; --i) {
+      double lo = 0.0, hi = 1.0;
+      for (int it = 0; it < 200; ++it) {
+        const double k = 0.5 * (lo + hi);
+        const double g = k - std::exp(-r2(i) * (y - c(i) - k * v(i)).squaredNorm());
+        (g < 0.0 ? lo : hi) = k;
+      }
+      y -= 0.5 * (lo + hi) * v(i);
+    }
+    return y;
+  }
+  Vec velocity(const Vec& x) const {
+    Vec z = inverse(x);
+    Mat j = Mat::Identity();
+    Vec p = z;
+    for (int i = 0; i < m.n_maps(); ++i) {
+      j = jac_map(i, p) * j;
+      p += std::exp(-r2(i) * (p - c(i)).squaredNorm()) * v(i);
+    }
+    Vec t = Eigen::Map<const Vec>(m.target.data());
+    return m.speed * j * (t - z);
+  }
+};
+
+template <int D>
+void check_round_trip(std::uint64_t seed) {
+  const DiffeoMaps m = random_maps(D, 150, seed);
+  const DiffeoDS<D> ds = make<D>(m);
+  std::mt19937_64 rng(seed + 100);
+  double worst = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    // half near a center (where the maps bend most), half anywhere
+    typename DiffeoDS<D>::Vec x = random_point<D>(rng, 15.0);
+    if (n % 2) {
+      const int i = n % m.n_maps();
+      x = Eigen::Map<const typename DiffeoDS<D>::Vec>(m.centers.data() + i * D) +
+          random_point<D>(rng, 0.3);
+    }
+    typename DiffeoDS<D>::Vec y, back, fwd;
+    ASSERT_EQ(ds.forward(x, y), Status::ok);
+    ASSERT_EQ(ds.inverse(y, back), Status::ok);
+    ASSERT_EQ(ds.forward(back, fwd), Status::ok);
+    worst = std::max(worst, (back - x).template lpNorm<Eigen::Infinity>());
+    EXPECT_LT((back - x).template lpNorm<Eigen::Infinity>(), 1e-10) << "x = " << x.transpose();
+    EXPECT_LT((fwd - y).template lpNorm<Eigen::Infinity>(), 1e-10);
+  }
+  ::testing::Test::RecordProperty("worst_round_trip", std::to_string(worst));
+}
+
+TEST(Diffeo, InverseUndoesForward2D) { check_round_trip<2>(1); }
+TEST(Diffeo, InverseUndoesForward3D) { check_round_trip<3>(2); }
+
+TEST(Diffeo, InverseNearTheBoundStillConverges) {
+  // rho ||v|| up to 0.99 sqrt(e/2): g' gets as small as 0.01, the bracket keeps Newton safe.
+  const DiffeoMaps m = random_maps(2, 60, 3, 0.95, 0.99, 3.0);
+  const DiffeoDS<2> ds = make<2>(m);
+  std::mt19937_64 rng(4);
+  for (int n = 0; n < 3000; ++n) {
+    const Eigen::Vector2d x = random_point<2>(rng, 4.0);
+    Eigen::Vector2d y, back;
+    ASSERT_EQ(ds.forward(x, y), Status::ok);
+    ASSERT_EQ(ds.inverse(y, back), Status::ok);
+    EXPECT_LT((back - x).lpNorm<Eigen::Infinity>(), 1e-9) << x.transpose();
+  }
+}
+
+template <int D>
+void check_jacobian(std::uint64_t seed) {
+  const DiffeoMaps m = random_maps(D, 40, seed, 0.2, 0.9, 5.0);
+  const DiffeoDS<D> ds = make<D>(m);
+  const Plain<D> plain{m};
+  std::mt19937_64 rng(seed + 7);
+  using Vec = typename DiffeoDS<D>::Vec;
+  for (int n = 0; n < 200; ++n) {
+    const Vec x = random_point<D>(rng, 6.0);
+    Vec y;
+    typename DiffeoDS<D>::Mat j;
+    ASSERT_EQ(ds.jacobian(x, y, j), Status::ok);
+    Vec y2;
+    ASSERT_EQ(ds.forward(x, y2), Status::ok);
+    EXPECT_LT((y - y2).norm(), 1e-12);
+    EXPECT_LT((y - plain.forward(x)).norm(), 1e-12);
+    const double h = 1e-6;
+    for (int c = 0; c < D; ++c) {
+      Vec xp = x, xm = x, yp, ym;
+      xp[c] += h;
+      xm[c] -= h;
+      ASSERT_EQ(ds.forward(xp, yp), Status::ok);
+      ASSERT_EQ(ds.forward(xm, ym), Status::ok);
+      const Vec fd = (yp - ym) / (2.0 * h);
+      EXPECT_LT((fd - j.col(c)).norm(), 1e-6 * (1.0 + j.col(c).norm())) << "column " << c;
+    }
+  }
+}
+
+TEST(Diffeo, JacobianMatchesFiniteDifferences2D) { check_jacobian<2>(11); }
+TEST(Diffeo, JacobianMatchesFiniteDifferences3D) { check_jacobian<3>(12); }
+
+template <int D>
+void check_velocity(std::uint64_t seed) {
+  const DiffeoMaps m = random_maps(D, 150, seed);
+  const DiffeoDS<D> ds = make<D>(m);
+  const Plain<D> plain{m};
+  std::mt19937_64 rng(seed + 3);
+  using Vec = typename DiffeoDS<D>::Vec;
+  for (int n = 0; n < 300; ++n) {
+    const Vec x = random_point<D>(rng, 15.0);
+    Vec f, z;
+    ASSERT_EQ(ds.velocity(x, f, z), Status::ok);
+    const Vec ref = plain.velocity(x);
+    EXPECT_LT((f - ref).norm(), 1e-9 * (1.0 + ref.norm())) << "x = " << x.transpose();
+    EXPECT_LT((z - plain.inverse(x)).norm(), 1e-10);
+  }
+  // the target is the equilibrium: Phi(target) = target needs the last map; here check
+  // f(Phi(target)) = 0 instead (z = target there).
+  Vec t = Eigen::Map<const Vec>(m.target.data()), pt, f;
+  ASSERT_EQ(ds.forward(t, pt), Status::ok);
+  ASSERT_EQ(ds.velocity(pt, f), Status::ok);
+  EXPECT_LT(f.norm(), 1e-9);
+}
+
+TEST(Diffeo, VelocityMatchesPlainImplementation2D) { check_velocity<2>(21); }
+TEST(Diffeo, VelocityMatchesPlainImplementationGentleWideMaps) {
+  // as fitted on LASA: wide maps (every weight far from underflow) with rho ||v|| well below
+  // the bound, where the weight's exponential is mostly a short polynomial
+  const DiffeoMaps m = random_maps(2, 150, 23, 0.01, 0.2, 3.0);
+  const DiffeoDS<2> ds = make<2>(m);
+  const Plain<2> plain{m};
+  std::mt19937_64 rng(24);
+  for (int n = 0; n < 300; ++n) {
+    const Eigen::Vector2d x = random_point<2>(rng, 5.0);
+    Eigen::Vector2d f, z, y, back;
+    ASSERT_EQ(ds.velocity(x, f, z), Status::ok);
+    const Eigen::Vector2d ref = plain.velocity(x);
+    EXPECT_LT((f - ref).norm(), 1e-9 * (1.0 + ref.norm())) << "x = " << x.transpose();
+    ASSERT_EQ(ds.forward(x, y), Status::ok);
+    ASSERT_EQ(ds.inverse(y, back), Status::ok);
+    EXPECT_LT((back - x).lpNorm<Eigen::Infinity>(), 1e-10);
+  }
+}
+TEST(Diffeo, VelocityMatchesPlainImplementation3D) { check_velocity<3>(22); }
+
+TEST(Diffeo, EveryBranchOfTheOneMapSolveIsExact) {
+  // one map, points from its center outwards: near (Halley), far (series, weight <= 1e-6) and
+  // underflowing (skipped); against 200 bisections
+  DiffeoMaps m;
+  m.dim = 2;
+  m.target = {0.0, 0.0};
+  m.centers = {0.3, -0.2};
+  m.vectors = {0.8, 0.5};
+  m.rhos = {0.85 * a2l::kDiffeoInvertibilityBound / std::hypot(0.8, 0.5)};
+  const DiffeoDS<2> ds = make<2>(m);
+  const Plain<2> plain{m};
+  for (double r = 0.0; r < 40.0; r += 0.01) {
+    const Eigen::Vector2d y = Eigen::Vector2d(0.3, -0.2) + r * Eigen::Vector2d(0.6, -0.8);
+    Eigen::Vector2d x;
+    ASSERT_EQ(ds.inverse(y, x), Status::ok);
+    EXPECT_LT((x - plain.inverse(y)).norm(), 4e-16 * (1.0 + y.norm())) << "r = " << r;
+  }
+}
+
+TEST(Diffeo, NoMapsIsTheLinearSystem) {
+  DiffeoMaps m;
+  m.dim = 2;
+  m.target = {1.0, -2.0};
+  m.speed = 2.0;
+  DiffeoDS<2> ds = make<2>(m);
+  Eigen::Vector2d f;
+  ASSERT_EQ(ds.velocity(Eigen::Vector2d(3.0, 0.0), f), Status::ok);
+  EXPECT_NEAR(f[0], -4.0, 1e-15);
+  EXPECT_NEAR(f[1], -4.0, 1e-15);
+}
+
+template <int D>
+void check_rollout(DiffeoIntegrator how, double dt, std::size_t steps, double tol) {
+  const DiffeoMaps m = random_maps(D, 150, 31);
+  const DiffeoDS<D> ds = make<D>(m);
+  using Vec = typename DiffeoDS<D>::Vec;
+  const Vec t = Eigen::Map<const Vec>(m.target.data());
+  Vec end_point;  // Phi(target): the attractor in x-space (= target once the last map matches)
+  ASSERT_EQ(ds.forward(t, end_point), Status::ok);
+  std::vector<Vec> out(steps);
+  std::mt19937_64 rng(32);
+  for (int n = 0; n < 4; ++n) {
+    Vec x0 = random_point<D>(rng, 1.0).normalized() * 1000.0;  // far outside the data
+    ASSERT_EQ(ds.rollout(x0, dt, steps, out.data(), how), Status::ok);
+    EXPECT_EQ(out[0], x0);
+    EXPECT_LT((out.back() - end_point).norm(), tol) << "from " << x0.transpose();
+  }
+}
+
+TEST(Diffeo, RolloutFromFarOutsideConvergesExact) {
+  check_rollout<2>(DiffeoIntegrator::exact, 0.05, 800, 1e-6);
+  check_rollout<3>(DiffeoIntegrator::exact, 0.05, 800, 1e-6);
+}
+TEST(Diffeo, RolloutFromFarOutsideConvergesRk4) {
+  check_rollout<2>(DiffeoIntegrator::rk4, 0.02, 2000, 1e-6);
+}
+TEST(Diffeo, RolloutFromFarOutsideConvergesEuler) {
+  check_rollout<2>(DiffeoIntegrator::euler, 0.005, 8000, 1e-6);
+}
+
+TEST(Diffeo, Rk4ConvergesToTheExactFlow) {
+  // RK4's error at t = 2 shrinks as dt^4 towards the exact flow (ratio ~16 per halving).
+  const DiffeoMaps m = random_maps(2, 150, 41);
+  const DiffeoDS<2> ds = make<2>(m);
+  const Eigen::Vector2d x0(12.0, -9.0);
+  std::vector<Eigen::Vector2d> exact(2), rk(1601);
+  ASSERT_EQ(ds.rollout(x0, 2.0, exact.size(), exact.data()), Status::ok);
+  double err[3];
+  for (int h = 0; h < 3; ++h) {
+    const std::size_t n = 400u << h;
+    ASSERT_EQ(ds.rollout(x0, 2.0 / static_cast<double>(n), n + 1, rk.data(), DiffeoIntegrator::rk4),
+              Status::ok);
+    err[h] = (rk[n] - exact[1]).norm();
+  }
+  EXPECT_LT(err[2], 1e-6);
+  EXPECT_GT(err[0] / err[1], 8.0);
+  EXPECT_GT(err[1] / err[2], 8.0);
+}
+
+// ---- refusals -----------------------------------------------------------------------------
+void expect_refused(const DiffeoMaps& m, Status status, const std::string& needle) {
+  DiffeoDS<2> ds2;
+  const a2l::Result r = DiffeoDS<2>::create(m, ds2);
+  EXPECT_EQ(r.status, status) << r.message;
+  EXPECT_NE(r.message.find(needle), std::string::npos)
+      << "message '" << r.message << "' does not name '" << needle << "'";
+}
+
+TEST(Diffeo, MapBreakingTheBoundIsRefusedByIndex) {
+  DiffeoMaps m = random_maps(2, 20, 51);
+  ASSERT_TRUE(a2l::validate_diffeo_maps(m).ok());
+  // map 7 exactly at the bound, map 12 above it: the first is named
+  const double l7 = std::hypot(m.vectors[14], m.vectors[15]);
+  m.rhos[7] = a2l::kDiffeoInvertibilityBound / l7 * (1.0 + 1e-12);
+  m.rhos[12] *= 10.0;
+  expect_refused(m, Status::invalid_argument, "map 7: rho * ||v||");
+  m.rhos[7] = 0.5 * a2l::kDiffeoInvertibilityBound / l7;
+  expect_refused(m, Status::invalid_argument, "map 12: rho * ||v||");
+}
+
+TEST(Diffeo, BadValuesAndShapesAreRefused) {
+  const DiffeoMaps good = random_maps(2, 10, 52);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  DiffeoMaps m = good;
+  m.centers[7] = nan;
+  expect_refused(m, Status::invalid_argument, "map 3: center is not finite");
+  m = good;
+  m.vectors[0] = std::numeric_limits<double>::infinity();
+  expect_refused(m, Status::invalid_argument, "map 0: vector is not finite");
+  m = good;
+  m.rhos[4] = -0.1;
+  expect_refused(m, Status::invalid_argument, "map 4: rho = -0.1 < 0");
+  m = good;
+  m.rhos[5] = nan;
+  expect_refused(m, Status::invalid_argument, "map 5: rho is not finite");
+  m = good;
+  m.target[1] = nan;
+  expect_refused(m, Status::invalid_argument, "target");
+  m = good;
+  m.speed = 0.0;
+  expect_refused(m, Status::invalid_argument, "speed");
+  m = good;
+  m.centers.pop_back();
+  expect_refused(m, Status::size_mismatch, "centers has 19 values");
+  m = good;
+  m.vectors.push_back(1.0);
+  expect_refused(m, Status::size_mismatch, "vectors has 21 values");
+  m = good;
+  m.target.push_back(0.0);
+  expect_refused(m, Status::size_mismatch, "target has 3 values");
+  m = good;
+  m.dim = 4;
+  EXPECT_EQ(a2l::validate_diffeo_maps(m).status, Status::size_mismatch);
+  m = random_maps(3, 5, 53);
+  expect_refused(m, Status::size_mismatch, "dim is 3");
+  // rho = 0 is allowed (a translation by v), a huge finite v with rho > 0 is not
+  m = good;
+  m.rhos[2] = 0.0;
+  EXPECT_TRUE(a2l::validate_diffeo_maps(m).ok());
+  m.vectors[4] = 1e300;
+  m.rhos[2] = 1e-10;
+  expect_refused(m, Status::invalid_argument, "map 2: rho * ||v||");
+}
+
+TEST(Diffeo, NonFiniteInputGivesAStatus) {
+  const DiffeoDS<2> ds = make<2>(random_maps(2, 30, 61));
+  const double bad[] = {std::numeric_limits<double>::quiet_NaN(),
+                        std::numeric_limits<double>::infinity(),
+                        -std::numeric_limits<double>::infinity()};
+  for (double b : bad) {
+    const Eigen::Vector2d x(1.0, b);
+    Eigen::Vector2d y = Eigen::Vector2d::Constant(7.0);
+    Eigen::Matrix2d j;
+    EXPECT_EQ(ds.forward(x, y), Status::invalid_argument);
+    EXPECT_EQ(ds.inverse(x, y), Status::invalid_argument);
+    EXPECT_EQ(ds.velocity(x, y), Status::invalid_argument);
+    EXPECT_EQ(ds.jacobian(x, y, j), Status::invalid_argument);
+    EXPECT_EQ(y, Eigen::Vector2d::Constant(7.0));  // outputs untouched on failure
+    std::vector<Eigen::Vector2d> out(4);
+    EXPECT_EQ(ds.rollout(x, 0.1, out.size(), out.data()), Status::invalid_argument);
+  }
+  std::vector<Eigen::Vector2d> out(4);
+  EXPECT_EQ(ds.rollout(Eigen::Vector2d(1, 1), 0.0, out.size(), out.data()),
+            Status::invalid_argument);
+  EXPECT_EQ(ds.rollout(Eigen::Vector2d(1, 1), 0.1, out.size(), nullptr), Status::size_mismatch);
+  // huge but finite input: every map underflows, the velocity overflows -> a status, not inf
+  Eigen::Vector2d f;
+  EXPECT_EQ(ds.velocity(Eigen::Vector2d(1.5e308, -1.5e308), f), Status::invalid_argument);
+  EXPECT_EQ(ds.velocity(Eigen::Vector2d(1e150, -1e150), f), Status::ok);
+  EXPECT_TRUE(f.allFinite());
+}
+
+// ---- no allocation ------------------------------------------------------------------------
+template <int D>
+void check_no_allocation(std::uint64_t seed) {
+  const DiffeoDS<D> ds = make<D>(random_maps(D, 150, seed));
+  using Vec = typename DiffeoDS<D>::Vec;
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> pick(0, 9);
+  std::vector<Vec> points(5000), out(64);
+  for (Vec& p : points) {
+    p = random_point<D>(rng, 20.0);
+    const int c = pick(rng);
+    if (c == 0) p[0] = std::numeric_limits<double>::quiet_NaN();
+    if (c == 1) p[D - 1] = -std::numeric_limits<double>::infinity();
+    if (c == 2) p *= 1e200;
+  }
+  std::size_t ok = 0;
+  a2l::test::AllocationGuard guard;
+  for (const Vec& p : points) {
+    Vec y, z;
+    typename DiffeoDS<D>::Mat j;
+    ok += ds.forward(p, y) == Status::ok;
+    ok += ds.inverse(p, y) == Status::ok;
+    ok += ds.jacobian(p, y, j) == Status::ok;
+    ok += ds.velocity(p, y, z) == Status::ok;
+  }
+  for (int n = 0; n < 50; ++n) {
+    const Vec& p = points[static_cast<std::size_t>(n)];
+    ok += ds.rollout(p, 0.05, out.size(), out.data()) == Status::ok;
+    ok += ds.rollout(p, 0.05, out.size(), out.data(), DiffeoIntegrator::rk4) == Status::ok;
+  }
+  EXPECT_EQ(guard.allocations(), 0u);
+  EXPECT_GT(ok, 10000u);  // most calls succeeded: the loop did real work
+}
+
+TEST(DiffeoNoAlloc, EvaluationAllocatesNothing2D) { check_no_allocation<2>(71); }
+TEST(DiffeoNoAlloc, EvaluationAllocatesNothing3D) { check_no_allocation<3>(72); }
+
+TEST(Diffeo, TimingReportsOrderedPercentiles) {
+  const DiffeoDS<2> ds = make<2>(random_maps(2, 150, 81));
+  std::mt19937_64 rng(82);
+  std::vector<double> pts;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector2d p = random_point<2>(rng, 12.0);
+    pts.push_back(p[0]);
+    pts.push_back(p[1]);
+  }
+  a2l::DiffeoTiming t;
+  ASSERT_TRUE(a2l::time_velocity<2>(ds, pts.data(), 200, 3, t).ok());
+  EXPECT_EQ(t.n, 600u);
+  EXPECT_GT(t.median_ns, 0.0);
+  EXPECT_LE(t.median_ns, t.p999_ns);
+  EXPECT_LE(t.p999_ns, t.max_ns);
+  pts[5] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(a2l::time_velocity<2>(ds, pts.data(), 200, 1, t).status, Status::invalid_argument);
+}
+
+}  // namespace

@@ -1,0 +1,76 @@
+"""A short LASA benchmark run (2 shapes, small settings) and the metrics it reports."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from a2l.cli import main
+from a2l.experiments.lasa import LasaConfig, lasa_shapes, load_lasa_shape
+from a2l.lfd import DiffeoDS
+from a2l.lfd.metrics import dtw_mean_distance, swept_error_area, velocity_rmse
+
+
+def test_the_dataset_has_30_shapes_of_7_demonstrations():
+    shapes = lasa_shapes()
+    assert len(shapes) == 30 and "GShape" in shapes
+    demos, durations = load_lasa_shape("Angle")
+    assert len(demos) == len(durations) == 7
+    assert demos[0].shape == (1000, 2) and np.allclose(demos[0][-1], 0.0)
+    with pytest.raises(ValueError, match="unknown LASA shape"):
+        load_lasa_shape("Circle")
+
+
+def test_metrics_on_known_cases():
+    t = np.linspace(0.0, 1.0, 101)
+    a = np.column_stack([t, np.zeros_like(t)])
+    b = a + [0.0, 0.5]                              # the same segment, 0.5 above
+    assert dtw_mean_distance(a, b) == pytest.approx(0.5)
+    assert dtw_mean_distance(a, a) == 0.0
+    # every other sample: the odd ones align with a neighbour 0.01 away
+    assert dtw_mean_distance(a, a[::2]) == pytest.approx(0.01 * 50 / 101)
+    assert swept_error_area(a, b) == pytest.approx(0.5)      # a 1 x 0.5 rectangle
+    assert velocity_rmse(a, b, 1.0) == pytest.approx(0.0, abs=1e-12)
+    assert velocity_rmse(2 * a, a, 1.0) == pytest.approx(1.0)
+
+
+def test_short_lasa_run_writes_the_run_directory(tmp_path):
+    out = tmp_path / "lasa"
+    code = main(["experiment", "lasa", "--out", str(out), "--shapes", "Angle,Line",
+                 "--K", "40", "--mu", "0.6", "--starts", "40", "--workers", "2", "--quiet"])
+    assert code == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    for section in ("shapes", "dmp", "linear", "demo_spread"):
+        assert set(metrics[section]) == {"Angle", "Line"}
+    a2l = metrics["shapes"]["Angle"]
+    assert {"dtw", "sea", "vrmse", "fit_ms", "eval_us", "converged"} <= set(a2l)
+    assert set(metrics["dmp"]["Line"]) == {"dtw", "sea", "vrmse"}
+    assert set(metrics["linear"]["Line"]) == {"dtw", "sea", "vrmse"}
+    assert set(metrics["demo_spread"]["Line"]) == {"dtw"}
+    for name in ("Angle", "Line"):
+        m = metrics["shapes"][name]
+        assert m["converged"] == 1.0                         # every start reached the target
+        assert 0 < m["dtw"] < metrics["linear"][name]["dtw"] or name == "Line"
+        assert m["fit_ms"] > 0 and m["eval_us"] > 0
+    # the angle is far from a straight line: the DS must beat the linear floor clearly
+    assert metrics["shapes"]["Angle"]["dtw"] < 0.5 * metrics["linear"]["Angle"]["dtw"]
+    report = (out / "report.md").read_text()
+    assert "| Angle |" in report and "lasa.png" in report
+    assert (out / "lasa.png").stat().st_size > 10_000
+    ds = DiffeoDS.load(out / "ds" / "Angle.a2lb")
+    assert ds.n_maps <= 40 and ds.metadata["shape"] == "Angle"
+    config = json.loads((out / "config.json").read_text())
+    assert config["lasa"]["K"] == 40 and config["lasa"]["n_starts"] == 40
+
+
+def test_lasa_command_refuses_unknown_shapes(tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        main(["experiment", "lasa", "--out", str(tmp_path / "x"), "--shapes", "Circle"])
+    assert "unknown shape" in capsys.readouterr().err
+
+
+def test_config_validation_names_the_parameter():
+    with pytest.raises(ValueError, match="mu"):
+        LasaConfig(mu=1.5).validate()
