@@ -92,7 +92,7 @@ def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path) -> None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.framework import _discretizers
+    from a2l.framework import discretizers as _discretizers
 
     names = _discretizers(cfg).effects.values
     n = len(names)
@@ -135,8 +135,8 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.framework import _discretizers
-    from a2l.framework_env import CppSkillRunner
+    from a2l.framework import discretizers as _discretizers
+    from a2l.framework.runner import CppSkillRunner
 
     disc = _discretizers(cfg)
     runner = CppSkillRunner(str(bundle))
