@@ -151,10 +151,16 @@ def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
     return out
 
 
+#: A first acquisition: ``(config, executor, iteration, progress) -> rollouts``.
+FirstAcquisition = Callable[[FrameworkConfig, Executor, int,
+                             Callable[[str, int, int], None] | None], list[Rollout]]
+
+
 def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
                   progress: Callable[[str, int, int], None] | None = None,
                   on_iteration: Callable[[IterationResult], None] | None = None,
-                  robot: dict[str, str] | None = None) -> dict[str, Any]:
+                  robot: dict[str, str] | None = None,
+                  first_acquisition: FirstAcquisition | None = None) -> dict[str, Any]:
     """The whole iterative loop; resumes from the newest checkpoint in `run_dir`.
 
     Parameters
@@ -171,6 +177,10 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         Called with each finished iteration's metrics.
     robot : dict, optional
         Robot entry of the bundles.
+    first_acquisition : callable, optional
+        Where iteration 0's interactions come from (default :func:`acquire`, random
+        babbling around the object); e.g. NovEB
+        (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`).
 
     Returns
     -------
@@ -199,7 +209,8 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
             break
         t0 = time.perf_counter()
         if dataset is None:
-            new = rollouts_to_frame(acquire(cfg, executor, it, progress), disc)
+            first = first_acquisition or acquire
+            new = rollouts_to_frame(first(cfg, executor, it, progress), disc)
             candidate = new
         else:
             extra = extend(cfg, executor, it, best_val, stuck)
