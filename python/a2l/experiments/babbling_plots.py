@@ -9,13 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from a2l.experiments.babbling_world import TWO_OBJECTS, WorldConfig
+from a2l.experiments.babbling_world import WorldConfig, object_homes
 from a2l.experiments.rundir import atomic_write_text, make_run_dir, read_json, write_json
 
 __all__ = ["plot_progress", "plot_visits", "run_babbling_compare", "summary_table"]
 
-#: The push scene's box (x, y) and every box's footprint (m).
-_PUSH_BOX = {"box": (0.62, -0.25)}
+#: Every box's footprint (x, y) (m): the push scene's box size.
 _BOX = (0.07, 0.085)
 
 
@@ -35,8 +34,11 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
     drawn at their start positions.
     """
     plt = _plt()
-    boxes = TWO_OBJECTS if world.scene == "two_objects" else _PUSH_BOX
-    fig, axes = plt.subplots(1, len(paths), figsize=(3.6 * len(paths), 4.0), squeeze=False)
+    from a2l.sim import make_config
+
+    boxes = object_homes(world, make_config("push"))
+    fig, axes = plt.subplots(1, len(paths), figsize=(max(5.0, 3.6 * len(paths)), 4.0),
+                             squeeze=False)
     for ax, (method, ps) in zip(axes[0], paths.items(), strict=True):
         pts = np.vstack(ps) if ps else np.zeros((0, 3))
         ax.hist2d(pts[:, 1], pts[:, 0], bins=(32, 24),
@@ -49,7 +51,8 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
         ax.set(title=f"{method} ({len(ps)} trajectories)", xlabel="y (m, robot's left ←)",
                ylabel="x (m, far ↑)", aspect="equal")
         ax.invert_xaxis()
-    fig.suptitle(f"End-effector positions visited ({world.scene}; boxes purple, start ▲)")
+    fig.suptitle(f"End-effector positions visited, {world.scene} (boxes: purple; start: ▲)",
+                 fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 
 __all__ = ["BABBLING_SCENES", "Evaluation", "WorldConfig", "act_and_look", "evaluate_task",
-           "make_world"]
+           "make_world", "object_homes"]
 
 #: Scenes of the babbling experiment.
 BABBLING_SCENES = ("push", "two_objects")
@@ -185,6 +185,13 @@ class Evaluation:
     final: dict[str, tuple[float, float]]
 
 
+def object_homes(cfg: WorldConfig, sim_config: Any) -> dict[str, tuple[float, float]]:
+    """Where the scene of `cfg` puts each object on reset (x, y) (m)."""
+    if cfg.scene == "two_objects":
+        return dict(TWO_OBJECTS)
+    return {"box": tuple(sim_config.box_position)}
+
+
 def evaluate_task(task: tuple[dict[str, Any], NDArray[np.float64]]) -> Evaluation:
     """Evaluate one genotype: ``(world config as a dict, genotype)`` (runs in workers too)."""
     cfg_d, genotype = task
@@ -192,7 +199,7 @@ def evaluate_task(task: tuple[dict[str, Any], NDArray[np.float64]]) -> Evaluatio
     scene = _world(cfg)
     descriptor, path, moves = act_and_look(scene, cfg, np.asarray(genotype, dtype=float))
     after = scene.ground_truth()["objects"]
-    home = {o.name: o.xy for o in scene._objects.values()}
+    home = object_homes(cfg, scene.config)
     disp = {n: (float(after[n][0] - home[n][0]), float(after[n][1] - home[n][1]))
             for n in home}
     final = {n: (float(after[n][0]), float(after[n][1])) for n in home}
