@@ -34,16 +34,18 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
     drawn at their start positions.
     """
     plt = _plt()
+    from matplotlib.colors import LogNorm
+
     from a2l.sim import make_config
 
     boxes = object_homes(world, make_config("push"))
-    fig, axes = plt.subplots(1, len(paths), figsize=(max(5.0, 3.6 * len(paths)), 4.0),
+    fig, axes = plt.subplots(1, len(paths), figsize=(max(5.0, 3.6 * len(paths)), 3.0),
                              squeeze=False)
     for ax, (method, ps) in zip(axes[0], paths.items(), strict=True):
         pts = np.vstack(ps) if ps else np.zeros((0, 3))
         ax.hist2d(pts[:, 1], pts[:, 0], bins=(32, 24),
                   range=((world.low[1] - 0.05, world.high[1] + 0.05),
-                         (world.low[0] - 0.05, world.high[0] + 0.05)), cmap="Blues", cmin=1)
+                         (world.low[0] - 0.05, world.high[0] + 0.05)), cmap="Blues", norm=LogNorm())
         for _name, (x, y) in boxes.items():
             ax.add_patch(plt.Rectangle((y - _BOX[1] / 2, x - _BOX[0] / 2), _BOX[1], _BOX[0],
                                        color="tab:purple", alpha=0.8))
@@ -51,8 +53,8 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
         ax.set(title=f"{method} ({len(ps)} trajectories)", xlabel="y (m, robot's left ←)",
                ylabel="x (m, far ↑)", aspect="equal")
         ax.invert_xaxis()
-    fig.suptitle(f"End-effector positions visited, {world.scene} (boxes: purple; start: ▲)",
-                 fontsize=10)
+    fig.suptitle(f"End-effector positions visited, {world.scene} (boxes: purple; start: ▲; "
+                 "log colour scale)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
