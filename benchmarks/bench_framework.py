@@ -9,10 +9,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from a2l import framework
 from a2l.experiments.push import run_push_experiment
-from a2l.framework import FrameworkConfig
-from a2l.framework_env import SceneEnv
+from a2l.framework import FrameworkConfig, loop, validation
+from a2l.framework.env import SceneEnv
 from a2l.parallel import Executor
 
 TITLE = "Iterative framework (push experiment: workers, Baxter iteration)"
@@ -28,6 +27,9 @@ class _Instrument:
 
     PHASES = ("acquire", "extend", "generate_skill", "validate")
     TASKS = ("babble_task", "directed_task", "validate_task")
+    #: The module whose global each phase and task is looked up in when the loop runs.
+    HOME = {"acquire": loop, "extend": loop, "generate_skill": loop, "validate": loop,
+            "babble_task": loop, "directed_task": loop, "validate_task": validation}
 
     def __init__(self) -> None:
         self.moves = 0
@@ -51,11 +53,11 @@ class _Instrument:
 
         SceneEnv.execute = execute  # type: ignore[method-assign]
         for name in self.PHASES:
-            self._orig[name] = getattr(framework, name)
-            setattr(framework, name, self._timed(name, self._orig[name]))
+            self._orig[name] = getattr(self.HOME[name], name)
+            setattr(self.HOME[name], name, self._timed(name, self._orig[name]))
         for name in self.TASKS:
-            self._orig[name] = getattr(framework, name)
-            setattr(framework, name, self._counted(self._orig[name]))
+            self._orig[name] = getattr(self.HOME[name], name)
+            setattr(self.HOME[name], name, self._counted(self._orig[name]))
         return self
 
     def _counted(self, fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -79,7 +81,7 @@ class _Instrument:
     def __exit__(self, *exc: object) -> None:
         SceneEnv.execute = self._orig["execute"]  # type: ignore[method-assign]
         for name in (*self.PHASES, *self.TASKS):
-            setattr(framework, name, self._orig[name])
+            setattr(self.HOME[name], name, self._orig[name])
 
 
 def _run(cfg: FrameworkConfig, workers: int, root: Path, name: str) -> tuple[dict[str, Any],

@@ -10,6 +10,10 @@ experiment discretization
     The orientation x distance discretization study.
 experiment lasa
     The diffeomorphic DS on the LASA handwriting benchmark.
+experiment babbling
+    One exploration method (NovEB, random or goal babbling) on Baxter's push scenes.
+experiment babbling-compare
+    Every exploration method over several seeds, side by side.
 """
 
 from __future__ import annotations
@@ -125,10 +129,16 @@ def _cmd_experiment_push(args: argparse.Namespace) -> int:
             raise UsageError("--resume", f"'{resume}' holds no config.json: not a push run "
                              "directory")
         _check_cluster(args.cluster)
+        if args.acquisition is not None:
+            raise UsageError("--acquisition", "not allowed with --resume (the run continues "
+                             "with its own config.json)")
         run_push_experiment(resume=resume, workers=args.workers, cluster=args.cluster,
                             quiet=args.quiet)
         return 0
     cfg = _framework_config(args, _PUSH_CONFIG_OPTIONS)
+    if args.acquisition == "noveb" and cfg.scene != "baxter":  # type: ignore[attr-defined]
+        raise UsageError("--acquisition", "noveb sees the world through a camera: use "
+                         "--scene baxter (the virtual scene has none)")
     if args.out is not None:
         out = Path(args.out)
         if out.exists() and not out.is_dir():
@@ -138,7 +148,8 @@ def _cmd_experiment_push(args: argparse.Namespace) -> int:
                              f"--resume {out}, or choose another directory")
     _check_cluster(args.cluster)
     run_push_experiment(cfg, out=args.out, workers=args.workers, cluster=args.cluster,
-                        quiet=args.quiet)
+                        quiet=args.quiet, acquisition=args.acquisition or "random",
+                        noveb_evaluations=args.noveb_evaluations)
     return 0
 
 
@@ -203,6 +214,74 @@ def _add_lasa_parser(exps: argparse._SubParsersAction) -> None:
                       help="local worker processes, one shape each (default 1)")
     lasa.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     lasa.set_defaults(func=_cmd_experiment_lasa)
+def _cmd_experiment_babbling(args: argparse.Namespace) -> int:
+    from a2l.experiments.babbling import run_babbling
+
+    if args.out is not None:
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise UsageError("--out", f"'{out}' exists and is not a directory")
+        if (out / "metrics.json").exists():
+            raise UsageError("--out", f"'{out}' already holds a run; choose another directory")
+    _check_cluster(args.cluster)
+    run_babbling(args.method, args.evaluations, args.seed, args.scene, out=args.out,
+                 workers=args.workers, cluster=args.cluster,
+                 generation_size=args.generation_size, quiet=args.quiet)
+    return 0
+
+
+def _cmd_experiment_babbling_compare(args: argparse.Namespace) -> int:
+    from a2l.experiments.babbling_plots import run_babbling_compare
+
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    _check_cluster(args.cluster)
+    run_babbling_compare(args.scene, args.evaluations, list(range(args.seeds)), out=out,
+                         methods=tuple(args.methods), workers=args.workers,
+                         cluster=args.cluster, generation_size=args.generation_size,
+                         quiet=args.quiet)
+    return 0
+
+
+def _add_babbling_parsers(exps: argparse._SubParsersAction) -> None:
+    """``experiment babbling`` and ``experiment babbling-compare``."""
+    bab = exps.add_parser(
+        "babbling", help="one exploration method on Baxter's push scenes",
+        description="Explore with NovEB (novelty-driven evolutionary babbling, on camera "
+        "images only), random motor babbling or random goal babbling, with the same "
+        "trajectory encoding and budget; write the run directory: config.json, "
+        "metrics.json (per generation: moved_share, distinct_outcomes, archive_size), "
+        "evaluations.parquet, paths.npz, visits.png, progress.png, report.md.")
+    cmp_ = exps.add_parser(
+        "babbling-compare", help="every exploration method over several seeds",
+        description="Run the babbling experiment for each method and seed (<out>/<method>-"
+        "s<seed>; finished runs are reused) and write the side-by-side plots and the table "
+        "of means and spreads over seeds.")
+    bab.add_argument("--method", choices=("noveb", "random", "goal"), required=True,
+                     help="exploration method")
+    cmp_.add_argument("--methods", nargs="+", choices=("noveb", "random", "goal"),
+                      default=["noveb", "random", "goal"], help="methods (default all three)")
+    bab.add_argument("--seed", type=_nonnegative_int, default=0, help="random seed (default 0)")
+    cmp_.add_argument("--seeds", type=_positive_int, default=5, metavar="N",
+                      help="seeds 0 .. N-1 (default 5)")
+    bab.add_argument("--out", metavar="DIR", default=None,
+                     help="run directory (default runs/babbling-<method>-<scene>-<timestamp>)")
+    cmp_.add_argument("--out", metavar="DIR", required=True, help="comparison directory")
+    for p in (bab, cmp_):
+        p.add_argument("--evaluations", type=_positive_int, default=2000, metavar="N",
+                       help="trajectories played per run (default 2000)")
+        p.add_argument("--scene", choices=("push", "two_objects"), default="push",
+                       help="one box, or two boxes far apart (default push)")
+        p.add_argument("--generation-size", type=_positive_int, default=20, metavar="N",
+                       help="evaluations per generation (NovEB's mu and lambda; default 20)")
+        p.add_argument("--workers", type=_positive_int, default=1, metavar="N",
+                       help="local worker processes for the evaluations (default 1)")
+        p.add_argument("--cluster", metavar="ADDRESS", default=None,
+                       help="Dask scheduler address (tcp://host:port); evaluations run there")
+        p.add_argument("--quiet", action="store_true", help="no progress bar")
+    bab.set_defaults(func=_cmd_experiment_babbling)
+    cmp_.set_defaults(func=_cmd_experiment_babbling_compare)
 
 
 def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
@@ -237,6 +316,12 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
                       help="iteration cap, iteration 0 included (default 10)")
     push.add_argument("--starts", type=_positive_int, default=None, metavar="N",
                       help="start positions around the object (default 8)")
+    push.add_argument("--acquisition", choices=("random", "noveb"), default=None,
+                      help="iteration 0's interactions: random babbling around the object "
+                      "(default) or NovEB over the reachable table, on camera images only "
+                      "(PyBullet scene only)")
+    push.add_argument("--noveb-evaluations", type=_positive_int, default=200, metavar="N",
+                      help="NovEB's trajectories with --acquisition noveb (default 200)")
     push.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     push.set_defaults(func=_cmd_experiment_push)
 
@@ -259,6 +344,7 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     disc.add_argument("--quiet", action="store_true", help="no per-run lines")
     disc.set_defaults(func=_cmd_experiment_discretization)
     _add_lasa_parser(exps)
+    _add_babbling_parsers(exps)
 
 
 def build_parser() -> argparse.ArgumentParser:

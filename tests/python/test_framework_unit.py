@@ -29,7 +29,7 @@ from a2l.framework import (
     random_waypoints,
     score_of,
 )
-from a2l.framework_env import make_env
+from a2l.framework.env import make_env
 from a2l.parallel import Executor
 
 

@@ -92,7 +92,7 @@ def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path) -> None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.framework import _discretizers
+    from a2l.framework import discretizers as _discretizers
 
     names = _discretizers(cfg).effects.values
     n = len(names)
@@ -135,8 +135,8 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.framework import _discretizers
-    from a2l.framework_env import CppSkillRunner
+    from a2l.framework import discretizers as _discretizers
+    from a2l.framework.runner import CppSkillRunner
 
     disc = _discretizers(cfg)
     runner = CppSkillRunner(str(bundle))
@@ -198,7 +198,8 @@ def _report(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path) -> str:
 def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | None = None,
                         workers: int = 1, cluster: str | None = None,
                         resume: str | Path | None = None, quiet: bool = False,
-                        plots: bool = True) -> dict[str, Any]:
+                        plots: bool = True, acquisition: str = "random",
+                        noveb_evaluations: int = 200) -> dict[str, Any]:
     """Run (or resume) the push experiment and write its run directory.
 
     Parameters
@@ -217,6 +218,12 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         No progress bar, no table.
     plots : bool
         Write the PNG plots.
+    acquisition : {"random", "noveb"}
+        Iteration 0's interactions: random babbling around the object (METHOD.md), or
+        NovEB over the whole reachable table, told camera images only
+        (:mod:`a2l.acquisition.noveb_rollouts`); ignored when resuming.
+    noveb_evaluations : int
+        NovEB's trajectories, with ``acquisition="noveb"``.
 
     Returns
     -------
@@ -229,20 +236,35 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
             raise FileNotFoundError(f"cannot resume: '{run_dir}/config.json' does not exist")
         saved = read_json(run_dir / "config.json")
         cfg = FrameworkConfig.from_dict(saved["framework"])
+        acq = saved.get("acquisition", {"method": "random"})
+        acquisition = acq["method"]
+        noveb_evaluations = int(acq.get("evaluations", noveb_evaluations))
     else:
         cfg = cfg or FrameworkConfig()
         cfg.validate()
+        if acquisition not in ("random", "noveb"):
+            raise ValueError(f"acquisition: unknown {acquisition!r}; choose 'random' or "
+                             "'noveb'")
+        if noveb_evaluations < 1:
+            raise ValueError(f"noveb_evaluations: must be >= 1, got {noveb_evaluations}")
         run_dir = make_run_dir(f"push-{cfg.scene}", out)
         write_json(run_dir / "config.json", {
             "experiment": "push", "framework": asdict(cfg),
+            **({"acquisition": {"method": acquisition, "evaluations": noveb_evaluations}}
+               if acquisition != "random" else {}),
             "command": f"a2l experiment push --scene {cfg.scene} --effects {cfg.n_effects} "
                        f"--seed {cfg.seed} --iterations {cfg.max_iterations} "
-                       f"--starts {cfg.n_starts} --out {run_dir}",
+                       f"--starts {cfg.n_starts} --out {run_dir}"
+                       + (f" --acquisition {acquisition} --noveb-evaluations "
+                          f"{noveb_evaluations}" if acquisition != "random" else ""),
         })
     t0 = time.perf_counter()
+    noveb_log: dict[str, Any] = {}
     with Executor(workers=workers, cluster=cluster) as executor, _Progress(quiet) as bar:
+        first = _noveb_first(noveb_evaluations, noveb_log) if acquisition == "noveb" else None
         result = run_framework(cfg, run_dir, executor, progress=bar.update,
-                               on_iteration=bar.iteration, robot=_robot_entry(cfg))
+                               on_iteration=bar.iteration, robot=_robot_entry(cfg),
+                               first_acquisition=first)
     final = run_dir / "skills" / "push.a2lb"
     shutil.copyfile(result["bundle"], final)
     result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
@@ -251,6 +273,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         "seed": cfg.seed, "iterations": result["iterations"],
         "final_score": result["final_score"], "bundle": str(final.relative_to(run_dir)),
         "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
+        **({"acquisition": {"method": acquisition, **noveb_log}}
+           if acquisition != "random" else {}),
     }
     write_json(run_dir / "metrics.json", metrics)
     if plots:
@@ -265,6 +289,24 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         Console().print(Markdown(results_table(result["iterations"])))
         print(f"final score {result['final_score']:.1f}; run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
+
+
+def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
+    """Iteration 0 by NovEB (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`); what it
+    did goes into `log` (evaluations, interactions kept, robot movements, archive)."""
+    from a2l.acquisition.noveb_rollouts import noveb_acquire
+
+    def first(cfg: FrameworkConfig, executor: Executor, _iteration: int, progress: Any
+              ) -> list[Any]:
+        t = time.perf_counter()
+        rollouts, noveb, movements = noveb_acquire(cfg, executor, evaluations,
+                                                   progress=progress)
+        log.update({"evaluations": evaluations, "interactions": len(rollouts),
+                    "movements": movements, "archive_size": len(noveb.archive),
+                    "wall_s": time.perf_counter() - t})
+        return rollouts
+
+    return first
 
 
 class _Progress:

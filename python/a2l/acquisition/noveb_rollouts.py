@@ -1,0 +1,117 @@
+"""NovEB as the framework's first acquisition (``a2l experiment push --acquisition noveb``).
+
+NovEB explores the framework's scene from a fixed start in front of the robot, with
+waypoints at the push height anywhere over the reachable table (it is not told where the
+object is), and is told only image descriptors. The experimenter records, beside, the
+object's positions during every trajectory; the trajectories that moved the object become
+interactions in the common dataset format (cut where the object moved, as babbling's are,
+and labelled with the observed effect), which feed the framework's iteration 0.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import asdict
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from a2l.acquisition.noveb import NovEB, NovEBConfig
+from a2l.acquisition.rollout import Rollout, effect_of
+from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
+from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.env import scene_env
+from a2l.parallel import Executor
+
+__all__ = ["NOVEB_START", "NOVEB_WORKSPACE", "noveb_acquire", "noveb_task"]
+
+#: Where NovEB's trajectories start (x, y; at the push height) (m).
+NOVEB_START = (0.42, -0.25)
+#: The rectangle of the table its waypoints lie in (x, y low; x, y high) (m): what Baxter's
+#: right arm reaches over the table with the gripper pointing down.
+NOVEB_WORKSPACE = ((0.40, -0.72), (0.78, 0.12))
+
+
+def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]
+               ) -> tuple[NDArray[np.float64], Rollout | None, int]:
+    """Play one genotype in the framework's scene: ``(config, genotype, max_moves)``.
+
+    Returns
+    -------
+    descriptor : ndarray, shape (1024,)
+        What NovEB is told.
+    rollout : Rollout or None
+        The interaction up to the movement that moved the object (None: nothing moved, or
+        a movement outside the framework's repertoire came first).
+    movements : int
+        Robot movements made (out and back).
+    """
+    cfg_d, genotype, max_moves = task
+    cfg = FrameworkConfig(**cfg_d)
+    env = scene_env(cfg)
+    disc = discretizers(cfg)
+    z = float(env.home[2])
+    (x0, y0), (x1, y1) = NOVEB_WORKSPACE
+    points = WaypointEncoding((x0, y0, z), (x1, y1, z), len(genotype) // 3).decode(genotype)
+    eefs: list[NDArray[np.float64]] = []
+    objs: list[NDArray[np.float64]] = []
+
+    def observe() -> None:  # the experimenter's record, never shown to NovEB
+        eefs.append(env.eef().copy())
+        objs.append(env.object().copy())
+
+    descriptor, path, out = play_and_look(env.scene, (*NOVEB_START, z), points, max_moves,
+                                          observe=observe, on_reset=observe)
+    made = len(path) - 1
+    from a2l.sim.scene import DIRECTIONS
+
+    repertoire = {tuple(int(s) for s in d): i
+                  for i, d in enumerate(disc.movements.directions)}
+    moves: list[int] = []
+    for k, m in enumerate(out):
+        idx = repertoire.get(DIRECTIONS[m])
+        if idx is None:
+            return descriptor, None, made
+        moves.append(idx)
+        effect = effect_of(disc, objs[k + 1] - objs[0])
+        if effect >= 0:
+            return descriptor, Rollout(-1, moves, np.array(eefs[: k + 2]),
+                                       np.array(objs[: k + 2]), effect=effect,
+                                       stop="moved"), made
+    return descriptor, None, made
+
+
+def noveb_acquire(cfg: FrameworkConfig, executor: Executor, evaluations: int,
+                  generation_size: int = 20,
+                  progress: Callable[[str, int, int], None] | None = None,
+                  max_moves: int = 16) -> tuple[list[Rollout], NovEB, int]:
+    """Run NovEB for `evaluations` trajectories; the interactions that moved the object.
+
+    Returns
+    -------
+    rollouts : list of Rollout
+        In evaluation order.
+    noveb : NovEB
+        The strategy at the end (archive, history).
+    movements : int
+        Robot movements made in all.
+    """
+    if cfg.scene != "baxter":
+        raise ValueError(f"NovEB sees the world through a camera: the {cfg.scene!r} scene has "
+                         "none; use scene 'baxter'")
+    noveb = NovEB(9, cfg.seed, evaluations,
+                  NovEBConfig(mu=generation_size, lambda_=generation_size))
+    cfg_d = asdict(cfg)
+    kept: list[Rollout] = []
+    done = movements = 0
+    while not noveb.done:
+        asked = noveb.ask(generation_size)
+        results = executor.map(noveb_task, [(cfg_d, g, max_moves) for g in asked])
+        noveb.tell(asked, np.array([d for d, _, _ in results]))
+        kept.extend(r for _, r, _ in results if r is not None)
+        movements += sum(m for _, _, m in results)
+        done += len(asked)
+        if progress:
+            progress("noveb", done, evaluations)
+    return kept, noveb, movements

@@ -1,0 +1,101 @@
+"""Random motor babbling (METHOD.md's acquisition): from start positions around the object,
+uniformly random movements until the object moves; only the trajectories that moved it are
+kept.
+
+:func:`babble_task` plays one trajectory (it runs in worker processes too);
+:class:`RandomBabbling` is the strategy that asks for them until enough moved the object.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import asdict
+from typing import Any
+
+import numpy as np
+
+from a2l.acquisition.rollout import Rollout, erase_loops, play
+from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.env import scene_env
+
+__all__ = ["BabbleTask", "RandomBabbling", "babble_task", "random_walk"]
+
+#: One babbling trajectory: ``(config as a dict, start index, prefix movements, seed,
+#: most random movements)``.
+BabbleTask = tuple[dict[str, Any], int, list[int], int, int]
+
+
+def babble_task(task: BabbleTask) -> Rollout:
+    """One babbling trajectory: ``(config, start, prefix, seed, steps)``.
+
+    Uniformly random movements after `prefix` (METHOD.md), at most `steps` of them, until
+    the object moves.
+    """
+    cfg_d, start, prefix, seed, steps = task
+    return random_walk(FrameworkConfig(**cfg_d), start, prefix, seed, steps)
+
+
+def random_walk(cfg: FrameworkConfig, start: int, prefix: Sequence[int], seed: int,
+                steps: int) -> Rollout:
+    """`prefix`, then at most `steps` uniformly random movements from start `start`."""
+    disc = discretizers(cfg)
+    rng = np.random.default_rng(seed)
+    n = disc.movements.n_moves
+
+    def choose(_eef: np.ndarray, _obj: np.ndarray) -> int:
+        return int(rng.integers(n))
+
+    offset = cfg.start_offsets()[start]
+    r = play(scene_env(cfg), disc, start, offset, prefix, choose, len(prefix) + steps)
+    return erase_loops(r) if cfg.erase_loops else r
+
+
+class RandomBabbling:
+    """Random babbling until `target` trajectories moved the object or `try_cap` were tried.
+
+    Candidates are :data:`BabbleTask` tuples (evaluate them with :func:`babble_task`);
+    the i-th one starts at start ``i mod n_starts`` with seed ``seed_of(i)``. Outcomes are
+    told in ask order and cut where the target is reached, so the kept trajectories do not
+    depend on the batch size or on where the tasks ran.
+
+    Parameters
+    ----------
+    cfg : FrameworkConfig
+        Starts, babbling length and the scene.
+    seed_of : callable
+        ``seed_of(i)``: the seed of the i-th trajectory.
+    target : int
+        Trajectories that moved the object wanted.
+    try_cap : int
+        Most trajectories tried.
+    """
+
+    def __init__(self, cfg: FrameworkConfig, seed_of: Callable[[int], int], target: int,
+                 try_cap: int) -> None:
+        self.cfg = cfg
+        self._cfg_d = asdict(cfg)
+        self.seed_of = seed_of
+        self.target = int(target)
+        self.try_cap = int(try_cap)
+        self.tried = 0
+        self.kept: list[Rollout] = []
+
+    @property
+    def done(self) -> bool:
+        """Enough trajectories moved the object, or the try cap is reached."""
+        return len(self.kept) >= self.target or self.tried >= self.try_cap
+
+    def ask(self, n: int) -> list[BabbleTask]:
+        """The next (at most) `n` trajectories to try."""
+        if self.done:
+            return []
+        n = min(n, self.try_cap - self.tried)
+        return [(self._cfg_d, (self.tried + i) % self.cfg.n_starts, [],
+                 self.seed_of(self.tried + i), self.cfg.max_babble_steps) for i in range(n)]
+
+    def tell(self, asked: Sequence[BabbleTask], outcomes: Sequence[Rollout]) -> None:
+        """Keep, in order, the trajectories that moved the object (up to the target)."""
+        for r in outcomes:
+            self.tried += 1
+            if r.moved and len(self.kept) < self.target:
+                self.kept.append(r)

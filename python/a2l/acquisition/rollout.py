@@ -1,0 +1,159 @@
+"""Rollouts: one end-effector trajectory played in a scene (:func:`play`), its record
+(:class:`Rollout`), loop erasure, and the conversion of rollouts that moved the object into
+the interaction dataset's rows (:func:`rollouts_to_frame`, :mod:`a2l.data.schema`).
+
+Every acquisition strategy's trajectories end up here; the framework's validation plays the
+skills' trajectories the same way.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from a2l import _core
+from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
+
+__all__ = ["Rollout", "effect_of", "erase_loops", "play", "rollouts_to_frame"]
+
+
+@dataclass
+class Rollout:
+    """One trajectory of the end-effector from a start position.
+
+    Attributes
+    ----------
+    start : int
+        Index of the start position.
+    moves : list of int
+        Movement indices executed, in order.
+    eef : ndarray, shape (len(moves) + 1, 3)
+        End-effector positions before each movement and after the last.
+    obj : ndarray, shape (len(moves) + 1, 3)
+        Object positions at the same instants.
+    effect : int
+        Observed effect index (-1: the object did not move).
+    wanted : int
+        Wanted effect in validation (-1 in babbling).
+    outcome : str
+        ``success``, ``false_positive`` or ``fail`` (validation), ``""`` (babbling).
+    stop : str
+        Why the rollout ended (``moved``, ``step_cap``, ``unknown_context``,
+        ``unreachable``, ``exhausted``).
+    """
+
+    start: int
+    moves: list[int]
+    eef: np.ndarray
+    obj: np.ndarray
+    effect: int = -1
+    wanted: int = -1
+    outcome: str = ""
+    stop: str = ""
+
+    @property
+    def moved(self) -> bool:
+        """True if the object moved (an effect was observed)."""
+        return self.effect >= 0
+
+
+
+def effect_of(disc: Any, displacement: np.ndarray) -> int:
+    """Effect index of one object displacement (-1: none, or not seen), by the C++
+    classifier the scenes and the runtime use (same indices as ``disc.effects``; tested
+    equal)."""
+    e = disc.effects
+    return int(_core.classify_effect(np.asarray(displacement, dtype=float), e.n_effects,
+                                     e.threshold, e.ratio))
+
+
+def play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],
+          choose: Callable[[np.ndarray, np.ndarray], int | None], max_steps: int) -> Rollout:
+    """Start at `offset`, replay `prefix`, then ``choose(eef, obj)`` until the object moves.
+
+    `choose` returns a movement index, or None to stop.
+    """
+    env.begin(offset)
+    obj0 = env.object().copy()
+    eefs, objs, moves = [env.eef().copy()], [obj0.copy()], []
+    stop = "exhausted"
+    effect = -1
+    for i in range(max_steps):
+        move = prefix[i] if i < len(prefix) else choose(eefs[-1], objs[-1])
+        if move is None:
+            stop = "stopped"
+            break
+        if not env.execute(tuple(int(s) for s in disc.movements.directions[move])):
+            stop = "unreachable"
+            break
+        moves.append(int(move))
+        eefs.append(env.eef().copy())
+        objs.append(env.object().copy())
+        effect = effect_of(disc, objs[-1] - obj0)
+        if effect >= 0:
+            stop = "moved"
+            break
+    return Rollout(start, moves, np.array(eefs), np.array(objs), effect=effect, stop=stop)
+
+
+def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:
+    """The rollout with its loops cut out: where the end-effector comes back (within `tol`)
+    to a place it was at while the object had not moved yet, the steps in between go.
+
+    A random walk that produced an effect wanders; the loop-free walk reaches the same
+    contact with the same object state, so it is an equally real interaction with less
+    noise in its labels.
+    """
+    keep_e, keep_o, keep_m = [r.eef[0]], [r.obj[0]], []
+    moving_from = next((k for k in range(1, len(r.obj))
+                        if np.linalg.norm(r.obj[k] - r.obj[0]) > 1e-9), len(r.obj))
+    for k in range(len(r.moves)):
+        p = r.eef[k + 1]
+        if k + 1 < moving_from:
+            hits = [i for i, q in enumerate(keep_e) if np.linalg.norm(p - q) < tol]
+            if hits:
+                i = hits[0]
+                keep_e, keep_o, keep_m = keep_e[: i + 1], keep_o[: i + 1], keep_m[:i]
+                continue
+        keep_e.append(p)
+        keep_o.append(r.obj[k + 1])
+        keep_m.append(r.moves[k])
+    return Rollout(r.start, keep_m, np.array(keep_e), np.array(keep_o), effect=r.effect,
+                   wanted=r.wanted, outcome=r.outcome, stop=r.stop)
+
+
+
+def rollouts_to_frame(rollouts: Sequence[Rollout], disc: Any, first_episode: int = 0
+                      ) -> pd.DataFrame:
+    """Raw dataset rows (:mod:`a2l.data.schema`) of rollouts that moved the object.
+
+    Every step of a trajectory is labelled with the trajectory's observed effect (the
+    object's displacement from the start to the end).
+
+    Returns
+    -------
+    pandas.DataFrame, shape (total steps, 16)
+    """
+    rows: list[dict[str, Any]] = []
+    ep = first_episode
+    for r in rollouts:
+        if not r.moved:
+            continue
+        disp = r.obj[-1] - r.obj[0]
+        for k, move in enumerate(r.moves):
+            d = disc.movements.displacement(move)
+            row = {"episode": ep, "step": k, "start": r.start}
+            row.update(zip(EEF_COLUMNS, r.eef[k], strict=True))
+            row.update(zip(OBJECT_COLUMNS, r.obj[k], strict=True))
+            row.update(zip(MOVE_COLUMNS, d, strict=True))
+            row.update(zip(EFFECT_DISPLACEMENT_COLUMNS, disp, strict=True))
+            rows.append(row)
+        ep += 1
+    cols = ["episode", "step", "start", *EEF_COLUMNS, *OBJECT_COLUMNS, *MOVE_COLUMNS,
+            *EFFECT_DISPLACEMENT_COLUMNS]
+    return pd.DataFrame(rows, columns=cols)
+

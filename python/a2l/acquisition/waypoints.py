@@ -1,0 +1,158 @@
+"""Effect-directed trajectories: random waypoint trajectories around the object
+(:func:`random_waypoints` followed by :func:`heading_chooser`), or random walks, kept only
+when they produce one wanted effect. The framework asks for them for (start, effect) pairs
+its skill keeps failing (:class:`EffectDirected`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import asdict
+from typing import Any
+
+import numpy as np
+
+from a2l.acquisition.random_babbling import random_walk
+from a2l.acquisition.rollout import Rollout, erase_loops, play
+from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.env import scene_env
+
+__all__ = ["DirectedTask", "EffectDirected", "directed_task", "heading_chooser",
+           "random_waypoints"]
+
+#: One effect-directed trajectory: ``(config as a dict, start index, seed, most movements)``.
+DirectedTask = tuple[dict[str, Any], int, int, int]
+
+
+def random_waypoints(rng: np.random.Generator, home: np.ndarray, n_max: int, r_low: float,
+                     r_high: float, aim: float) -> np.ndarray:
+    """The points of a random waypoint trajectory around an object at `home`.
+
+    0 to `n_max` via-points (uniformly many), each at a uniform angle and a uniform distance
+    in ``[r_low, r_high]`` from `home` in the table plane, then a last point drawn uniformly
+    within ± `aim` of `home` on each table axis. Like NovEB's genotypes (waypoints in the
+    workspace), the trajectory is random, but it keeps a heading for several movements, so
+    it goes around the object far more often than a random walk of the same length.
+
+    Returns
+    -------
+    ndarray, shape (k, 3), 1 <= k <= n_max + 1
+        The points, at `home`'s height; the last one is the aim on the object.
+    """
+    home = np.asarray(home, dtype=float)
+    points = []
+    for _ in range(int(rng.integers(0, n_max + 1))):
+        a, r = rng.uniform(0, 2 * np.pi), rng.uniform(r_low, r_high)
+        points.append(home + np.array([r * np.cos(a), r * np.sin(a), 0.0]))
+    points.append(home + np.array([*rng.uniform(-aim, aim, 2), 0.0]))
+    return np.array(points)
+
+
+def heading_chooser(points: np.ndarray, disc: Any, start: np.ndarray
+                    ) -> Callable[[np.ndarray, np.ndarray], int]:
+    """A ``choose(eef, obj)`` that follows `points` (shape (k, 3)) from `start` (3,) with the
+    repertoire's movements: each movement is the direction closest to the way to the
+    current point; a point is passed when the end-effector comes within 0.7 steps of it
+    (table plane), and the last one is headed for until the rollout ends (the object moves
+    on the way).
+
+    The chooser plans on the nominal positions (`start` plus the movements chosen so far),
+    not on the measured `eef`: the trajectory is a function of its points alone. A physics
+    scene ends a movement a few 1e-8 m off its target, differently in a process that ran
+    other rollouts before (PyBullet keeps solver state across restores), and near a tie
+    between two directions that noise would change the movement, and so the results with
+    the number of workers.
+    """
+    dirs = disc.movements.directions.astype(float)
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    reach = 0.7 * disc.movements.step
+    k = 0
+    at = np.array(start, dtype=float)
+
+    def choose(_eef: np.ndarray, _obj: np.ndarray) -> int:
+        nonlocal k, at
+        while k < len(points) - 1 and np.linalg.norm((points[k] - at)[:2]) < reach:
+            k += 1
+        d = points[k] - at
+        if disc.movements.planar:
+            d[2] = 0.0
+        move = int(np.argmax(dirs @ d))
+        at = at + disc.movements.displacement(move)
+        return move
+
+    return choose
+
+
+def directed_task(task: DirectedTask) -> Rollout:
+    """One effect-directed babbling trajectory: ``(config, start, seed, steps)``.
+
+    ``directed_mode == "random"``: uniformly random movements (as :func:`babble_task`);
+    ``"waypoints"``: a random waypoint trajectory (:func:`random_waypoints`,
+    :func:`heading_chooser`) with via-points between ``dist_low`` and
+    ``start_radius + step`` from the object. At most `steps` movements, until the object
+    moves.
+    """
+    cfg_d, start, seed, steps = task
+    cfg = FrameworkConfig(**cfg_d)
+    if cfg.directed_mode == "random":
+        return random_walk(cfg, start, [], seed, steps)
+    disc = discretizers(cfg)
+    env = scene_env(cfg)
+    offset = cfg.start_offsets()[start]
+    points = random_waypoints(np.random.default_rng(seed), env.home, cfg.waypoints_max,
+                              cfg.dist_low, cfg.start_radius + cfg.step, cfg.waypoint_aim)
+    choose = heading_chooser(points, disc, env.home + offset)
+    r = play(env, disc, start, offset, [], choose, steps)
+    return erase_loops(r) if cfg.erase_loops else r
+
+
+class EffectDirected:
+    """Effect-directed trajectories from one start until `want` produced `effect` or `cap`
+    were tried.
+
+    Candidates are :data:`DirectedTask` tuples (evaluate them with :func:`directed_task`),
+    the i-th with seed ``seed_of(i)``; outcomes are told in ask order and cut at `want`.
+
+    Parameters
+    ----------
+    cfg : FrameworkConfig
+        Scene, trajectory mode and length (``directed_steps``).
+    start : int
+        Start index.
+    effect : int
+        The effect wanted.
+    seed_of : callable
+        ``seed_of(i)``: the seed of the i-th trajectory.
+    want, cap : int
+        Trajectories wanted, most tried.
+    """
+
+    def __init__(self, cfg: FrameworkConfig, start: int, effect: int,
+                 seed_of: Callable[[int], int], want: int, cap: int) -> None:
+        self.cfg = cfg
+        self._cfg_d = asdict(cfg)
+        self.start, self.effect = int(start), int(effect)
+        self.seed_of = seed_of
+        self.want, self.cap = int(want), int(cap)
+        self.tried = 0
+        self.found: list[Rollout] = []
+
+    @property
+    def done(self) -> bool:
+        """Enough trajectories produced the effect, or the try cap is reached."""
+        return len(self.found) >= self.want or self.tried >= self.cap
+
+    def ask(self, n: int) -> list[DirectedTask]:
+        """The next (at most) `n` trajectories to try."""
+        if self.done:
+            return []
+        n = min(n, self.cap - self.tried)
+        return [(self._cfg_d, self.start, self.seed_of(self.tried + i), self.cfg.directed_steps)
+                for i in range(n)]
+
+    def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout]) -> None:
+        """Keep, in order, the trajectories that produced the effect (up to `want`)."""
+        for r in outcomes:
+            self.tried += 1
+            if r.effect == self.effect and len(self.found) < self.want:
+                self.found.append(r)

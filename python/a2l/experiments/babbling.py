@@ -1,0 +1,222 @@
+"""The babbling experiment (thesis chapter 4): NovEB against random motor babbling and
+random goal babbling, with the same trajectory encoding and budget, on Baxter's push scene
+(one box) or two boxes far apart.
+
+``a2l experiment babbling`` runs one method with one seed and writes a run directory:
+``config.json``, ``metrics.json`` (per generation: ``moved_share``, ``distinct_outcomes``,
+``archive_size``; and the totals), ``evaluations.parquet`` (one row per evaluation),
+``paths.npz`` (end-effector paths), ``visits.png``, ``progress.png`` and ``report.md``.
+``a2l experiment babbling-compare`` runs every method over several seeds and writes the
+side-by-side plots and the table of means and spreads (:mod:`a2l.experiments.babbling_plots`).
+
+A generation is ``generation_size`` evaluations for every method (NovEB's λ, and μ for its
+first one): the batches in which strategies are asked and told.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from a2l.acquisition.goal_babbling import GoalBabbling, RandomTrajectories
+from a2l.acquisition.noveb import NovEB, NovEBConfig
+from a2l.acquisition.protocol import Strategy
+from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_task
+from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+from a2l.parallel import Executor
+
+__all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
+
+#: The methods compared.
+METHODS = ("noveb", "random", "goal")
+
+#: An object moved when its displacement on the table exceeds this (m).
+MOVED = 0.01
+#: Final object positions are binned on a grid of this side (m) for distinct outcomes.
+OUTCOME_BIN = 0.05
+
+
+def make_strategy(method: str, n_genes: int, seed: int, budget: int,
+                  generation_size: int) -> Strategy:
+    """The strategy of `method` (``noveb``, ``random`` or ``goal``)."""
+    if method == "noveb":
+        return NovEB(n_genes, seed, budget,
+                     NovEBConfig(mu=generation_size, lambda_=generation_size))
+    if method == "random":
+        return RandomTrajectories(n_genes, seed, budget)
+    if method == "goal":
+        return GoalBabbling(n_genes, seed, budget, bootstrap=generation_size)
+    raise ValueError(f"method: unknown {method!r}; choose one of {list(METHODS)}")
+
+
+def outcome_keys(ev: Evaluation) -> set[tuple[str, str, int, int]]:
+    """The outcomes an evaluation reached: for each object that moved, (object, effect
+    class, binned final x, binned final y)."""
+    from a2l.sim.effects import push_effect
+
+    keys = set()
+    for name, (dx, dy) in ev.displacement.items():
+        if np.hypot(dx, dy) > MOVED:
+            effect = push_effect((dx, dy), 4, MOVED)
+            x, y = ev.final[name]
+            keys.add((name, effect, int(np.floor(x / OUTCOME_BIN)),
+                      int(np.floor(y / OUTCOME_BIN))))
+    return keys
+
+
+def _moved(ev: Evaluation) -> bool:
+    return any(np.hypot(dx, dy) > MOVED for dx, dy in ev.displacement.values())
+
+
+class _Progress:
+    """A rich progress bar over evaluations (silent when quiet)."""
+
+    def __init__(self, quiet: bool, total: int, label: str) -> None:
+        self.quiet, self.total, self.label = quiet, total, label
+        self._bar: Any = None
+
+    def __enter__(self) -> _Progress:
+        if not self.quiet:
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+            self._bar = Progress("[bold]{task.description}", BarColumn(), MofNCompleteColumn(),
+                                 TimeElapsedColumn(), "{task.fields[info]}")
+            self._bar.start()
+            self._task = self._bar.add_task(self.label, total=self.total, info="")
+        return self
+
+    def update(self, done: int, info: str) -> None:
+        if self._bar is not None:
+            self._bar.update(self._task, completed=done, info=info)
+
+    def __exit__(self, *exc: object) -> None:
+        if self._bar is not None:
+            self._bar.stop()
+
+
+def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
+                 out: str | Path | None = None, workers: int = 1, cluster: str | None = None,
+                 generation_size: int = 20, quiet: bool = False, plots: bool = True,
+                 world: WorldConfig | None = None) -> dict[str, Any]:
+    """Run one babbling method and write its run directory.
+
+    Parameters
+    ----------
+    method : {"noveb", "random", "goal"}
+        The strategy.
+    evaluations : int
+        Budget (trajectories played).
+    seed : int
+        Seed of the strategy and of the scene.
+    scene : {"push", "two_objects"}
+        The world.
+    out : path, optional
+        Run directory (default ``runs/babbling-<method>-<scene>-<timestamp>``).
+    workers : int
+        Local worker processes for the evaluations.
+    cluster : str, optional
+        Dask scheduler address; evaluations run there.
+    generation_size : int
+        Evaluations per generation (asked and told together).
+    quiet : bool
+        No progress bar.
+    plots : bool
+        Write the PNG plots.
+    world : WorldConfig, optional
+        The world's parameters (`scene` and `seed` override its own).
+
+    Returns
+    -------
+    dict
+        The content of ``metrics.json`` plus ``run_dir``.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method: unknown {method!r}; choose one of {list(METHODS)}")
+    if evaluations < 1 or generation_size < 1:
+        raise ValueError(f"evaluations and generation_size must be >= 1, got {evaluations}, "
+                         f"{generation_size}")
+    base = asdict(world) if world is not None else {}
+    wcfg = WorldConfig(**{**base, "scene": scene, "seed": seed})
+    run_dir = make_run_dir(f"babbling-{method}-{scene}", out)
+    command = (f"a2l experiment babbling --method {method} --evaluations {evaluations} "
+               f"--seed {seed} --scene {scene} --out {run_dir}")
+    write_json(run_dir / "config.json", {
+        "experiment": "babbling", "method": method, "evaluations": evaluations, "seed": seed,
+        "scene": scene, "generation_size": generation_size, "world": asdict(wcfg),
+        "command": command})
+    n_genes = 3 * wcfg.n_waypoints
+    strategy = make_strategy(method, n_genes, seed, evaluations, generation_size)
+    wd = asdict(wcfg)
+    records: list[dict[str, Any]] = []
+    paths: list[np.ndarray] = []
+    reached: set[tuple[str, str, int, int]] = set()
+    generations: list[dict[str, Any]] = []
+    t0 = time.perf_counter()
+    eval_s = 0.0
+    with Executor(workers=workers, cluster=cluster) as executor, \
+            _Progress(quiet, evaluations, f"{method} on {scene}") as bar:
+        while not strategy.done:
+            asked = strategy.ask(generation_size)
+            t = time.perf_counter()
+            evs: list[Evaluation] = executor.map(evaluate_task, [(wd, g) for g in asked])
+            eval_s += time.perf_counter() - t
+            strategy.tell(asked, np.array([e.descriptor for e in evs]))
+            moved = 0
+            for g, e in zip(asked, evs, strict=True):
+                keys = outcome_keys(e)
+                reached |= keys
+                moved += _moved(e)
+                records.append({"evaluation": len(records), "generation": len(generations),
+                                "genotype": [float(v) for v in g], "moved": _moved(e),
+                                "moves": e.moves,
+                                **{f"d{n}": float(np.hypot(*d))
+                                   for n, d in e.displacement.items()}})
+                paths.append(e.path)
+            archive = len(strategy.archive) if isinstance(strategy, NovEB) else None
+            generations.append({
+                "generation": len(generations), "evaluations": len(records),
+                "moved_share": moved / len(evs),
+                "moved_share_so_far": float(np.mean([r["moved"] for r in records])),
+                "distinct_outcomes": len(reached), "archive_size": archive})
+            bar.update(len(records), f"moved {generations[-1]['moved_share_so_far']:.0%}, "
+                       f"outcomes {len(reached)}")
+    wall = time.perf_counter() - t0
+    df = pd.DataFrame(records)
+    df.to_parquet(run_dir / "evaluations.parquet", index=False)
+    np.savez_compressed(run_dir / "paths.npz", *paths)
+    totals = {"evaluations": len(records), "moved": int(df["moved"].sum()),
+              "moved_share": float(df["moved"].mean()), "distinct_outcomes": len(reached),
+              "archive_size": generations[-1]["archive_size"],
+              "movements": int(df["moves"].sum()), "wall_s": wall,
+              "evaluations_per_s": len(records) / eval_s if eval_s > 0 else float("nan")}
+    if isinstance(strategy, NovEB):
+        totals["threshold"] = strategy.threshold.value
+    metrics = {"experiment": "babbling", "method": method, "scene": scene, "seed": seed,
+               "generation_size": generation_size, "generations": generations,
+               "totals": totals, "workers": workers, "cluster": cluster}
+    write_json(run_dir / "metrics.json", metrics)
+    if plots:
+        from a2l.experiments.babbling_plots import plot_progress, plot_visits
+
+        plot_visits({method: paths}, wcfg, run_dir / "visits.png")
+        plot_progress({method: [metrics]}, run_dir / "progress.png")
+    atomic_write_text(run_dir / "report.md", "\n".join([
+        f"# Babbling: {method} on {scene} (seed {seed}, {len(records)} evaluations)", "",
+        f"Evaluations that moved an object: **{totals['moved']}** "
+        f"({totals['moved_share']:.1%}); distinct outcomes: **{len(reached)}**"
+        + (f"; archive: {totals['archive_size']}" if totals["archive_size"] is not None
+           else "") + f". Wall time {wall:.0f} s ({totals['evaluations_per_s']:.2f} "
+        f"evaluations/s, {workers} worker(s)).", "",
+        "![end-effector positions visited](visits.png)", "",
+        "![moved share and distinct outcomes](progress.png)", "",
+        f"Rerun: `{command}`.", ""]))
+    if not quiet:
+        print(f"{method} on {scene}, seed {seed}: moved {totals['moved_share']:.1%} of "
+              f"{len(records)} evaluations, {len(reached)} distinct outcomes; run directory: "
+              f"{run_dir}")
+    return {**metrics, "run_dir": str(run_dir)}

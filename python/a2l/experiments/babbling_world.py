@@ -1,0 +1,211 @@
+"""The world of the babbling experiment: Baxter's PyBullet push scene with one box
+(``push``) or two boxes far apart (``two_objects``), a trajectory played from a genotype,
+and what comes out of it.
+
+An evaluation has two parts that never mix:
+
+- :func:`act_and_look`, what a strategy may know: the end-effector follows the genotype's
+  waypoints with the scene's discrete movements, retraces its path back to the start, and
+  the camera image then, against the image before, gives the behaviour descriptor. It calls
+  only ``reset``, ``execute``, ``eef_position`` (proprioception) and ``render``.
+- :func:`evaluate_task` adds the experimenter's measurement (the true object positions
+  before and after) for the metrics; strategies are never told it.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
+
+__all__ = ["BABBLING_SCENES", "Evaluation", "WorldConfig", "act_and_look", "evaluate_task",
+           "make_world", "object_homes"]
+
+#: Scenes of the babbling experiment.
+BABBLING_SCENES = ("push", "two_objects")
+
+#: Where the boxes of the ``two_objects`` scene stand (x, y): 0.46 m apart.
+TWO_OBJECTS = {"box": (0.55, -0.45), "box2": (0.72, -0.02)}
+
+
+@dataclass(frozen=True)
+class WorldConfig:
+    """The babbling world.
+
+    Attributes
+    ----------
+    scene : {"push", "two_objects"}
+        One box (the push scene's), or two boxes far apart.
+    start : tuple of 3 float
+        Where every trajectory starts and ends (x, y, height above the table top) (m).
+    low, high : tuple of 3 float
+        The box the waypoints lie in (x, y, height above the table top) (m): the
+        workspace over the table that Baxter's right arm reaches with the gripper pointing
+        down (waypoints in its unreachable corners are given up on the way).
+    n_waypoints : int
+        Waypoints per trajectory (genotype length ``3 * n_waypoints``).
+    max_moves : int
+        Most movements out (as many back).
+    image_size : int
+        Side of the downsampled image of the descriptor (pixels).
+    camera_width, camera_height : int
+        Camera image size (pixels).
+    speed : float
+        Cartesian speed of the end-effector during a movement (m/s; the scene's ``speed``;
+        twice its default: half the physics steps per movement).
+    seed : int
+        The scene's seed.
+    """
+
+    scene: str = "push"
+    start: tuple[float, float, float] = (0.42, -0.25, 0.25)
+    low: tuple[float, float, float] = (0.40, -0.72, 0.03)
+    high: tuple[float, float, float] = (0.78, 0.12, 0.30)
+    n_waypoints: int = 3
+    max_moves: int = 16
+    image_size: int = 32
+    camera_width: int = 160
+    camera_height: int = 120
+    speed: float = 0.5
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.scene not in BABBLING_SCENES:
+            raise ValueError(f"scene: unknown {self.scene!r}; choose one of "
+                             f"{list(BABBLING_SCENES)}")
+        for name in ("n_waypoints", "max_moves", "image_size", "camera_width",
+                     "camera_height"):
+            v = getattr(self, name)
+            if not isinstance(v, int) or v < 1:
+                raise ValueError(f"{name}: must be a positive integer, got {v!r}")
+        for name in ("start", "low", "high"):
+            v = getattr(self, name)
+            if len(v) != 3 or not all(np.isfinite(v)):
+                raise ValueError(f"{name}: must be 3 finite numbers, got {v!r}")
+            object.__setattr__(self, name, tuple(float(x) for x in v))
+        if not self.speed > 0:
+            raise ValueError(f"speed: must be > 0, got {self.speed!r}")
+        if self.low[2] <= 0:
+            raise ValueError(f"low: the height must be above the table top, got {self.low}")
+
+    def encoding(self, table_z: float) -> WaypointEncoding:
+        """The genotype encoding over a table top at height `table_z`."""
+        up = np.array([0.0, 0.0, table_z])
+        return WaypointEncoding(tuple(np.asarray(self.low) + up),
+                                tuple(np.asarray(self.high) + up), self.n_waypoints)
+
+
+def make_world(cfg: WorldConfig) -> Any:
+    """The PyBullet scene of `cfg` (close it when done)."""
+    from a2l.sim import make_config
+    from a2l.sim.bullet import PushScene
+
+    sim = make_config("push", object_jitter=0.0, context_source="ground_truth",
+                      camera_width=cfg.camera_width, camera_height=cfg.camera_height,
+                      extra_camera_eyes=(), speed=cfg.speed)
+    if cfg.scene == "push":
+        return PushScene(sim, cfg.seed)
+
+    class TwoObjectsScene(PushScene):
+        name = "two_objects"
+
+        def _build_objects(self) -> None:
+            c = self.config
+            self._add_box("box", c.box_size, c.box_mass, c.box_friction, TWO_OBJECTS["box"],
+                          c.box_color)
+            self._add_box("box2", c.box_size, c.box_mass, c.box_friction,
+                          TWO_OBJECTS["box2"], (0.1, 0.65, 0.2, 1.0))
+
+    return TwoObjectsScene(sim, cfg.seed)
+
+
+_LOCAL = threading.local()
+
+
+def _world(cfg: WorldConfig) -> Any:
+    """The scene of this thread for `cfg` (built once, reused)."""
+    cache: dict[WorldConfig, Any] = _LOCAL.__dict__.setdefault("worlds", {})
+    scene = cache.get(cfg)
+    if scene is None:
+        for old in cache.values():
+            old.close()
+        cache.clear()
+        scene = cache[cfg] = make_world(cfg)
+    return scene
+
+
+def act_and_look(scene: Any, cfg: WorldConfig, genotype: NDArray[np.float64]
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
+    """Play `genotype` and look: what a babbling strategy may know of the movement
+    (:func:`a2l.acquisition.trajectory.play_and_look`).
+
+    Returns
+    -------
+    descriptor : ndarray, shape (image_size ** 2,)
+        The grey image after the movement minus the one before, downsampled.
+    path : ndarray, shape (m + 1, 3)
+        End-effector positions (proprioception) at the start and after each movement.
+    moves : int
+        Movements carried out (out and back).
+    """
+    up = np.array([0.0, 0.0, scene.config.table_z])
+    points = cfg.encoding(scene.config.table_z).decode(genotype)
+    descriptor, path, _ = play_and_look(scene, np.asarray(cfg.start) + up, points,
+                                        cfg.max_moves, cfg.image_size)
+    return descriptor, path, len(path) - 1
+
+
+@dataclass
+class Evaluation:
+    """One evaluated genotype.
+
+    Attributes
+    ----------
+    descriptor : ndarray, shape (d,)
+        What the strategy is told.
+    path : ndarray, shape (m + 1, 3)
+        End-effector positions.
+    moves : int
+        Movements carried out.
+    displacement : dict of str to (dx, dy)
+        Each object's displacement on the table (experimenter's measurement).
+    final : dict of str to (x, y)
+        Each object's final position (experimenter's measurement).
+    """
+
+    descriptor: NDArray[np.float64]
+    path: NDArray[np.float64]
+    moves: int
+    displacement: dict[str, tuple[float, float]]
+    final: dict[str, tuple[float, float]]
+
+
+def object_homes(cfg: WorldConfig, sim_config: Any) -> dict[str, tuple[float, float]]:
+    """Where the scene of `cfg` puts each object on reset (x, y) (m)."""
+    if cfg.scene == "two_objects":
+        return dict(TWO_OBJECTS)
+    return {"box": tuple(sim_config.box_position)}
+
+
+def evaluate_task(task: tuple[dict[str, Any], NDArray[np.float64]]) -> Evaluation:
+    """Evaluate one genotype: ``(world config as a dict, genotype)`` (runs in workers too)."""
+    cfg_d, genotype = task
+    cfg = WorldConfig(**cfg_d)
+    scene = _world(cfg)
+    descriptor, path, moves = act_and_look(scene, cfg, np.asarray(genotype, dtype=float))
+    after = scene.ground_truth()["objects"]
+    home = object_homes(cfg, scene.config)
+    disp = {n: (float(after[n][0] - home[n][0]), float(after[n][1] - home[n][1]))
+            for n in home}
+    final = {n: (float(after[n][0]), float(after[n][1])) for n in home}
+    return Evaluation(descriptor, path, moves, disp, final)
+
+
+def world_dict(cfg: WorldConfig) -> dict[str, Any]:
+    """`cfg` as a picklable dict (tasks carry it)."""
+    return asdict(cfg)

@@ -1,0 +1,111 @@
+"""The A2L iterative framework: acquire interactions, generate skills, validate, repeat.
+
+METHOD.md's loop, for the push effects:
+
+1. **Interaction acquisition** (:mod:`a2l.acquisition`) by random motor babbling: from start
+   positions evenly on a circle around the object, up to ``max_babble_steps`` random
+   movements; a trajectory is kept only if the object moved, and every step is labelled
+   with the observed effect.
+2. **Skill generation**: discretize, learn a Bayesian network (hill-climbing + K2, ``move``
+   has no children), compile the posterior over ``move`` into a table, save a skill bundle.
+3. **Interaction validation** (:mod:`a2l.framework.validation`): each effect from each
+   start, in closed loop through the C++ skill step (:mod:`a2l._core`): success, false
+   positive (the object moved with another effect) or fail; the iteration's score
+   (:mod:`a2l.framework.scoring`) is ``Σ(4·success + 1·false positive) /
+   (4 · n_effects · n_starts) · 100``.
+4. **Iteration** (:mod:`a2l.framework.loop`): extend the dataset (successful and
+   false-positive trajectories cut back and extended at random; effect-directed babbling
+   for (start, effect) pairs stuck for long), keep the new dataset only if the score did
+   not drop, stop at score 100 or at the iteration cap.
+
+Every random draw comes from a generator seeded by ``(seed, iteration, phase, index)``, so a
+run is reproducible, independent of the number of workers, and resumable from the
+checkpoint written after each iteration.
+
+The modules: :mod:`~a2l.framework.config` (:class:`FrameworkConfig`),
+:mod:`~a2l.framework.env` (the scene a rollout plays in), :mod:`~a2l.framework.runner`
+(a skill bundle through the C++ step), :mod:`~a2l.framework.validation`,
+:mod:`~a2l.framework.scoring` and :mod:`~a2l.framework.loop`. Their names are re-exported
+here, loaded on first use (the acquisition strategies import the configuration, and the
+loop imports the strategies).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+__all__ = [
+    "DIRECTED_TRY_CAP",
+    "FAIL",
+    "FALSE_POSITIVE",
+    "SUCCESS",
+    "CppSkillRunner",
+    "FrameworkConfig",
+    "IterationResult",
+    "Rollout",
+    "SceneEnv",
+    "acquire",
+    "babble_task",
+    "directed_task",
+    "discretizers",
+    "erase_loops",
+    "extend",
+    "generate_skill",
+    "heading_chooser",
+    "iteration_metrics",
+    "make_env",
+    "random_waypoints",
+    "rollouts_to_frame",
+    "run_framework",
+    "scene_env",
+    "score_of",
+    "validate",
+    "validate_task",
+]
+
+#: Where each re-exported name lives (``_discretizers`` is the name the module had before
+#: it became a package).
+_HOME = {
+    "DIRECTED_TRY_CAP": "a2l.framework.config",
+    "FrameworkConfig": "a2l.framework.config",
+    "discretizers": "a2l.framework.config",
+    "_discretizers": ("a2l.framework.config", "discretizers"),
+    "SceneEnv": "a2l.framework.env",
+    "make_env": "a2l.framework.env",
+    "scene_env": "a2l.framework.env",
+    "CppSkillRunner": "a2l.framework.runner",
+    "FAIL": "a2l.framework.scoring",
+    "FALSE_POSITIVE": "a2l.framework.scoring",
+    "SUCCESS": "a2l.framework.scoring",
+    "IterationResult": "a2l.framework.scoring",
+    "iteration_metrics": "a2l.framework.scoring",
+    "score_of": "a2l.framework.scoring",
+    "validate": "a2l.framework.validation",
+    "validate_task": "a2l.framework.validation",
+    "acquire": "a2l.framework.loop",
+    "extend": "a2l.framework.loop",
+    "generate_skill": "a2l.framework.loop",
+    "run_framework": "a2l.framework.loop",
+    "Rollout": "a2l.acquisition.rollout",
+    "erase_loops": "a2l.acquisition.rollout",
+    "rollouts_to_frame": "a2l.acquisition.rollout",
+    "babble_task": "a2l.acquisition.random_babbling",
+    "directed_task": "a2l.acquisition.waypoints",
+    "heading_chooser": "a2l.acquisition.waypoints",
+    "random_waypoints": "a2l.acquisition.waypoints",
+}
+
+
+def __getattr__(name: str) -> Any:
+    home = _HOME.get(name)
+    if home is None:
+        raise AttributeError(f"module 'a2l.framework' has no attribute {name!r}")
+    module, attr = home if isinstance(home, tuple) else (home, name)
+    value = getattr(importlib.import_module(module), attr)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_HOME))

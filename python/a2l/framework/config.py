@@ -1,0 +1,214 @@
+"""The configuration of an A2L run (:class:`FrameworkConfig`) and the discretization it
+defines (:func:`discretizers`)."""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+__all__ = ["DIRECTED_TRY_CAP", "FrameworkConfig", "discretizers"]
+
+#: Default ``directed_try_cap`` of each scene.
+DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
+
+@dataclass
+class FrameworkConfig:
+    """Every parameter of an A2L run (METHOD.md defaults).
+
+    Attributes
+    ----------
+    scene : str
+        ``"virtual"`` (C++ kinematic push model) or ``"baxter"`` (PyBullet push scene).
+    n_effects : {4, 8}
+        Push effects to learn.
+    n_starts : int
+        Start positions, evenly on a circle around the object.
+    start_radius : float
+        Radius of that circle (m).
+    max_babble_steps : int
+        Most random movements of a babbling trajectory.
+    try_cap : int
+        Most babbling trajectories tried in one acquisition.
+    max_iterations : int
+        Iteration cap (iteration 0 included).
+    step_cap : int
+        Most movements a skill may take in validation.
+    planar : bool
+        8 planar movements instead of 26 in 3-D.
+    step : float
+        Movement length (m).
+    n_orient, n_dist, n_incl : int
+        Bins of the context variables (``n_incl = 0`` leaves inclination out).
+    dist_low, dist_high : float
+        Range of the distance bins (m).
+    effect_threshold : float
+        Smallest object displacement that counts as an effect (m).
+    structure : str
+        ``"hc-k2"`` or ``"hand-coded"``.
+    effect_parent : bool
+        With ``hc-k2``, fix the edge ``effect -> move`` (the action generator is queried with
+        the wanted effect; without the edge, small datasets give a skill that ignores it).
+        Hill-climbing still chooses every other parent.
+    extension_cut : int
+        Most steps cut from the end of a trajectory before extending it (each extension
+        cuts 1 to ``extension_cut`` steps, drawn at random).
+    erase_loops : bool
+        Cut the loops out of babbling trajectories (:func:`erase_loops`).
+    smoothing : bool
+        METHOD.md's chapter-6 neighbour smoothing in the C++ step.
+    keep_validation : bool
+        Add the validation trajectories that moved the object to the next dataset (they
+        are interactions too, labelled with the effect they produced).
+    max_extensions : int
+        Most extension trajectories added per iteration.
+    stuck_after : int
+        Iterations a (start, effect) pair must fail before effect-directed babbling.
+    directed_per_pair : int
+        Effect-directed trajectories added for a stuck pair.
+    directed_try_cap : int or None
+        Most tries to find them; None: the scene's default (:data:`DIRECTED_TRY_CAP`: a
+        Baxter movement costs ~20-30 ms of physics, a virtual one ~20 µs).
+    directed_steps : int
+        Most movements of an effect-directed trajectory (going around the object takes
+        more than ``max_babble_steps``).
+    directed_growth : int
+        Most times the effect-directed budget of a pair grows while it stays stuck
+        (1: a fixed budget).
+    directed_mode : str
+        How effect-directed trajectories move: ``"waypoints"`` (random via-points around
+        the object, then a random point on it, :func:`directed_task`) or ``"random"``
+        (uniformly random movements, like acquisition).
+    waypoints_max : int
+        Most via-points of a waypoint trajectory (0 to this many, uniformly).
+    waypoint_aim : float
+        The last point of a waypoint trajectory is drawn within ± this of the object's
+        start position on each table axis (m).
+    seed : int
+        Seed of every random draw.
+    scene_config : dict
+        Extra keyword arguments for :func:`a2l.sim.make_scene`.
+    """
+
+    scene: str = "virtual"
+    n_effects: int = 4
+    n_starts: int = 8
+    start_radius: float = 0.2
+    max_babble_steps: int = 7
+    try_cap: int = 5000
+    max_iterations: int = 10
+    step_cap: int = 12
+    planar: bool = True
+    step: float = 0.05
+    n_orient: int = 16
+    n_dist: int = 3
+    n_incl: int = 0
+    dist_low: float = 0.05
+    dist_high: float = 0.20
+    effect_threshold: float = 0.01
+    structure: str = "hc-k2"
+    effect_parent: bool = True
+    extension_cut: int = 3
+    keep_validation: bool = True
+    smoothing: bool = False
+    erase_loops: bool = False
+    max_extensions: int = 50
+    stuck_after: int = 1
+    directed_per_pair: int = 40
+    directed_try_cap: int | None = None
+    directed_steps: int = 20
+    directed_growth: int = 5
+    directed_mode: str = "waypoints"
+    waypoints_max: int = 2
+    waypoint_aim: float = 0.04
+    seed: int = 0
+    scene_config: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.directed_try_cap is None:
+            self.directed_try_cap = DIRECTED_TRY_CAP.get(self.scene, 2000)
+
+    def validate(self) -> None:
+        """Raise ``ValueError`` naming the first field out of its domain."""
+        if self.scene not in ("virtual", "baxter"):
+            raise ValueError(f"scene: unknown scene {self.scene!r}; choose 'virtual' or 'baxter'")
+        if self.n_effects not in (4, 8):
+            raise ValueError(f"n_effects: must be 4 or 8, got {self.n_effects}")
+        positive_ints = ("n_starts", "max_babble_steps", "try_cap", "max_iterations",
+                         "step_cap", "n_orient", "n_dist", "max_extensions",
+                         "directed_per_pair", "directed_try_cap", "directed_steps", "stuck_after",
+                         "directed_growth")
+        for name in positive_ints:
+            v = getattr(self, name)
+            if not isinstance(v, int) or v < 1:
+                raise ValueError(f"{name}: must be a positive integer, got {v!r}")
+        for name in ("start_radius", "step", "effect_threshold", "waypoint_aim"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise ValueError(f"{name}: must be a positive length, got {v!r}")
+        if not 0 < self.dist_low < self.dist_high:
+            raise ValueError(f"dist_low, dist_high: need 0 < low < high, got "
+                             f"{self.dist_low}, {self.dist_high}")
+        if self.n_incl < 0:
+            raise ValueError(f"n_incl: must be >= 0, got {self.n_incl}")
+        if self.extension_cut < 1:
+            raise ValueError(f"extension_cut: must be >= 1, got {self.extension_cut}")
+        if self.structure not in ("hc-k2", "hand-coded"):
+            raise ValueError(f"structure: unknown {self.structure!r}")
+        if self.directed_mode not in ("waypoints", "random"):
+            raise ValueError(f"directed_mode: unknown {self.directed_mode!r}; choose "
+                             "'waypoints' or 'random'")
+        if not isinstance(self.waypoints_max, int) or self.waypoints_max < 0:
+            raise ValueError(f"waypoints_max: must be an integer >= 0, got "
+                             f"{self.waypoints_max!r}")
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> FrameworkConfig:
+        """Build from a dict (e.g. a run's ``config.json``); unknown keys are errors."""
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(d) - known)
+        if unknown:
+            raise ValueError(f"unknown config key(s) {unknown}; known: {sorted(known)}")
+        cfg = cls(**d)
+        cfg.validate()
+        return cfg
+
+    def start_offsets(self) -> np.ndarray:
+        """End-effector start positions relative to the object, shape (n_starts, 3)."""
+        a = 2 * np.pi * np.arange(self.n_starts) / self.n_starts
+        r = self.start_radius
+        return np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(a)], axis=1)
+
+
+
+def discretizers(cfg: FrameworkConfig) -> Any:
+    """The discretization of `cfg` (built once per set of its parameters: rollouts call this
+    for every task)."""
+    return _discretizer_for(cfg.n_dist, cfg.dist_low, cfg.dist_high, cfg.n_orient, cfg.n_incl,
+                            cfg.planar, cfg.step, cfg.n_effects, cfg.effect_threshold)
+
+
+@functools.lru_cache(maxsize=16)
+def _discretizer_for(n_dist: int, dist_low: float, dist_high: float, n_orient: int,
+                     n_incl: int, planar: bool, step: float, n_effects: int,
+                     effect_threshold: float) -> Any:
+    from a2l.skills.discretize import (
+        Discretizer,
+        DistanceBins,
+        EffectDiscretizer,
+        InclinationBins,
+        MovementRepertoire,
+        OrientationBins,
+    )
+
+    return Discretizer(
+        distance=DistanceBins(n_bins=n_dist, low=dist_low, high=dist_high),
+        orientation=OrientationBins(n_bins=n_orient),
+        inclination=InclinationBins(n_bins=n_incl) if n_incl > 0 else None,
+        movements=MovementRepertoire(planar=planar, step=step),
+        effects=EffectDiscretizer(n_effects=n_effects, threshold=effect_threshold),
+    )
+

@@ -1,0 +1,98 @@
+"""What the framework needs from a scene: :class:`SceneEnv` wraps an :mod:`a2l.sim` scene
+(``virtual``: the C++ kinematic push model; ``baxter``: the PyBullet push scene with the C++
+IK): start the end-effector at an offset from the object's home, execute discrete
+movements, read positions. :func:`scene_env` keeps one per thread for rollouts.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+import numpy as np
+
+from a2l.framework.config import FrameworkConfig
+
+__all__ = ["SCENES", "SceneEnv", "make_env", "scene_env"]
+
+#: Framework scene name -> a2l.sim scene name.
+SCENES = {"virtual": "virtual", "baxter": "push"}
+
+
+class SceneEnv:
+    """A scene seen as the framework's rollout environment.
+
+    Parameters
+    ----------
+    scene : a2l.sim.Scene
+        A push-like scene with one movable object.
+    source : {"ground_truth", "perceived"}
+        Where object positions come from (the camera, or the simulator's truth).
+    """
+
+    def __init__(self, scene: Any, source: str | None = None) -> None:
+        self.scene = scene
+        self.source = source
+        self.obj_name = scene.primary_object
+        truth = scene.ground_truth()["objects"]
+        if self.obj_name not in truth:
+            raise ValueError(f"scene {scene.name!r} has no object {self.obj_name!r}")
+        self.home = np.asarray(truth[self.obj_name], dtype=float)
+
+    def begin(self, offset: np.ndarray) -> None:
+        """Object at its home, end-effector at ``home + offset`` (same height as the object)."""
+        self.scene.reset(eef=self.home + np.asarray(offset, dtype=float),
+                         objects={self.obj_name: self.home[:2].copy()})
+
+    def execute(self, direction: tuple[int, int, int]) -> bool:
+        """One discrete movement; False if it could not be carried out."""
+        return bool(self.scene.execute(direction))
+
+    def eef(self) -> np.ndarray:
+        """End-effector position, shape (3,)."""
+        return np.asarray(self.scene.eef_position(), dtype=float)
+
+    def object(self) -> np.ndarray:
+        """Object position, shape (3,) (NaN if not seen)."""
+        obs = (self.scene.perceive() if self.source == "perceived"
+               else self.scene.ground_truth())
+        pos = obs["objects"].get(self.obj_name)
+        return np.full(3, np.nan) if pos is None else np.asarray(pos, dtype=float)
+
+    def close(self) -> None:
+        """Release the scene."""
+        self.scene.close()
+
+
+def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None = None,
+             **config: Any) -> SceneEnv:
+    """The rollout environment of a framework scene name (``virtual`` or ``baxter``)."""
+    from a2l.sim import make_scene
+
+    if scene not in SCENES:
+        raise ValueError(f"unknown scene {scene!r}; choose one of {sorted(SCENES)}")
+    # Rollouts place the object themselves: a random jitter on reset would make a rollout
+    # depend on how many resets its process made before (and so on the worker count).
+    config.setdefault("object_jitter", 0.0)
+    return SceneEnv(make_scene(SCENES[scene], seed=seed, step=step, **config), source)
+
+
+
+#: Scenes per thread: a Dask worker runs tasks in several threads, and two rollouts must
+#: never share a scene.
+_LOCAL = threading.local()
+
+
+def scene_env(cfg: FrameworkConfig) -> SceneEnv:
+    """The scene of this thread for `cfg` (built once per thread and reused)."""
+    cache: dict[str, Any] = _LOCAL.__dict__.setdefault("envs", {})
+    key = repr((cfg.scene, sorted(cfg.scene_config.items()), cfg.step, cfg.seed))
+    env: SceneEnv | None = cache.get(key)
+    if env is None:
+        for old in cache.values():
+            old.close()
+        cache.clear()
+        env = make_env(cfg.scene, seed=cfg.seed, step=cfg.step, **cfg.scene_config)
+        cache[key] = env
+    return env
+

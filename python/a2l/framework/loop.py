@@ -1,0 +1,242 @@
+"""The A2L iterative loop (:func:`run_framework`): acquire interactions, generate the skill,
+validate it, extend the dataset, repeat; a checkpoint after each iteration.
+
+Every random draw comes from a generator seeded by ``(seed, iteration, phase, index)``
+(:func:`_seed`), so a run is reproducible, independent of the number of workers, and
+resumable from its newest checkpoint.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from a2l.acquisition.protocol import drive
+from a2l.acquisition.random_babbling import RandomBabbling, babble_task
+from a2l.acquisition.rollout import Rollout, rollouts_to_frame
+from a2l.acquisition.waypoints import EffectDirected, directed_task
+from a2l.experiments.rundir import latest_checkpoint, save_checkpoint
+from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.scoring import (
+    FALSE_POSITIVE,
+    SUCCESS,
+    IterationResult,
+    iteration_metrics,
+    score_of,
+)
+from a2l.framework.validation import validate
+from a2l.parallel import Executor
+
+__all__ = ["acquire", "extend", "generate_skill", "run_framework"]
+
+
+def _seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
+    """The seed of draw `index` of `phase` (0: acquisition, 1: extension, 2 + j: the j-th
+    stuck pair) in iteration `iteration`."""
+    ss = np.random.SeedSequence([cfg.seed, iteration, phase, index])
+    return int(ss.generate_state(1, dtype=np.uint64)[0] >> 1)
+
+
+def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
+            progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
+    """Random babbling until ``n_starts · n_effects`` trajectories moved the object.
+
+    Tries are made in batches (in parallel) and cut, in try order, at the point where the
+    target count is reached (:class:`a2l.acquisition.RandomBabbling`): the result is the
+    same for any number of workers.
+    """
+    target = cfg.n_starts * cfg.n_effects
+    babbling = RandomBabbling(cfg, lambda i: _seed(cfg, iteration, 0, i), target, cfg.try_cap)
+
+    def report(s: Any) -> None:
+        if progress:
+            progress("acquire", len(s.kept), target)
+
+    drive(babbling, lambda tasks: executor.map(babble_task, tasks),
+          batch=max(16, 8 * executor.workers), on_batch=report)
+    return babbling.kept
+
+
+def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
+           validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> list[Rollout]:
+    """New trajectories for iteration `iteration` (METHOD.md's dataset extension).
+
+    - successful and false-positive validation trajectories (themselves, with
+      ``keep_validation``), and cut back 1 to ``extension_cut`` steps and extended with
+      random movements (at most ``max_extensions``);
+    - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
+      ``directed_per_pair`` effect-directed trajectories: random trajectories from that
+      start (:func:`directed_task`; at most ``directed_steps`` movements), kept only when
+      they produce that effect. The budget of a pair stuck for ``stuck_after + k``
+      iterations is ``k + 1`` times that (trajectories and tries), at most
+      ``directed_growth`` times: a pair whose failing context cells are outvoted by the
+      rest of the dataset gets more votes each iteration.
+    """
+    cfg_d = asdict(cfg)
+    tasks = []
+    moved = [v for v in validation if v.outcome in (SUCCESS, FALSE_POSITIVE)]
+    cut_rng = np.random.default_rng(_seed(cfg, iteration, 1, -1 % 2**31))
+    for i in range(min(cfg.max_extensions, len(moved) * cfg.extension_cut)):
+        r = moved[i % len(moved)]
+        cut = int(cut_rng.integers(1, cfg.extension_cut + 1))
+        prefix = r.moves[: max(0, len(r.moves) - cut)]
+        tasks.append((cfg_d, r.start, prefix, _seed(cfg, iteration, 1, i),
+                      cfg.max_babble_steps))
+    out = list(moved) if cfg.keep_validation else []
+    out += [r for r in executor.map(babble_task, tasks) if r.moved]
+    pairs = sorted(p for p, n in stuck.items() if n >= cfg.stuck_after)
+    for j, (start, effect) in enumerate(pairs):
+        grow = min(stuck[(start, effect)] - cfg.stuck_after + 1, cfg.directed_growth)
+        directed = EffectDirected(cfg, start, effect,
+                                  lambda i, j=j: _seed(cfg, iteration, 2 + j, i),
+                                  want=cfg.directed_per_pair * grow,
+                                  cap=cfg.directed_try_cap * grow)
+        drive(directed, lambda tasks: executor.map(directed_task, tasks), batch=32)
+        out.extend(directed.found)
+    return out
+
+
+def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,
+                   robot: dict[str, str] | None = None) -> Any:
+    """Learn the network from `dataset`, compile it, and save the skill bundle.
+
+    Returns
+    -------
+    a2l.skills.PolicyTable
+        The compiled table (the bundle holds the same numbers).
+    """
+    from a2l.skills import compile_policy, learn_network, make_skill_spec, save_bundle
+
+    disc = discretizers(cfg)
+    discrete = disc.discretize(dataset)
+    if len(discrete) == 0:
+        raise ValueError("the dataset has no usable row: nothing moved the object")
+    constraints: dict[str, Any] = {}
+    if cfg.structure == "hc-k2" and cfg.effect_parent:
+        constraints["fixed_edges"] = [(disc.effects.name, disc.movements.name)]
+    network = learn_network(discrete, structure=cfg.structure, state_names=disc.state_names(),
+                            **constraints)
+    table = compile_policy(network, target="move", evidence=disc.evidence)
+    spec = make_skill_spec(table, disc, name="push", robot=robot, step_cap=cfg.step_cap,
+                           smoothing=cfg.smoothing, extra={"framework": asdict(cfg)})
+    save_bundle(spec, bundle_path)
+    return table
+
+
+def _rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
+    """Validation rollouts as a table (one row per rollout; positions as lists)."""
+    return pd.DataFrame({
+        "start": [r.start for r in rollouts], "wanted": [r.wanted for r in rollouts],
+        "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
+        "stop": [r.stop for r in rollouts], "moves": [list(r.moves) for r in rollouts],
+        "eef": [r.eef.ravel().tolist() for r in rollouts],
+        "obj": [r.obj.ravel().tolist() for r in rollouts],
+    })
+
+
+def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
+    out = []
+    for row in df.itertuples(index=False):
+        out.append(Rollout(int(row.start), [int(m) for m in row.moves],
+                           np.asarray(row.eef, dtype=float).reshape(-1, 3),
+                           np.asarray(row.obj, dtype=float).reshape(-1, 3),
+                           effect=int(row.effect), wanted=int(row.wanted),
+                           outcome=str(row.outcome), stop=str(row.stop)))
+    return out
+
+
+#: A first acquisition: ``(config, executor, iteration, progress) -> rollouts``.
+FirstAcquisition = Callable[[FrameworkConfig, Executor, int,
+                             Callable[[str, int, int], None] | None], list[Rollout]]
+
+
+def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
+                  progress: Callable[[str, int, int], None] | None = None,
+                  on_iteration: Callable[[IterationResult], None] | None = None,
+                  robot: dict[str, str] | None = None,
+                  first_acquisition: FirstAcquisition | None = None) -> dict[str, Any]:
+    """The whole iterative loop; resumes from the newest checkpoint in `run_dir`.
+
+    Parameters
+    ----------
+    cfg : FrameworkConfig
+        The run's parameters.
+    run_dir : Path
+        Where checkpoints (``checkpoints/iter_NNN``) and bundles (``skills/``) go.
+    executor : a2l.parallel.Executor
+        Where rollouts run.
+    progress : callable, optional
+        ``progress(phase, done, total)`` during acquisition and validation.
+    on_iteration : callable, optional
+        Called with each finished iteration's metrics.
+    robot : dict, optional
+        Robot entry of the bundles.
+    first_acquisition : callable, optional
+        Where iteration 0's interactions come from (default :func:`acquire`, random
+        babbling around the object); e.g. NovEB
+        (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`).
+
+    Returns
+    -------
+    dict
+        ``{"iterations": [...], "final_score": float, "bundle": str, "validation":
+        DataFrame of the accepted iteration's rollouts}``.
+    """
+    cfg.validate()
+    skills_dir = run_dir / "skills"
+    skills_dir.mkdir(parents=True, exist_ok=True)
+    disc = discretizers(cfg)
+    ck = latest_checkpoint(run_dir)
+    if ck is not None:
+        last, state, frames = ck
+        dataset = frames["dataset"]
+        best_val = _frame_rollouts(frames["validation"])
+        history = state["iterations"]
+        best_score = float(state["best_score"])
+        stuck = {(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
+                 for k, v in state["stuck"].items()}
+        start_it = last + 1
+    else:
+        dataset, best_val, history, best_score, stuck, start_it = None, [], [], -1.0, {}, 0
+    for it in range(start_it, cfg.max_iterations):
+        if best_score >= 100.0:
+            break
+        t0 = time.perf_counter()
+        if dataset is None:
+            first = first_acquisition or acquire
+            new = rollouts_to_frame(first(cfg, executor, it, progress), disc)
+            candidate = new
+        else:
+            extra = extend(cfg, executor, it, best_val, stuck)
+            first = int(dataset["episode"].max()) + 1 if len(dataset) else 0
+            candidate = pd.concat([dataset, rollouts_to_frame(extra, disc, first)],
+                                  ignore_index=True)
+        bundle = skills_dir / f"iter_{it:03d}.a2lb"
+        generate_skill(cfg, candidate, bundle, robot)
+        val = validate(cfg, executor, bundle, progress)
+        score = score_of(val, cfg.n_effects, cfg.n_starts)
+        accepted = score >= best_score
+        if accepted:
+            dataset, best_val, best_score = candidate, val, score
+            (skills_dir / "accepted.txt").write_text(bundle.name + "\n")
+        for r in val:
+            key = (r.start, r.wanted)
+            stuck[key] = 0 if r.outcome == SUCCESS else stuck.get(key, 0) + 1
+        m = iteration_metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0)
+        history.append(asdict(m))
+        save_checkpoint(run_dir, it, {
+            "iterations": history, "best_score": best_score,
+            "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()},
+        }, {"dataset": dataset, "validation": _rollouts_frame(best_val)})
+        if on_iteration:
+            on_iteration(m)
+    accepted_name = (skills_dir / "accepted.txt").read_text().strip()
+    return {"iterations": history, "final_score": best_score,
+            "bundle": str(skills_dir / accepted_name), "dataset": dataset,
+            "validation": _rollouts_frame(best_val)}

@@ -1,0 +1,67 @@
+"""Interaction validation: each effect from each start, in closed loop through the C++
+skill step (:mod:`a2l._core`), with the outcome success, false positive (the object moved
+with another effect) or fail."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from a2l.acquisition.rollout import Rollout, play
+from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.env import scene_env
+from a2l.framework.runner import CppSkillRunner
+from a2l.framework.scoring import FAIL, FALSE_POSITIVE, SUCCESS
+from a2l.parallel import Executor
+
+__all__ = ["validate", "validate_task"]
+
+
+def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
+    """One validation rollout: ``(config, bundle_path, start, wanted_effect)``.
+
+    The skill runs in closed loop through the C++ step until the object moves (success if
+    with the wanted effect, else false positive), or the step returns a stop status (step
+    cap, unknown context: fail).
+    """
+    cfg_d, bundle, start, wanted = task
+    cfg = FrameworkConfig(**cfg_d)
+    disc = discretizers(cfg)
+    runner = CppSkillRunner.cached(bundle)
+    if tuple(runner.labels) != tuple(disc.movements.labels):
+        raise ValueError(f"skill bundle '{bundle}' has movements {runner.labels}, the "
+                         f"framework's repertoire is {disc.movements.labels}")
+    runner.reset()
+    status: list[str] = []
+
+    def choose(eef: np.ndarray, obj: np.ndarray) -> int | None:
+        move, st = runner.step(eef, obj, wanted)
+        if move is None:
+            status.append(st)
+        return move
+
+    r = play(scene_env(cfg), disc, start, cfg.start_offsets()[start], [], choose, cfg.step_cap + 1)
+    r.wanted = wanted
+    if r.moved:
+        r.outcome = SUCCESS if r.effect == wanted else FALSE_POSITIVE
+    else:
+        r.outcome = FAIL
+        if status:
+            r.stop = status[0]
+    return r
+
+
+def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
+             progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
+    """Run the skill for every (start, effect) pair; results in (start, effect) order."""
+    cfg_d = asdict(cfg)
+    tasks = [(cfg_d, str(bundle_path), s, e)
+             for s in range(cfg.n_starts) for e in range(cfg.n_effects)]
+    total = len(tasks)
+    return executor.map(validate_task, tasks,
+                        on_done=(lambda k: progress("validate", k, total)) if progress else None)
+

@@ -1,0 +1,65 @@
+"""The framework's results did not change when ``a2l/framework.py`` and
+``a2l/framework_env.py`` became the ``a2l.framework`` and ``a2l.acquisition`` packages
+(issue 12): the virtual push experiment with 4 effects and seeds 0-3 gives, iteration by
+iteration, the metrics the old modules gave.
+
+``EXPECTED`` was measured with the old code, at commit 15ce53e (the last commit with
+``framework.py``), by ``a2l experiment push --scene virtual --effects 4 --seed S --out DIR``
+for S = 0..3: each run's ``metrics.json`` without the wall times. Every value is an exact
+result of seeded draws (no tolerance): any change in the loop, the random streams or the
+batching shows up here.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from a2l.framework import FrameworkConfig, run_framework
+from a2l.parallel import Executor
+
+
+def _it(iteration: int, score: float, rates: tuple[float, float, float, float], fp: int,
+        movements: float, size: int) -> dict[str, Any]:
+    return {"iteration": iteration, "score": score,
+            "success_rate": dict(zip(("left", "right", "close", "far"), rates, strict=True)),
+            "false_positives": fp, "mean_movements": movements, "dataset_size": size,
+            "accepted": True}
+
+
+EXPECTED: dict[int, list[dict[str, Any]]] = {
+    0: [
+        _it(0, 33.59375, (0.125, 0.375, 0.25, 0.375), 7, 4.111111111111111, 189),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.03125, 8461),
+    ],
+    1: [
+        _it(0, 30.46875, (0.0, 0.125, 0.375, 0.5), 7, 4.125, 181),
+        _it(1, 96.875, (1.0, 1.0, 0.875, 1.0), 0, 5.67741935483871, 8793),
+        _it(2, 97.65625, (1.0, 1.0, 0.875, 1.0), 1, 5.709677419354839, 9974),
+        _it(3, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 5.78125, 11624),
+    ],
+    2: [
+        _it(0, 32.03125, (0.375, 0.125, 0.25, 0.375), 5, 4.222222222222222, 171),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.125, 8934),
+    ],
+    3: [
+        _it(0, 40.625, (0.25, 0.25, 0.375, 0.625), 4, 5.166666666666667, 184),
+        _it(1, 88.28125, (1.0, 1.0, 0.375, 1.0), 5, 6.851851851851852, 7730),
+        _it(2, 94.53125, (1.0, 0.875, 0.875, 1.0), 1, 6.133333333333334, 11726),
+        _it(3, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.15625, 13766),
+    ],
+}
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path: Path) -> None:
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed)
+    with Executor(workers=1) as executor:
+        result = run_framework(cfg, tmp_path, executor)
+    got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
+    # JSON text: exact floats, and NaN (no success) equal to NaN
+    assert json.dumps(got, sort_keys=True) == json.dumps(EXPECTED[seed], sort_keys=True)
+    assert result["final_score"] == 100.0

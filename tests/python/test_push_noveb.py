@@ -1,0 +1,47 @@
+"""``a2l experiment push --acquisition noveb``: NovEB's interactions on the Baxter scene
+become iteration 0's dataset in the common format; the virtual scene (no camera) is refused
+with a clear error."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from a2l.acquisition import rollouts_to_frame
+from a2l.acquisition.noveb_rollouts import noveb_acquire
+from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
+from a2l.framework import FrameworkConfig, discretizers
+from a2l.parallel import Executor
+
+
+def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved() -> None:
+    cfg = FrameworkConfig(scene="baxter", n_effects=4, seed=0, n_starts=4)
+    with Executor(workers=1) as ex:
+        rollouts, noveb, movements = noveb_acquire(cfg, ex, evaluations=8, generation_size=4)
+    assert noveb.told == 8 and noveb.generation == 2
+    assert movements > 8
+    assert rollouts, "no NovEB trajectory moved the box (at push height, most do)"
+    disc = discretizers(cfg)
+    for r in rollouts:
+        assert r.moved and r.stop == "moved"
+        assert len(r.eef) == len(r.obj) == len(r.moves) + 1
+        # the object had not moved before the last step, and moved at it
+        assert int(disc.effects.discretize(r.obj[-1] - r.obj[0])[0]) == r.effect
+        if len(r.moves) > 1:
+            assert int(disc.effects.discretize(r.obj[-2] - r.obj[0])[0]) == -1
+    frame = rollouts_to_frame(rollouts, disc)
+    assert len(frame) == sum(len(r.moves) for r in rollouts)
+    assert not frame[[*EEF_COLUMNS, *OBJECT_COLUMNS, *MOVE_COLUMNS]].isna().any().any()
+    assert len(disc.discretize(frame)) == len(frame)
+
+
+def test_noveb_acquisition_needs_a_camera(tmp_path: Path) -> None:
+    from a2l.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["experiment", "push", "--scene", "virtual", "--acquisition", "noveb",
+              "--out", str(tmp_path / "x")])
+    assert exc.value.code == 2
+    with Executor(workers=1) as ex, pytest.raises(ValueError, match="camera"):
+        noveb_acquire(FrameworkConfig(scene="virtual"), ex, evaluations=2)
