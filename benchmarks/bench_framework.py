@@ -114,8 +114,9 @@ def _restore_drift(repeats: int = 4, seed: int = 0) -> float:
             a = rng.uniform(0, 2 * np.pi)
             scene.reset(eef=home + [0.2 * np.cos(a), 0.2 * np.sin(a), 0.0],
                         objects={"box": home[:2].copy()})
-            for _ in range(6):
-                scene.execute((int(rng.integers(-1, 2)), int(rng.integers(-1, 2)), 0))
+            planar = [(dx, dy, 0) for dx in (-1, 0, 1) for dy in (-1, 0, 1) if dx or dy]
+            for k in rng.integers(0, len(planar), 6):
+                scene.execute(planar[int(k)])
     e = np.asarray(ends)
     return float(np.linalg.norm(e[:, None, :] - e[None, :, :], axis=-1).max())
 
