@@ -172,8 +172,10 @@ def run() -> str:
     )
     per_step = [s["control_ticks"] / s["skill_steps"] for s in runs.values()
                 if s["control_ticks"] and s["skill_steps"]]
-    ticks_per_step = (f"{min(per_step):.0f} to {max(per_step):.0f} control ticks per skill "
-                      "step in the robot runs below" if per_step else "no robot run")
+    span = (f"{min(per_step):.0f}" if per_step and f"{min(per_step):.0f}" == f"{max(per_step):.0f}"
+            else f"{min(per_step, default=0):.0f} to {max(per_step, default=0):.0f}")
+    ticks_per_step = (f"{span} control ticks per skill step in the robot runs below"
+                      if per_step else "no robot run")
     lines += [
         "",
         f"`a2l-run` closed loop, as fast as possible, {EPISODES} start points x 4 effects, "
