@@ -198,13 +198,13 @@ def run() -> str:
         f"{bins.moves:,} movements at {ms_per_move:.0f} ms each; the whole run took "
         f"{wallb:.1f} s with the scene's start-up, bundles and plots. The same run with 2 "
         f"workers: {wallb2:.1f} s, ratio 1 worker / 2 workers **{wallb / wallb2:.2f}** "
-        f"(same metrics but wall times: {same_b})."
-        + ("" if same_b else
-           " They differ because PyBullet's restored start state is not bitwise the same "
-           "after different earlier episodes (measured here: after the same 4 movements from "
-           f"the same restored start, with random episodes in between, the box ends up to "
-           f"{drift * 1000:.2f} mm elsewhere), and which worker runs which rollout depends on "
-           "timing: a Baxter run is reproducible from its seed with 1 worker only.")
+        f"(same metrics but wall times: {same_b}). PyBullet's restored start state after "
+        "different earlier episodes, measured here: after the same 4 movements from the same "
+        f"restored start, with random episodes in between, the box ends up to "
+        f"{drift * 1000:.2f} mm elsewhere"
+        + (". The worker runs can differ through it, since which worker runs which rollout "
+           "depends on timing." if drift > 0 else
+           ": restoring is exact, so the worker count cannot change a rollout through it.")
         + " For comparison, the "
         "virtual scene's budget (`directed_try_cap` 2,000) made its extensions execute "
         f"{ins.phase_moves['extend']:,} movements: at the Baxter scene's rate, about "
