@@ -1,6 +1,7 @@
 # a2l: every target does its own set-up, idempotently and without questions.
 #   make demo    set up, then run the main job (a2l demo)
-#   make test    set up, then run the C++ tests (ctest) and the Python tests (pytest)
+#   make test    set up, then run the C++ tests (ctest), the real-time tests again with Eigen's
+#                allocation guard, the Python tests (pytest) and the fuzzer; print the counts
 #   make bench   set up, then run the benchmarks and rewrite BENCHMARKS.md
 #   make lint    ruff + clang-format --dry-run
 # Variables: VENV (virtual environment, default .venv), BUILD (build tree, default build),
@@ -26,10 +27,10 @@ STAMP_VENV := $(VENV)/.stamp-venv
 STAMP_INSTALL := $(VENV)/.stamp-install
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: help setup demo test test-cpp test-python fuzz bench lint format clean
+.PHONY: help setup demo test test-cpp test-guarded test-python fuzz bench lint format clean
 
 help:
-	@sed -n '2,8p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,9p' Makefile | sed 's/^# \{0,1\}//'
 
 # --- set-up ---------------------------------------------------------------
 $(STAMP_APT):
@@ -73,9 +74,25 @@ test-cpp: setup $(BUILD)/cpp/build.ninja
 	cd $(BUILD)/cpp && $(abspath $(VENV))/bin/ctest --output-on-failure -j $(JOBS) \
 	  2>&1 | tee ctest.log
 
+# The real-time tests (every gtest whose suite or test name holds `NoAlloc`, and the allocation
+# counter's self-tests) again, in a build with Eigen's allocation guard on and assertions
+# enabled (tests/cpp/alloc_counter.hpp): an Eigen heap allocation inside a real-time section
+# aborts there. Its own build tree; only the test executable is built.
+GUARD_TESTS := NoAlloc|AllocationCounter
+test-guarded: setup
+	@echo "[test] real-time tests with Eigen's allocation guard (A2L_MALLOC_GUARD, assertions on)"
+	@$(VENV)/bin/cmake -S . -B $(BUILD)/cpp-guard -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DA2L_MALLOC_GUARD=ON -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON \
+	  -DA2L_BUILD_BENCHMARKS=OFF -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
+	@$(VENV)/bin/cmake --build $(BUILD)/cpp-guard -j $(JOBS) --target a2l_tests
+	@export A2L_ROBOTS_DIR=$$($(PY) -m a2l.robot --robots-dir); \
+	cd $(BUILD)/cpp-guard && $(abspath $(VENV))/bin/ctest --output-on-failure -j $(JOBS) \
+	  --no-tests=error -R '$(GUARD_TESTS)' 2>&1 | tee ctest.log
+
 test-python: setup
 	@echo "[test] Python (pytest)"
-	@$(PY) -m pytest -q tests/python
+	@mkdir -p $(BUILD)
+	@$(PY) -m pytest -q tests/python 2>&1 | tee $(BUILD)/pytest.log
 
 # libFuzzer on the bundle loader under ASan + UBSan (clang; its own build tree).
 FUZZ_RUNS ?= 200000
@@ -92,8 +109,10 @@ fuzz: setup
 	  || { tail -n 40 $(BUILD)/fuzz/fuzz.log; exit 1; }
 	@grep -E '^stat::number_of_executed_units' $(BUILD)/fuzz/fuzz.log | sed 's/^/[fuzz] /'
 
-test: test-cpp test-python fuzz
-	@echo "[test] C++:    $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
+test: test-cpp test-guarded test-python fuzz
+	@echo "[test] C++ (ctest):                 $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
+	@echo "[test] C++ with Eigen's guard:      $$(grep -E 'tests passed' $(BUILD)/cpp-guard/ctest.log)"
+	@echo "[test] Python (pytest):             $$(grep -E '^[0-9]+ passed' $(BUILD)/pytest.log | tail -n 1)"
 	@echo "[test] all C++ and Python tests passed"
 
 # --- benchmarks -------------------------------------------------------------

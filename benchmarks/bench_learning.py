@@ -6,6 +6,7 @@ figures here are the Python side, measured in the same process.
 
 from __future__ import annotations
 
+import importlib.metadata
 import logging
 import statistics
 import time
@@ -37,6 +38,9 @@ from a2l.skills import (  # noqa: E402
 )
 
 TITLE = "Skill learning (Python): K2 structure learning, compilation, table lookup vs pgmpy"
+#: Installed versions stamped on the section (benchmarks/run.py).
+PACKAGES = ("pgmpy", "pandas", "numpy")
+PGMPY = f"pgmpy {importlib.metadata.version('pgmpy')}"
 
 RECOVERY_N = (250, 500, 1_000, 1_500, 2_000, 3_000, 5_000, 10_000, 30_000, 100_000)
 RECOVERY_SEEDS = 10
@@ -120,7 +124,7 @@ def _recovery() -> tuple[str, int | None]:
     ours = "| a2l K2Score | " + " | ".join(
         f"{int(rates[n] * RECOVERY_SEEDS)}/{RECOVERY_SEEDS}" for n in RECOVERY_N
     ) + " |"
-    theirs = "| pgmpy 1.1.2 K2 | " + " | ".join(pg.get(n, "") for n in RECOVERY_N) + " |"
+    theirs = f"| {PGMPY} K2 | " + " | ".join(pg.get(n, "") for n in RECOVERY_N) + " |"
     return "\n".join([header, sep, ours, theirs]), smallest, pg_smallest
 
 
@@ -260,10 +264,10 @@ def run() -> str:
         "",
         f"Smallest N of the grid from which every larger N recovers the parents for all "
         f"{RECOVERY_SEEDS} seeds: **{_fmt_n(smallest)}** with a2l's `K2Score`, "
-        f"{_fmt_n(pg_smallest)} with pgmpy 1.1.2's `K2` (same data, same search).",
+        f"{_fmt_n(pg_smallest)} with {PGMPY}'s `K2` (same data, same search).",
         "",
         f"K2 local score of a 4-state variable with 5 parents (1,440 configurations) on 1,000 "
-        f"random rows: a2l `K2Score` {ours:.1f}, pgmpy 1.1.2 `K2` {pg:+.1f} (pgmpy adds "
+        f"random rows: a2l `K2Score` {ours:.1f}, {PGMPY} `K2` {pg:+.1f} (pgmpy adds "
         f"log Γ(r) for every unseen parent configuration).",
         "",
     ]

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
+import hashlib
+import importlib.metadata
 import importlib.util
 import os
 import platform
@@ -50,31 +52,80 @@ def machine_description() -> str:
     )
 
 
-def git_commit() -> str:
+#: What run.py writes itself: not part of what was measured, so not "uncommitted changes".
+OUTPUTS = ("benchmarks/sections", "BENCHMARKS.md")
+
+
+def _git(cwd: Path, *args: str) -> str:
+    return subprocess.run(["git", *args], cwd=cwd, capture_output=True, text=True,
+                          check=True).stdout
+
+
+def git_commit(cwd: Path = HERE) -> str:
+    """The commit the measured code is, as a section's stamp.
+
+    ``commit abc1234`` when the work tree (but run.py's own outputs, :data:`OUTPUTS`) is
+    clean; otherwise ``uncommitted changes on top of abc1234 (diff sha256 0123abcd4567)``,
+    the hash covering the diff against HEAD and the untracked files' names and contents, so
+    two sections stamped alike were measured on the same tree. ``commit unknown`` outside
+    a git checkout. `cwd`: any directory of the checkout.
+    """
     try:
-        return subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], cwd=HERE, capture_output=True, text=True,
-            check=True,
-        ).stdout.strip()
+        root = Path(_git(cwd, "rev-parse", "--show-toplevel").strip())
+        head = _git(root, "rev-parse", "--short", "HEAD").strip()
+        exclude = [f":(exclude){p}" for p in OUTPUTS]
+        diff = _git(root, "diff", "HEAD", "--binary", "--", ".", *exclude)
+        untracked = _git(root, "ls-files", "--others", "--exclude-standard", "-z", "--", ".",
+                         *exclude).split("\0")
     except (OSError, subprocess.CalledProcessError):
-        return "unknown"
+        return "commit unknown"
+    untracked = sorted(u for u in untracked if u)
+    if not diff and not untracked:
+        return f"commit {head}"
+    h = hashlib.sha256(diff.encode())
+    for name in untracked:
+        h.update(name.encode() + b"\0")
+        try:
+            h.update((root / name).read_bytes())
+        except OSError:
+            pass
+    return f"uncommitted changes on top of {head} (diff sha256 {h.hexdigest()[:12]})"
 
 
 def discover() -> dict[str, Path]:
     return {p.stem.removeprefix("bench_"): p for p in sorted(HERE.glob("bench_*.py"))}
 
 
+def package_versions(names: tuple[str, ...]) -> str:
+    """``name version`` of each installed distribution (``not installed`` if absent)."""
+    out = []
+    for n in names:
+        try:
+            out.append(f"{n} {importlib.metadata.version(n)}")
+        except importlib.metadata.PackageNotFoundError:
+            out.append(f"{n} not installed")
+    return ", ".join(out)
+
+
 def run_section(name: str, path: Path) -> str:
+    """Run one section; its text under a stamp of date, machine, code and package versions.
+
+    A section may define ``PACKAGES`` (tuple of distribution names): their installed
+    versions are stamped, and ``package_versions`` gives them to its prose.
+    """
     spec = importlib.util.spec_from_file_location(f"a2l_bench_{name}", path)
     assert spec and spec.loader
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     print(f"[bench] {name}: {mod.TITLE}", flush=True)
-    body = mod.run().strip()
+    code = git_commit()  # the code measured: stamped before the run, not after
     stamp = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
+    body = mod.run().strip()
+    packages = getattr(mod, "PACKAGES", ())
+    versions = f"; {package_versions(packages)}" if packages else ""
     return (
         f"## {mod.TITLE}\n\n_Measured {stamp} on {machine_description()}, "
-        f"commit {git_commit()}._\n\n{body}\n"
+        f"{code}{versions}._\n\n{body}\n"
     )
 
 

@@ -1,7 +1,8 @@
 // Private: Eigen's allocation guard inside real-time sections, as dmpbbo does. Active when the
-// core is built with -DA2L_MALLOC_GUARD=ON (EIGEN_RUNTIME_NO_MALLOC) and assertions on (a
-// debug build): any Eigen heap allocation inside the section then fails an assertion. The
-// counting allocator of tests/cpp/test_skill_noalloc.cpp proves the same in every build.
+// core is built with -DA2L_MALLOC_GUARD=ON (EIGEN_RUNTIME_NO_MALLOC; CMake then keeps
+// assertions on in every build type): any Eigen heap allocation inside the section then fails
+// an assertion. `make test` runs every NoAlloc test in such a build (build/cpp-guard); the
+// counting allocator of tests/cpp/alloc_counter.hpp proves the same in every build.
 #pragma once
 
 #include <Eigen/Core>

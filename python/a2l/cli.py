@@ -14,6 +14,8 @@ experiment babbling
     One exploration method (NovEB, random or goal babbling) on Baxter's push scenes.
 experiment babbling-compare
     Every exploration method over several seeds, side by side.
+experiment sweep
+    The push experiment over many seeds: iterations to reach score 100.
 """
 
 from __future__ import annotations
@@ -284,6 +286,46 @@ def _add_babbling_parsers(exps: argparse._SubParsersAction) -> None:
     cmp_.set_defaults(func=_cmd_experiment_babbling_compare)
 
 
+def _cmd_experiment_sweep(args: argparse.Namespace) -> int:
+    import dataclasses
+    import shlex
+
+    from a2l.experiments.sweep import parse_overrides, parse_seeds, run_seed_sweep
+
+    options = {"scene": "scene", "effects": "n_effects", "iterations": "max_iterations",
+               "starts": "n_starts"}
+    try:
+        seeds = parse_seeds(args.seeds)
+    except ValueError as exc:
+        raise UsageError("--seeds", str(exc)) from None
+    try:
+        overrides = parse_overrides(args.set)
+    except ValueError as exc:
+        raise UsageError("--set", str(exc)) from None
+    cfg = _framework_config(args, options)
+    try:
+        dataclasses.replace(cfg, **overrides).validate()  # type: ignore[type-var]
+    except (TypeError, ValueError) as exc:
+        raise UsageError("--set", str(exc)) from None
+    out = Path(args.out) if args.out is not None else None
+    if out is not None and out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    command = ["a2l", "experiment", "sweep", "--seeds", args.seeds]
+    for opt in options:
+        if getattr(args, opt) is not None:
+            command += [f"--{opt}", str(getattr(args, opt))]
+    for item in args.set:
+        command += ["--set", item]
+    if out is not None:
+        command += ["--out", str(out)]
+    try:
+        run_seed_sweep(cfg, seeds, overrides, out=out, workers=args.workers,  # type: ignore[arg-type]
+                       quiet=args.quiet, command=shlex.join(command))
+    except ValueError as exc:  # out holds a sweep of another configuration
+        raise UsageError("--out", str(exc)) from None
+    return 0
+
+
 def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     """The ``experiment`` subcommand and its experiments."""
     experiment = sub.add_parser("experiment", help="run an A2L experiment (run directory "
@@ -345,6 +387,32 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     disc.set_defaults(func=_cmd_experiment_discretization)
     _add_lasa_parser(exps)
     _add_babbling_parsers(exps)
+
+    sweep = exps.add_parser(
+        "sweep", help="the push experiment over many seeds: iterations to reach 100",
+        description="Run the push experiment once per seed with one configuration and write "
+        "how many iterations (iteration 0 included) each seed needed to reach score 100: "
+        "metrics.json, report.md (the table of docs/framework.md) and one run directory per "
+        "seed. Run again with the same --out to continue an interrupted sweep.")
+    sweep.add_argument("--seeds", default="0-29", metavar="LIST",
+                       help="seeds, e.g. 0-29 or 0,3,7 (default 0-29)")
+    sweep.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
+                       help="change a FrameworkConfig field, e.g. directed_per_pair=20 "
+                       "(repeatable; VALUE read as JSON, else as text)")
+    sweep.add_argument("--out", metavar="DIR", default=None,
+                       help="sweep directory (default runs/sweep-<timestamp>)")
+    sweep.add_argument("--scene", choices=("virtual", "baxter"), default=None,
+                       help="scene (default virtual)")
+    sweep.add_argument("--effects", type=int, choices=(4, 8), default=None,
+                       help="push effects (default 4)")
+    sweep.add_argument("--iterations", type=_positive_int, default=None, metavar="N",
+                       help="iteration cap of each run (default 10)")
+    sweep.add_argument("--starts", type=_positive_int, default=None, metavar="N",
+                       help="start positions around the object (default 8)")
+    sweep.add_argument("--workers", type=_positive_int, default=1, metavar="N",
+                       help="local worker processes for each run's rollouts (default 1)")
+    sweep.add_argument("--quiet", action="store_true", help="no line per seed")
+    sweep.set_defaults(func=_cmd_experiment_sweep)
 
 
 def build_parser() -> argparse.ArgumentParser:

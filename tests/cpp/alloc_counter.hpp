@@ -1,15 +1,29 @@
 //! \file alloc_counter.hpp
-//! \brief A counting global allocator for the tests: every operator new in the test
+//! \brief A counting heap allocator for the tests: every heap allocation made by the test
 //! executable increments a counter, so a test proves that a section allocates nothing.
-//! Defined once, in test_alloc_counter.cpp (the only replacement of operator new in
-//! a2l_tests): include this header and use AllocationGuard, never define another one.
+//!
+//! test_alloc_counter.cpp replaces the C allocator of the whole a2l_tests executable
+//! (`malloc`, `calloc`, `realloc`, `reallocarray`, `posix_memalign`, `aligned_alloc`,
+//! `memalign`, `valloc`, `pvalloc`, forwarding to glibc's own `__libc_*` functions). The C++
+//! `operator new` (every form) and Eigen's `aligned_malloc` allocate through these, so they
+//! are counted too; the counter's self-tests prove it for each kind. It is defined once:
+//! include this header and use AllocationGuard, never define another allocator.
+//!
+//! Convention: a test that proves a real-time function allocates nothing has `NoAlloc` in
+//! its suite or test name (`StepNoAlloc`, `ExecutorNoAlloc`, ...). `make test` runs every
+//! such test a second time in a build with Eigen's allocation guard on (`A2L_MALLOC_GUARD`,
+//! assertions enabled): `ctest -R 'NoAlloc|AllocationCounter'` in `build/cpp-guard`.
+//! tests/python/test_rt_test_convention.py fails if a test uses AllocationGuard without
+//! that name.
 #pragma once
 
 #include <cstddef>
 
 namespace a2l::test {
 
-//! Number of calls to operator new (all forms) since the program started.
+//! Number of heap allocations (malloc, calloc, realloc, reallocarray, posix_memalign,
+//! aligned_alloc, memalign, valloc, pvalloc, and every operator new through them) since the
+//! program started, in every thread.
 std::size_t allocation_count() noexcept;
 
 //! Counts the allocations made while it lives.

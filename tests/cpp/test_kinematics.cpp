@@ -106,7 +106,7 @@ TEST_P(BaxterKinematics, InverseKinematicsRoundTripWithinLimits) {
   a2l::JointVector neutral(7);
   neutral << 0.0, -0.55, 0.0, 0.75, 0.0, 1.26, 0.0;
   int ok = 0;
-  const int n = 300;
+  const int n = 1000;  // BENCHMARKS.md and README claim >= 99.5 %: at least 995 of 1000
   for (int trial = 0; trial < n; ++trial) {
     const a2l::JointVector q = random_q(kin_, rng);
     Eigen::Isometry3d target, reached;
@@ -122,10 +122,10 @@ TEST_P(BaxterKinematics, InverseKinematicsRoundTripWithinLimits) {
     EXPECT_LT((reached.translation() - target.translation()).norm(), 1e-5);
     EXPECT_LT(Eigen::AngleAxisd(reached.linear().transpose() * target.linear()).angle(), 1e-5);
   }
-  EXPECT_GE(ok, n * 995 / 1000) << ok << " of " << n;
+  EXPECT_GE(ok, 995) << ok << " of " << n;
 }
 
-TEST_P(BaxterKinematics, RealTimeCallsAllocateNothing) {
+TEST_P(BaxterKinematics, RealTimeCallsNoAlloc) {
   std::mt19937_64 rng(4);
   a2l::JointVector q = random_q(kin_, rng), sol(7);
   Eigen::Isometry3d pose, target;

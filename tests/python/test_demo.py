@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 import pytest
@@ -25,15 +26,30 @@ def test_demo_fails_loudly_when_the_box_is_not_reached(capsys: pytest.CaptureFix
     assert "FAILED" in capsys.readouterr().out
 
 
-def test_cli_runs_the_whole_demo(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_runs_the_whole_demo(tmp_path, capfd: pytest.CaptureFixture[str]) -> None:
     """The whole pipeline, made small: world, one Baxter iteration, a2l-run on the skill."""
     out = tmp_path / "demo"
     assert main(["demo", "--seed", "1", "--iterations", "1", "--starts", "2",
                  "--out", str(out)]) == 0
-    text = capsys.readouterr().out
+    text = capfd.readouterr().out  # a2l-run's own output too
     assert "box moved" in text
     assert (out / "metrics.json").is_file() and (out / "skills" / "push.a2lb").is_file()
     assert (out / "skills" / "push.trace.csv").is_file(), "a2l-run wrote its trace"
+    m = json.loads((out / "metrics.json").read_text())
+    (it,) = m["iterations"]
+    # METHOD.md's score recomputed here from the success rates and false positives (not by
+    # the framework's score_of): 4 per success, 1 per false positive, over 4 x effects x starts.
+    starts, rates = 2, it["success_rate"]
+    successes = sum(round(r * starts) for r in rates.values())
+    expected = 100 * (4 * successes + it["false_positives"]) / (4 * len(rates) * starts)
+    assert it["score"] == pytest.approx(expected) == m["final_score"]
+    # The skill reproduces an effect from a start at least (measured: 25.0, far and close
+    # from one start each), and the demo prints the score it wrote.
+    assert successes >= 1 and m["final_score"] >= 12.5
+    assert f"final score {m['final_score']:.1f}" in text
+    # a2l-run ran the exported skill on 8 episodes of each of the 4 effects.
+    run = re.search(r"^success (\d+)/(\d+)", text, re.MULTILINE)
+    assert run is not None and int(run.group(2)) == 32, text
 
 
 def test_demo_gui_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch,

@@ -125,10 +125,11 @@ def test_runtime_a2l_run_reproduces_the_four_push_effects(
     assert set(s["effects"]) == {"left", "right", "close", "far"}
     for effect, res in s["effects"].items():
         assert res["episodes"] == 16
-        assert res["success"] >= 8, (effect, res)  # at least half the start points
+        assert res["success"] >= 10, (effect, res)  # measured 11 to 16 of 16
         assert 1 <= res["steps_per_action"] <= 12
-    assert s["success"] >= 44  # measured 53 of 64
-    assert s["control_ticks"] > 150 * s["skill_steps"]  # every step went through the IK
+    assert s["success"] >= 50  # BENCHMARKS.md: 53 of 64 (82.8 %)
+    # every movement went through the IK: 5 cm at 0.25 m/s and 1 kHz is 200 ticks at least
+    assert s["control_ticks"] >= 200 * s["skill_steps"]
     assert s["step_time"]["n"] > 64
     rows = list(csv.DictReader(trace.open()))
     assert rows[0].keys() >= {
@@ -152,6 +153,8 @@ def test_runtime_a2l_run_reproduces_the_four_push_effects(
 
 
 def test_runtime_a2l_run_bullet_scene_and_jsonl_trace(tmp_path: Path, push_bundle: Path) -> None:
+    """The Bullet run of BENCHMARKS.md's runtime section (same bundle, 16 start points x 4
+    effects, default seed): it reports 35/64 (54.7 %); the bound leaves 3 episodes of margin."""
     trace, summary = tmp_path / "trace.jsonl", tmp_path / "summary.json"
     env = dict(os.environ, A2L_ROBOTS_DIR=str(robots_dir()))
     r = run(
@@ -159,15 +162,11 @@ def test_runtime_a2l_run_bullet_scene_and_jsonl_trace(tmp_path: Path, push_bundl
         "--scene",
         "bullet",
         "--episodes",
-        "4",
+        "16",
         "--starts",
         "circle",
         "--radius",
         RADIUS,
-        "--effect",
-        "left,far",
-        "--seed",
-        "3",
         "--trace",
         trace,
         "--summary",
@@ -176,11 +175,18 @@ def test_runtime_a2l_run_bullet_scene_and_jsonl_trace(tmp_path: Path, push_bundl
     )
     assert r.returncode == 0, r.stderr
     s = json.loads(summary.read_text())
-    assert s["scene"] == "bullet" and set(s["effects"]) == {"left", "far"}
-    assert s["success"] >= 1
+    assert s["scene"] == "bullet" and set(s["effects"]) == {"left", "right", "close", "far"}
+    assert s["episodes"] == 64
+    assert s["success"] >= 32, s  # measured 35 of 64
+    for effect, res in s["effects"].items():
+        assert res["episodes"] == 16
+        assert res["success"] >= 4, (effect, res)  # measured 6 to 11 of 16
     records = [json.loads(line) for line in trace.read_text().splitlines()]
     assert {"episode", "effect", "bins", "eef", "object", "status"} <= records[0].keys()
-    assert {r["effect"] for r in records} == {"left", "far"}
+    assert {r["effect"] for r in records} == {"left", "right", "close", "far"}
+    # The summary agrees with the trace: one effect_produced record per success.
+    produced = [r for r in records if r["status"] == "effect_produced"]
+    assert len(produced) >= s["success"]
 
 
 def test_runtime_a2l_run_at_a_fixed_rate(push_bundle: Path, tmp_path: Path) -> None:

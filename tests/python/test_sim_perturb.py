@@ -43,15 +43,28 @@ def test_context_reader_low_level_state(push: PushScene) -> None:
 
 
 def test_move_object_changes_the_next_context(push: PushScene) -> None:
-    _start(push)
+    box0 = _start(push)
     before = push.context()
-    push.perturb("move_object", delta=(0.05, -0.03))
+    delta = np.array([0.05, -0.03, 0.0])
+    push.perturb("move_object", delta=tuple(delta[:2]))
     after = push.context()
-    assert np.allclose(after.objects["box"].vector - before.objects["box"].vector,
-                       (0.05, -0.03, 0.0), atol=0.004)
-    # and the next movement starts from there: the box is no longer where it was
+    assert np.allclose(after.objects["box"].vector - before.objects["box"].vector, delta,
+                       atol=0.004)
+    # independently of perception: the simulator's box moved by delta
+    moved_box = np.asarray(push.ground_truth()["objects"]["box"])
+    assert np.allclose(moved_box, box0 + delta, atol=1e-3)
+    # and the next movement starts from there: after 5 cm in +x (which does not reach the
+    # box), the context is read relative to the moved box, not the old one
+    eef0 = push.eef_position()
     assert push.execute((1, 0, 0))
-    assert after.objects["box"].distance > before.objects["box"].distance
+    now = push.context()
+    eef1 = eef0 + [push.step_length, 0.0, 0.0]
+    assert np.allclose(now.eef, eef1, atol=0.01)
+    assert np.allclose(push.ground_truth()["objects"]["box"], moved_box, atol=1e-3)
+    expected = np.linalg.norm(box0 + delta - eef1)          # 0.20 m
+    unperturbed = np.linalg.norm(box0 - eef1)               # 0.15 m
+    assert now.objects["box"].distance == pytest.approx(expected, abs=0.006)
+    assert abs(now.objects["box"].distance - unperturbed) > 0.04
 
 
 def test_hold_keeps_the_end_effector_still(push: PushScene) -> None:

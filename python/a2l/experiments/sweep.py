@@ -1,0 +1,225 @@
+"""Seed sweep of the push experiment: ``a2l experiment sweep``.
+
+Runs :func:`a2l.experiments.push.run_push_experiment` once per seed with one configuration
+and writes how many iterations (iteration 0 included) each seed needed to reach score 100:
+the table of ``docs/framework.md``. The sweep directory holds ``config.json`` (the base
+configuration, the overrides, the seeds and the command), one push run directory per seed
+(``seed_NNN/``), ``metrics.json`` (one row per seed and the summary) and ``report.md``. A
+sweep interrupted between seeds continues where it stopped when run again with the same
+``--out`` (finished seeds are read back, an unfinished one is resumed).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from a2l.experiments.push import run_push_experiment
+from a2l.experiments.rundir import atomic_write_text, make_run_dir, read_json, write_json
+from a2l.framework import FrameworkConfig
+
+__all__ = ["iterations_to_full_score", "parse_overrides", "parse_seeds", "run_seed_sweep",
+           "summarize_sweep"]
+
+
+def parse_seeds(text: str) -> list[int]:
+    """Seeds from ``"0-29"``, ``"0,3,7"`` or a mix (``"0-4,9"``), in the given order.
+
+    Raises
+    ------
+    ValueError
+        Malformed text, a negative seed, an empty range or a seed given twice.
+    """
+    seeds: list[int] = []
+    for part in text.split(","):
+        part = part.strip()
+        try:
+            if "-" in part:
+                lo, hi = (int(x) for x in part.split("-", 1))
+                if hi < lo:
+                    raise ValueError(f"empty range {part!r}")
+                seeds.extend(range(lo, hi + 1))
+            else:
+                seeds.append(int(part))
+        except ValueError as exc:
+            raise ValueError(f"seeds: expected e.g. '0-29' or '0,3,7', got {text!r} ({exc})"
+                             ) from None
+    if any(s < 0 for s in seeds):
+        raise ValueError(f"seeds: must be >= 0, got {text!r}")
+    if len(set(seeds)) != len(seeds):
+        raise ValueError(f"seeds: a seed is given twice in {text!r}")
+    return seeds
+
+
+def parse_overrides(items: Sequence[str]) -> dict[str, Any]:
+    """``FIELD=VALUE`` strings as FrameworkConfig fields; VALUE is read as JSON (numbers,
+    ``true``, ``null``), else kept as text.
+
+    Raises
+    ------
+    ValueError
+        An item without ``=``, or a field FrameworkConfig does not have (the message lists
+        its fields), or one the sweep sets itself (``seed``).
+    """
+    fields = {f.name for f in dataclasses.fields(FrameworkConfig)}
+    out: dict[str, Any] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise ValueError(f"--set: expected FIELD=VALUE, got {item!r}")
+        if name not in fields:
+            raise ValueError(f"--set: FrameworkConfig has no field {name!r}; its fields: "
+                             f"{', '.join(sorted(fields))}")
+        if name == "seed":
+            raise ValueError("--set: 'seed' is set by --seeds")
+        try:
+            out[name] = json.loads(value)
+        except json.JSONDecodeError:
+            out[name] = value
+    return out
+
+
+def iterations_to_full_score(iterations: Sequence[dict[str, Any]]) -> int | None:
+    """Iterations run (iteration 0 included) until the first score of 100, or None.
+
+    Parameters
+    ----------
+    iterations : sequence of dict
+        ``metrics.json``'s ``iterations`` (each with ``iteration`` and ``score``).
+    """
+    for m in iterations:
+        if m["score"] >= 100.0:
+            return int(m["iteration"]) + 1
+    return None
+
+
+def summarize_sweep(rows: Sequence[dict[str, Any]], within: int = 3) -> dict[str, Any]:
+    """Counts and statistics of a sweep's rows (``seed``, ``iterations_to_100``).
+
+    Returns
+    -------
+    dict
+        ``runs``, ``reached`` (runs that reached 100), ``within`` and ``reached_within``
+        (those that did within `within` iterations), and ``min``, ``max``, ``median``,
+        ``mean`` of the iterations of the runs that reached 100 (None if none did).
+    """
+    its = np.array([r["iterations_to_100"] for r in rows if r["iterations_to_100"] is not None],
+                   dtype=float)
+    stats: dict[str, Any] = {"min": None, "max": None, "median": None, "mean": None}
+    if its.size:
+        stats = {"min": int(its.min()), "max": int(its.max()),
+                 "median": float(np.median(its)), "mean": float(its.mean())}
+    return {"runs": len(rows), "reached": int(its.size), "within": within,
+            "reached_within": int((its <= within).sum()), **stats}
+
+
+def _table(rows: Sequence[dict[str, Any]], summary: dict[str, Any]) -> str:
+    cells = [("x" if r["iterations_to_100"] is None else str(r["iterations_to_100"]))
+             for r in rows]
+    lines = ["| seed | iterations to 100 | final score | iterations run |", "|---|---|---|---|"]
+    lines += [f"| {r['seed']} | {c} | {r['final_score']:.1f} | {r['iterations_run']} |"
+              for r, c in zip(rows, cells, strict=True)]
+    s = summary
+    seeds = [r["seed"] for r in rows]
+    lines += [
+        "",
+        f"Seeds {seeds[0]}–{seeds[-1]} ({s['runs']} runs): {s['reached']} of {s['runs']} reach "
+        f"100; {s['reached_within']} of {s['runs']} within {s['within']} iterations"
+        + ("" if s["median"] is None else
+           f"; iterations {s['min']} to {s['max']} (median {s['median']:g}, "
+           f"mean {s['mean']:.1f})") + ". \"x\": not within the run's iterations.",
+        "",
+        "Iterations per seed, in order: " + ", ".join(cells) + ".",
+    ]
+    return "\n".join(lines)
+
+
+def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = range(30),
+                   overrides: dict[str, Any] | None = None, out: str | Path | None = None,
+                   workers: int = 1, quiet: bool = False, command: str | None = None
+                   ) -> dict[str, Any]:
+    """Run the push experiment once per seed and tabulate the iterations to score 100.
+
+    Parameters
+    ----------
+    base : FrameworkConfig, optional
+        Everything but the seed (default: the default configuration).
+    seeds : sequence of int
+        The seeds, in order.
+    overrides : dict, optional
+        FrameworkConfig fields to change from `base` (see :func:`parse_overrides`).
+    out : path, optional
+        Sweep directory (default ``runs/sweep-<timestamp>``); rerunning with the same one
+        continues an interrupted sweep (it must hold the same configuration).
+    workers : int
+        Local worker processes of each run.
+    quiet : bool
+        No line per seed.
+    command : str, optional
+        The command line that made the sweep, kept in ``config.json``.
+
+    Returns
+    -------
+    dict
+        ``{"rows": [...], "summary": {...}, "run_dir": str}`` (also ``metrics.json``).
+
+    Raises
+    ------
+    ValueError
+        An override out of its domain (from FrameworkConfig.validate), no seed, or `out`
+        holding a sweep of another configuration.
+    """
+    seeds = list(seeds)
+    if not seeds:
+        raise ValueError("seeds: no seed to run")
+    cfg0 = dataclasses.replace(base or FrameworkConfig(), **(overrides or {}))
+    cfg0.validate()
+    run_dir = make_run_dir("sweep", out)
+    config = {"experiment": "sweep", "framework": dataclasses.asdict(cfg0),
+              "overrides": overrides or {}, "seeds": seeds, "command": command}
+    if (run_dir / "config.json").is_file():
+        old = read_json(run_dir / "config.json")
+        if (old.get("framework"), old.get("seeds")) != (config["framework"], seeds):
+            raise ValueError(f"'{run_dir}' holds a sweep of another configuration or other "
+                             "seeds; choose another --out")
+    else:
+        write_json(run_dir / "config.json", config)
+    rows = []
+    for seed in seeds:
+        sub = run_dir / f"seed_{seed:03d}"
+        if (sub / "metrics.json").is_file():
+            m = read_json(sub / "metrics.json")
+        elif (sub / "config.json").is_file():
+            m = run_push_experiment(resume=sub, workers=workers, quiet=True, plots=False)
+        else:
+            m = run_push_experiment(dataclasses.replace(cfg0, seed=seed), out=sub,
+                                    workers=workers, quiet=True, plots=False)
+        row = {"seed": seed, "iterations_to_100": iterations_to_full_score(m["iterations"]),
+               "final_score": float(m["final_score"]), "iterations_run": len(m["iterations"]),
+               "wall_s": float(m["wall_s"])}
+        rows.append(row)
+        if not quiet:
+            n = row["iterations_to_100"]
+            print(f"seed {seed:3d}: score {row['final_score']:.1f} after "
+                  f"{row['iterations_run']} iteration(s); "
+                  f"{'not 100' if n is None else f'100 at iteration {n - 1}'}", flush=True)
+    summary = summarize_sweep(rows)
+    table = _table(rows, summary)
+    write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary})
+    changed = ", ".join(f"`{k} = {v}`" for k, v in (overrides or {}).items()) or "none"
+    atomic_write_text(run_dir / "report.md", (
+        "# Seed sweep of the push experiment\n\n"
+        f"Scene {cfg0.scene}, {cfg0.n_effects} effects, {cfg0.n_starts} starts, at most "
+        f"{cfg0.max_iterations} iterations; changed from the defaults: {changed}.\n"
+        + (f"Command: `{command}`\n" if command else "") + "\n" + table + "\n"))
+    if not quiet:
+        print(table)
+        print(f"sweep directory: {run_dir}")
+    return {"rows": rows, "summary": summary, "run_dir": str(run_dir)}
+
