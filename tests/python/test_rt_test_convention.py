@@ -21,6 +21,10 @@ REAL_TIME_CALLS = {
     ".fk(": "forward kinematics",
     ".jacobian(": "Jacobian",
     ".ik(": "inverse kinematics",
+    ".forward(": "diffeomorphic DS: forward map",
+    ".inverse(": "diffeomorphic DS: inverse map",
+    ".velocity(": "diffeomorphic DS: velocity",
+    ".rollout(": "diffeomorphic DS: rollout",
 }
 _TEST = re.compile(r"^TEST(?:_P|_F)?\(\s*(\w+)\s*,\s*(\w+)\s*\)", re.MULTILINE)
 
