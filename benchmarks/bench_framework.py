@@ -1,5 +1,6 @@
 """The A2L iterative framework: wall time of the whole push experiment with 1 and 2 local
-workers (virtual scene), and what one iteration costs on the Baxter scene."""
+workers (virtual scene: one run, and several seeds in a row for a run of over a minute), and
+what one iteration costs on the Baxter scene."""
 
 from __future__ import annotations
 
@@ -17,19 +18,26 @@ from a2l.parallel import Executor
 TITLE = "Iterative framework (push experiment: workers, Baxter iteration)"
 
 #: The Baxter run: 4 starts, 2 iterations (the second one extends the dataset), the
-#: scene's default budgets (a fresh config: ``directed_try_cap`` is per scene).
-BAXTER = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 4, "max_iterations": 2}
+#: scene's default budgets (a fresh config: ``directed_try_cap`` is per scene); 8 held-out
+#: starts (the default 32 would make held-out rollouts most of this short run).
+BAXTER = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 4, "max_iterations": 2,
+          "heldout_starts": 8}
+
+#: Seeds of the virtual scaling run (one push experiment each, in a row): over a minute
+#: with 1 worker.
+SCALING_SEEDS = tuple(range(8))
 
 
 class _Instrument:
     """In this process (workers=1 runs): counts the discrete movements and the time spent in
     them, and the movements and time of each framework phase."""
 
-    PHASES = ("acquire", "extend", "generate_skill", "validate")
-    TASKS = ("babble_task", "directed_task", "validate_task")
+    PHASES = ("acquire", "extend", "generate_skill", "validate", "validate_heldout")
+    TASKS = ("babble_task", "directed_task", "validate_task", "heldout_task")
     #: The module whose global each phase and task is looked up in when the loop runs.
     HOME = {"acquire": loop, "extend": loop, "generate_skill": loop, "validate": loop,
-            "babble_task": loop, "directed_task": loop, "validate_task": validation}
+            "validate_heldout": loop, "babble_task": loop, "directed_task": loop,
+            "validate_task": validation, "heldout_task": validation}
 
     def __init__(self) -> None:
         self.moves = 0
@@ -37,6 +45,7 @@ class _Instrument:
         self.phase_moves = dict.fromkeys(self.PHASES, 0)
         self.phase_s = dict.fromkeys(self.PHASES, 0.0)
         self.tasks = 0
+        self.maps = 0
         self._orig: dict[str, Any] = {}
 
     def __enter__(self) -> _Instrument:
@@ -52,6 +61,14 @@ class _Instrument:
                 self.move_s += time.perf_counter() - t
 
         SceneEnv.execute = execute  # type: ignore[method-assign]
+        orig_map = Executor.map
+        self._orig["map"] = orig_map
+
+        def map_(ex: Executor, *args: Any, **kwargs: Any) -> Any:
+            self.maps += 1
+            return orig_map(ex, *args, **kwargs)
+
+        Executor.map = map_  # type: ignore[method-assign]
         for name in self.PHASES:
             self._orig[name] = getattr(self.HOME[name], name)
             setattr(self.HOME[name], name, self._timed(name, self._orig[name]))
@@ -80,6 +97,7 @@ class _Instrument:
 
     def __exit__(self, *exc: object) -> None:
         SceneEnv.execute = self._orig["execute"]  # type: ignore[method-assign]
+        Executor.map = self._orig["map"]  # type: ignore[method-assign]
         for name in (*self.PHASES, *self.TASKS):
             setattr(self.HOME[name], name, self._orig[name])
 
@@ -89,6 +107,22 @@ def _run(cfg: FrameworkConfig, workers: int, root: Path, name: str) -> tuple[dic
     t = time.perf_counter()
     m = run_push_experiment(cfg, root / name, workers=workers, quiet=True)
     return m, time.perf_counter() - t
+
+
+def _training(m: dict[str, Any]) -> list[dict[str, Any]]:
+    """The iterations' metrics but wall times (the held-out ones included)."""
+    return [{k: v for k, v in it.items() if k not in ("wall_s", "heldout_wall_s")}
+            for it in m["iterations"]]
+
+
+def _seeds_run(workers: int, root: Path) -> tuple[list[dict[str, Any]], float]:
+    """The virtual push experiment for every seed of :data:`SCALING_SEEDS`, one after the
+    other: (metrics of each, total wall time)."""
+    t = time.perf_counter()
+    out = [run_push_experiment(FrameworkConfig(scene="virtual", n_effects=4, seed=s),
+                               root / f"seeds-w{workers}-{s}", workers=workers, quiet=True)
+           for s in SCALING_SEEDS]
+    return out, time.perf_counter() - t
 
 
 def _iterations(m: dict[str, Any]) -> str:
@@ -136,8 +170,10 @@ def run() -> str:
         with _Instrument() as ins:
             m1, wall1 = _run(cfg, 1, root, "w1")
         m2, wall2 = _run(cfg, 2, root, "w2")
-        same = ([{k: v for k, v in it.items() if k != "wall_s"} for it in m1["iterations"]]
-                == [{k: v for k, v in it.items() if k != "wall_s"} for it in m2["iterations"]])
+        same = _training(m1) == _training(m2)
+        seeds1, wall_s1 = _seeds_run(1, root)
+        seeds2, wall_s2 = _seeds_run(2, root)
+        same_s = [_training(m) for m in seeds1] == [_training(m) for m in seeds2]
         for workers, m, wall in ((1, m1, wall1), (2, m2, wall2)):
             rows.append(f"| virtual, 4 effects, seed 0 | {workers} | {wall:.1f} | "
                         f"{len(m['iterations'])} | {m['final_score']:.1f} | "
@@ -147,13 +183,12 @@ def run() -> str:
         with _Instrument() as bins:
             mb, wallb = _run(bcfg, 1, root, "baxter")
         mb2, wallb2 = _run(bcfg, 2, root, "baxter-w2")
-        same_b = ([{k: v for k, v in it.items() if k != "wall_s"} for it in mb["iterations"]]
-                  == [{k: v for k, v in it.items() if k != "wall_s"}
-                      for it in mb2["iterations"]])
+        same_b = _training(mb) == _training(mb2)
     drift = _restore_drift()
     ms_per_move = 1000 * bins.move_s / max(bins.moves, 1)
     per_move_us = 1e6 * ins.move_s / max(ins.moves, 1)
-    rollout_s = sum(ins.phase_s[p] for p in ("acquire", "extend", "validate"))
+    rollout_s = sum(ins.phase_s[p]
+                    for p in ("acquire", "extend", "validate", "validate_heldout"))
     overhead_ms = 1000 * (rollout_s - ins.move_s) / max(ins.tasks, 1)
     est_h = ins.phase_moves["extend"] * ms_per_move / 1000 / 3600
     lines = [
@@ -168,6 +203,12 @@ def run() -> str:
         f"Ratio 1 worker / 2 workers: **{wall1 / wall2:.2f}** (above 1: 2 workers are "
         f"faster). Same metrics (but wall times) with 1 and 2 workers: {same}.",
         "",
+        f"A run of over a minute: the same experiment for seeds {SCALING_SEEDS[0]}-"
+        f"{SCALING_SEEDS[-1]} one after the other (each its own run directory and worker "
+        f"pool), {sum(len(m['iterations']) for m in seeds1)} iterations in all: "
+        f"**{wall_s1:.1f} s** with 1 worker, **{wall_s2:.1f} s** with 2; ratio 1 worker / 2 "
+        f"workers **{wall_s1 / wall_s2:.2f}**. Same metrics (but wall times): {same_s}.",
+        "",
         "Where the 1-worker run spends its time (the framework's phases, all iterations; "
         "`extend` holds the effect-directed babbling):",
         "",
@@ -177,7 +218,9 @@ def run() -> str:
         "",
         f"{ins.moves:,} movements took {ins.move_s:.1f} s ({per_move_us:.0f} µs each) of "
         f"the 1-worker run's {wall1:.1f} s. The rollout phases ran {ins.tasks:,} rollouts "
-        f"(tasks), each costing {overhead_ms:.3f} ms beyond its movements (Python: the "
+        f"(tasks) in {ins.maps} `Executor.map` calls (the effect-directed rounds of all "
+        "stuck pairs go in one call), "
+        f"each rollout costing {overhead_ms:.3f} ms beyond its movements (Python: the "
         "scene wrapper's positions, arrays, the result object); skill learning and the "
         "run's bookkeeping are serial. With workers, rollouts travel in batches "
         f"({Executor.BATCHES_PER_SLOT} per worker and map call, one round trip each); the "
@@ -186,11 +229,14 @@ def run() -> str:
         "",
         f"**Baxter scene** (PyBullet, C++ IK), 4 effects, {bcfg.n_starts} starts, seed 0, "
         f"1 worker, {len(mb['iterations'])} iterations, the scene's default budgets "
-        f"(`directed_try_cap` {bcfg.directed_try_cap}):",
+        f"(`directed_try_cap` {bcfg.directed_try_cap}), {bcfg.heldout_starts} held-out "
+        "starts (their rollouts are the `validate_heldout` phase, not in the iteration's "
+        "wall):",
         "",
-        "| iteration | wall (s) | score | dataset rows |",
-        "|---|---|---|---|",
+        "| iteration | wall (s) | score | held-out score | held-out wall (s) | dataset rows |",
+        "|---|---|---|---|---|---|",
         *(f"| {it['iteration']} | {it['wall_s']:.1f} | {it['score']:.1f} | "
+          f"{it['heldout_score']:.1f} | {it['heldout_wall_s']:.1f} | "
           f"{it['dataset_size']:,} |" for it in mb["iterations"]),
         "",
         "| phase | time (s) | discrete movements |",

@@ -74,7 +74,8 @@ def _nonnegative_int(text: str) -> int:
 #: ``a2l experiment push`` options that set the run's configuration (not allowed with
 #: ``--resume``: the interrupted run's ``config.json`` is used), with their config field.
 _PUSH_CONFIG_OPTIONS = {"scene": "scene", "effects": "n_effects", "seed": "seed",
-                        "iterations": "max_iterations", "starts": "n_starts"}
+                        "iterations": "max_iterations", "starts": "n_starts",
+                        "heldout_starts": "heldout_starts"}
 
 
 def _framework_config(args: argparse.Namespace, options: dict[str, str]) -> object:
@@ -118,7 +119,8 @@ def _cmd_experiment_push(args: argparse.Namespace) -> int:
     from a2l.experiments.push import run_push_experiment
 
     if args.resume is not None:
-        given = [f"--{o}" for o in _PUSH_CONFIG_OPTIONS if getattr(args, o) is not None]
+        given = [f"--{o.replace('_', '-')}" for o in _PUSH_CONFIG_OPTIONS
+                 if getattr(args, o) is not None]
         if args.out is not None:
             given.append("--out")
         if given:
@@ -358,6 +360,9 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
                       help="iteration cap, iteration 0 included (default 10)")
     push.add_argument("--starts", type=_positive_int, default=None, metavar="N",
                       help="start positions around the object (default 8)")
+    push.add_argument("--heldout-starts", type=_nonnegative_int, default=None, metavar="N",
+                      help="held-out start positions each iteration's skill is also scored "
+                      "from, never trained from (default 32; 0: none)")
     push.add_argument("--acquisition", choices=("random", "noveb"), default=None,
                       help="iteration 0's interactions: random babbling around the object "
                       "(default) or NovEB over the reachable table, on camera images only "

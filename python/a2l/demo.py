@@ -137,8 +137,9 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     from a2l.experiments.rundir import make_run_dir
     from a2l.framework import FrameworkConfig
 
+    # held-out starts in proportion to the training ones (the default 32 with 8 starts)
     cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
-                          max_iterations=iterations, seed=seed)
+                          max_iterations=iterations, seed=seed, heldout_starts=4 * starts)
     run_dir = make_run_dir("demo", out)
     result = run_push_experiment(cfg, out=run_dir, workers=workers)
     bundle = Path(result["run_dir"]) / result["bundle"]

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import matplotlib.image as mpimg
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -24,6 +25,7 @@ from a2l import _core
 from a2l.cli import main
 from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.framework import FrameworkConfig, score_of, validate
+from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor
 
 #: Most iterations (iteration 0 included) to reach score 100 with the defaults (issue 5).
@@ -135,7 +137,34 @@ def test_final_bundle_loads_and_reproduces_the_final_score(run: Path,
     assert score_of(rollouts, cfg.n_effects, cfg.n_starts) == metrics["final_score"]
 
 
-@pytest.mark.parametrize("name", ["score.png", "trajectories.png", "policy.png"])
+def test_heldout_metrics_beside_the_training_ones(run: Path, metrics: dict[str, Any]) -> None:
+    """Every iteration has its held-out score (32 starts never trained from) beside its
+    score, and the final held-out score is the accepted skill's: scoring the final bundle
+    again from the held-out starts gives it."""
+    cfg = FrameworkConfig.from_dict(json.loads((run / "config.json").read_text())["framework"])
+    assert cfg.heldout_starts == 32
+    assert metrics["heldout"] == {"starts": 32, "r_low": 0.10, "r_high": 0.25}
+    for it in metrics["iterations"]:
+        assert list(it["heldout_success_rate"]) == EFFECTS
+        successes = sum(r * 32 for r in it["heldout_success_rate"].values())
+        assert it["heldout_score"] == pytest.approx(
+            100 * (4 * successes + it["heldout_false_positives"]) / (4 * 4 * 32))
+        assert it["heldout_wall_s"] > 0
+    kept = [it for it in metrics["iterations"] if it["accepted"]][-1]
+    assert metrics["heldout_score"] == kept["heldout_score"]
+    with Executor(workers=1) as ex:
+        rollouts = validate_heldout(cfg, ex, run / "skills" / "push.a2lb")
+    assert len(rollouts) == 4 * 32
+    assert [(r.start, r.wanted) for r in rollouts] == [(s, e) for s in range(32)
+                                                       for e in range(4)]
+    assert score_of(rollouts, cfg.n_effects, cfg.heldout_starts) == metrics["heldout_score"]
+    # The rollouts start from the held-out positions, not from the training circle.
+    first = [r.eef[0] - r.obj[0] for r in rollouts[::4]]
+    assert np.allclose([f[:2] for f in first], cfg.heldout_offsets()[:, :2], atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["score.png", "trajectories.png", "policy.png",
+                                  "heldout_trajectories.png"])
 def test_plots(run: Path, name: str) -> None:
     path = run / name
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -148,8 +177,10 @@ def test_report(run: Path, metrics: dict[str, Any]) -> None:
     text = (run / "report.md").read_text()
     assert "virtual scene, 4 effects, seed 0" in text
     assert f"Final score: **{metrics['final_score']:.1f}**" in text
-    for name in ("score.png", "trajectories.png", "policy.png"):
+    for name in ("score.png", "trajectories.png", "policy.png", "heldout_trajectories.png"):
         assert f"]({name})" in text
+    assert f"Held-out score of the final skill: **{metrics['heldout_score']:.1f}**" in text
+    assert "| iteration | score | held-out score |" in text
     rows = [line for line in text.splitlines() if line.startswith("| ") and
             line.split("|")[1].strip().isdigit()]
     assert len(rows) == len(metrics["iterations"])

@@ -44,7 +44,8 @@ def _outcome(run_dir: Path) -> dict[str, Any]:
     """What must not depend on interruption or workers: metrics (but wall times), the final
     bundle's bytes and the final dataset."""
     m = json.loads((run_dir / "metrics.json").read_text())
-    iterations = [{k: v for k, v in it.items() if k != "wall_s"} for it in m["iterations"]]
+    iterations = [{k: v for k, v in it.items() if k not in ("wall_s", "heldout_wall_s")}
+                  for it in m["iterations"]]
     return {
         # JSON text: NaN (no success) compares equal to NaN.
         "iterations": json.dumps(iterations, sort_keys=True),

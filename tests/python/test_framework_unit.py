@@ -294,6 +294,7 @@ def _exit_code(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int
     (["--seed", "-1"], "--seed"),
     (["--iterations", "zero"], "--iterations"),
     (["--starts", "0"], "--starts"),
+    (["--heldout-starts", "-1"], "--heldout-starts"),
 ])
 def test_push_bad_arguments_exit_2(argv: list[str], argument: str,
                                    capsys: pytest.CaptureFixture[str]) -> None:

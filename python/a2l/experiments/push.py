@@ -28,6 +28,7 @@ __all__ = [
     "results_table",
     "run_discretization_study",
     "run_push_experiment",
+    "with_heldout",
 ]
 
 
@@ -41,16 +42,28 @@ def _robot_entry(cfg: FrameworkConfig) -> dict[str, str] | None:
             "base_link": spec.base_link, "tip_link": spec.tip_link}
 
 
+def with_heldout(history: list[dict[str, Any]], heldout: list[dict[str, Any]]
+                 ) -> list[dict[str, Any]]:
+    """The iterations' metrics with each one's held-out metrics (``heldout_score``,
+    ``heldout_success_rate``, ...) merged in, as ``metrics.json`` holds them."""
+    by_it = {h["iteration"]: h for h in heldout}
+    return [{**m, **{k: v for k, v in by_it.get(m["iteration"], {}).items()
+                     if k != "iteration"}} for m in history]
+
+
 def results_table(history: list[dict[str, Any]]) -> str:
-    """Markdown table of the iterations' metrics."""
+    """Markdown table of the iterations' metrics (with a held-out score column when the
+    iterations have one)."""
     if not history:
         return "(no iteration)"
     effects = list(history[0]["success_rate"])
-    head = ["iteration", "score", *effects, "false positives", "movements/action",
-            "dataset rows", "accepted", "wall (s)"]
+    held = all("heldout_score" in m for m in history)
+    head = ["iteration", "score", *(["held-out score"] if held else []), *effects,
+            "false positives", "movements/action", "dataset rows", "accepted", "wall (s)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for m in history:
         cells = [str(m["iteration"]), f"{m['score']:.1f}",
+                 *([f"{m['heldout_score']:.1f}"] if held else []),
                  *(f"{m['success_rate'][e]:.0%}" for e in effects),
                  str(m["false_positives"]),
                  "—" if np.isnan(m["mean_movements"]) else f"{m['mean_movements']:.1f}",
@@ -69,9 +82,12 @@ def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
 
     it = [m["iteration"] for m in history]
     fig, ax = plt.subplots(figsize=(5, 3.2))
-    ax.plot(it, [m["score"] for m in history], "o-", label="iteration score")
+    ax.plot(it, [m["score"] for m in history], "o-", label="score (training starts)")
     best = np.maximum.accumulate([m["score"] for m in history])
     ax.step(it, best, where="post", ls="--", label="accepted (best so far)")
+    if all("heldout_score" in m for m in history):
+        ax.plot(it, [m["heldout_score"] for m in history], "s:",
+                label="score (held-out starts)")
     ax.set(xlabel="iteration", ylabel="score", ylim=(0, 105), title="A2L push: score")
     ax.set_xticks(it)
     ax.grid(alpha=0.3)
@@ -81,7 +97,8 @@ def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
-def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path) -> None:
+def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path,
+                      title: str = "Validation trajectories") -> None:
     """Validation trajectories over the table, one panel per effect (PNG).
 
     Successful ones are solid, false positives dashed, fails dotted; the box at the start
@@ -117,8 +134,7 @@ def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path) -> None
                aspect="equal")
         ax.set_xlabel("y (m, robot's left ←)")
         ax.set_ylabel("x (m, far ↑)")
-    fig.suptitle("Validation trajectories (solid: success, dashed: false positive, "
-                 "dotted: fail)")
+    fig.suptitle(f"{title} (solid: success, dashed: false positive, dotted: fail)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -175,7 +191,17 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     plt.close(fig)
 
 
-def _report(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path) -> str:
+def _report(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
+            history: list[dict[str, Any]]) -> str:
+    held = result.get("heldout_score")
+    heldout_lines = [] if held is None else [
+        f"Held-out score of the final skill: **{held:.1f}**, from {cfg.heldout_starts} "
+        f"start positions no phase of training used (uniform angle, distance "
+        f"{cfg.heldout_r_low:.2f}-{cfg.heldout_r_high:.2f} m from the object, their own "
+        f"seed stream); the score above is from the {cfg.n_starts} training starts the "
+        "skill was validated and extended from.",
+        "",
+    ]
     return "\n".join([
         f"# A2L push experiment ({cfg.scene} scene, {cfg.n_effects} effects, seed {cfg.seed})",
         "",
@@ -183,12 +209,15 @@ def _report(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path) -> str:
         f"iteration(s); final skill `{Path(result['bundle']).relative_to(run_dir)}` "
         "(copied to `skills/push.a2lb`).",
         "",
-        results_table(result["iterations"]),
+        *heldout_lines,
+        results_table(history),
         "",
         "![score per iteration](score.png)",
         "",
         "![validation trajectories](trajectories.png)",
         "",
+        *(["![held-out trajectories](heldout_trajectories.png)", ""]
+          if held is not None else []),
         "![inferred movement](policy.png)",
         "",
         "Configuration: `config.json`; machine-readable results: `metrics.json`.",
@@ -254,7 +283,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                if acquisition != "random" else {}),
             "command": f"a2l experiment push --scene {cfg.scene} --effects {cfg.n_effects} "
                        f"--seed {cfg.seed} --iterations {cfg.max_iterations} "
-                       f"--starts {cfg.n_starts} --out {run_dir}"
+                       f"--starts {cfg.n_starts} --heldout-starts {cfg.heldout_starts} "
+                       f"--out {run_dir}"
                        + (f" --acquisition {acquisition} --noveb-evaluations "
                           f"{noveb_evaluations}" if acquisition != "random" else ""),
         })
@@ -268,26 +298,37 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     final = run_dir / "skills" / "push.a2lb"
     shutil.copyfile(result["bundle"], final)
     result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
+    history = with_heldout(result["iterations"], result["heldout"])
     metrics = {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
-        "seed": cfg.seed, "iterations": result["iterations"],
-        "final_score": result["final_score"], "bundle": str(final.relative_to(run_dir)),
+        "seed": cfg.seed, "iterations": history,
+        "final_score": result["final_score"], "heldout_score": result["heldout_score"],
+        "heldout": {"starts": cfg.heldout_starts, "r_low": cfg.heldout_r_low,
+                    "r_high": cfg.heldout_r_high},
+        "bundle": str(final.relative_to(run_dir)),
         "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
         **({"acquisition": {"method": acquisition, **noveb_log}}
            if acquisition != "random" else {}),
     }
     write_json(run_dir / "metrics.json", metrics)
     if plots:
-        plot_scores(result["iterations"], run_dir / "score.png")
+        plot_scores(history, run_dir / "score.png")
         plot_trajectories(cfg, result["validation"], run_dir / "trajectories.png")
+        if result["heldout_score"] is not None:
+            plot_trajectories(cfg, result["heldout_validation"],
+                              run_dir / "heldout_trajectories.png",
+                              title="Held-out trajectories")
         plot_policy(cfg, final, run_dir / "policy.png")
-    atomic_write_text(run_dir / "report.md", _report(cfg, result, run_dir))
+    atomic_write_text(run_dir / "report.md", _report(cfg, result, run_dir, history))
     if not quiet:
         from rich.console import Console
         from rich.markdown import Markdown
 
-        Console().print(Markdown(results_table(result["iterations"])))
-        print(f"final score {result['final_score']:.1f}; run directory: {run_dir}")
+        Console().print(Markdown(results_table(history)))
+        held = result["heldout_score"]
+        print(f"final score {result['final_score']:.1f}"
+              + (f" (held-out {held:.1f})" if held is not None else "")
+              + f"; run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
 
 

@@ -9,7 +9,8 @@ METHOD.md's loop, for the push effects:
 2. **Skill generation**: discretize, learn a Bayesian network (hill-climbing + K2, ``move``
    has no children), compile the posterior over ``move`` into a table, save a skill bundle.
 3. **Interaction validation** (:mod:`a2l.framework.validation`): each effect from each
-   start, in closed loop through the C++ skill step (:mod:`a2l._core`): success, false
+   start (and, to measure only, from ``heldout_starts`` held-out starts no phase of
+   training uses), in closed loop through the C++ skill step (:mod:`a2l._core`): success, false
    positive (the object moved with another effect) or fail; the iteration's score
    (:mod:`a2l.framework.scoring`) is ``Σ(4·success + 1·false positive) /
    (4 · n_effects · n_starts) · 100``.
@@ -53,6 +54,8 @@ __all__ = [
     "extend",
     "generate_skill",
     "heading_chooser",
+    "heldout_metrics",
+    "heldout_task",
     "iteration_metrics",
     "make_env",
     "random_waypoints",
@@ -61,6 +64,7 @@ __all__ = [
     "scene_env",
     "score_of",
     "validate",
+    "validate_heldout",
     "validate_task",
 ]
 
@@ -81,7 +85,10 @@ _HOME = {
     "IterationResult": "a2l.framework.scoring",
     "iteration_metrics": "a2l.framework.scoring",
     "score_of": "a2l.framework.scoring",
+    "heldout_metrics": "a2l.framework.scoring",
     "validate": "a2l.framework.validation",
+    "validate_heldout": "a2l.framework.validation",
+    "heldout_task": "a2l.framework.validation",
     "validate_task": "a2l.framework.validation",
     "acquire": "a2l.framework.loop",
     "extend": "a2l.framework.loop",

@@ -10,10 +10,15 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DIRECTED_TRY_CAP", "FrameworkConfig", "discretizers"]
+__all__ = ["DIRECTED_TRY_CAP", "HELDOUT_STREAM", "FrameworkConfig", "discretizers"]
 
 #: Default ``directed_try_cap`` of each scene.
 DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
+
+#: Tag of the held-out starts' seed stream: their generator is seeded by
+#: ``(seed, HELDOUT_STREAM)``, a sequence no training draw (``(seed, iteration, phase,
+#: index)``) uses.
+HELDOUT_STREAM = 0x68656C64
 
 @dataclass
 class FrameworkConfig:
@@ -87,6 +92,12 @@ class FrameworkConfig:
     waypoint_aim : float
         The last point of a waypoint trajectory is drawn within ± this of the object's
         start position on each table axis (m).
+    heldout_starts : int
+        Held-out start positions (0: no held-out evaluation): every iteration's skill is
+        also run for each effect from each of them, positions no phase of training starts
+        from (:meth:`heldout_offsets`); they only measure, nothing is learnt from them.
+    heldout_r_low, heldout_r_high : float
+        Range of their distance from the object (m); their angle is uniform.
     seed : int
         Seed of every random draw.
     scene_config : dict
@@ -124,6 +135,9 @@ class FrameworkConfig:
     directed_mode: str = "waypoints"
     waypoints_max: int = 2
     waypoint_aim: float = 0.04
+    heldout_starts: int = 32
+    heldout_r_low: float = 0.10
+    heldout_r_high: float = 0.25
     seed: int = 0
     scene_config: dict[str, Any] = field(default_factory=dict)
 
@@ -145,7 +159,8 @@ class FrameworkConfig:
             v = getattr(self, name)
             if not isinstance(v, int) or v < 1:
                 raise ValueError(f"{name}: must be a positive integer, got {v!r}")
-        for name in ("start_radius", "step", "effect_threshold", "waypoint_aim"):
+        for name in ("start_radius", "step", "effect_threshold", "waypoint_aim", "heldout_r_low",
+                     "heldout_r_high"):
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name}: must be a positive length, got {v!r}")
@@ -165,6 +180,13 @@ class FrameworkConfig:
             raise ValueError(f"waypoints_max: must be an integer >= 0, got "
                              f"{self.waypoints_max!r}")
 
+        if not isinstance(self.heldout_starts, int) or self.heldout_starts < 0:
+            raise ValueError(f"heldout_starts: must be an integer >= 0, got "
+                             f"{self.heldout_starts!r}")
+        if self.heldout_r_low > self.heldout_r_high:
+            raise ValueError(f"heldout_r_low, heldout_r_high: need low <= high, got "
+                             f"{self.heldout_r_low}, {self.heldout_r_high}")
+
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> FrameworkConfig:
         """Build from a dict (e.g. a run's ``config.json``); unknown keys are errors."""
@@ -182,6 +204,20 @@ class FrameworkConfig:
         r = self.start_radius
         return np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(a)], axis=1)
 
+    def heldout_offsets(self) -> np.ndarray:
+        """Held-out end-effector start positions relative to the object, shape
+        (heldout_starts, 3): uniform angle, distance uniform in ``[heldout_r_low,
+        heldout_r_high]``, drawn from their own stream (:data:`HELDOUT_STREAM`)."""
+        return _heldout_offsets(self.seed, self.heldout_starts, self.heldout_r_low,
+                                self.heldout_r_high).copy()
+
+
+@functools.lru_cache(maxsize=16)
+def _heldout_offsets(seed: int, n: int, r_low: float, r_high: float) -> np.ndarray:
+    rng = np.random.default_rng(np.random.SeedSequence([seed, HELDOUT_STREAM]))
+    a = rng.uniform(0.0, 2 * np.pi, n)
+    r = rng.uniform(r_low, r_high, n)
+    return np.stack([r * np.cos(a), r * np.sin(a), np.zeros(n)], axis=1)
 
 
 def discretizers(cfg: FrameworkConfig) -> Any:

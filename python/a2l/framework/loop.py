@@ -27,10 +27,11 @@ from a2l.framework.scoring import (
     FALSE_POSITIVE,
     SUCCESS,
     IterationResult,
+    heldout_metrics,
     iteration_metrics,
     score_of,
 )
-from a2l.framework.validation import validate
+from a2l.framework.validation import validate, validate_heldout
 from a2l.parallel import Executor
 
 __all__ = ["acquire", "extend", "generate_skill", "run_framework"]
@@ -91,15 +92,46 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
     out = list(moved) if cfg.keep_validation else []
     out += [r for r in executor.map(babble_task, tasks) if r.moved]
     pairs = sorted(p for p, n in stuck.items() if n >= cfg.stuck_after)
+    directed = []
     for j, (start, effect) in enumerate(pairs):
         grow = min(stuck[(start, effect)] - cfg.stuck_after + 1, cfg.directed_growth)
-        directed = EffectDirected(cfg, start, effect,
-                                  lambda i, j=j: _seed(cfg, iteration, 2 + j, i),
-                                  want=cfg.directed_per_pair * grow,
-                                  cap=cfg.directed_try_cap * grow)
-        drive(directed, lambda tasks: executor.map(directed_task, tasks), batch=32)
-        out.extend(directed.found)
+        directed.append(EffectDirected(cfg, start, effect,
+                                       lambda i, j=j: _seed(cfg, iteration, 2 + j, i),
+                                       want=cfg.directed_per_pair * grow,
+                                       cap=cfg.directed_try_cap * grow))
+    _drive_together(directed, lambda tasks: executor.map(directed_task, tasks), batch=32)
+    for d in directed:
+        out.extend(d.found)
     return out
+
+
+def _drive_together(strategies: Sequence[EffectDirected],
+                    evaluate: Callable[[Sequence[Any]], Sequence[Any]], batch: int) -> None:
+    """:func:`a2l.acquisition.protocol.drive` for several strategies at once: each round
+    asks every strategy not yet done for `batch` candidates and evaluates them all in one
+    call (one ``Executor.map`` instead of one per strategy: a map costs milliseconds
+    whatever its size).
+
+    Each strategy is asked and told exactly what :func:`drive` would ask and tell it, in the
+    same batches: the outcome is the same as driving them one after the other.
+    """
+    if batch < 1:
+        raise ValueError(f"batch must be >= 1, got {batch}")
+    while True:
+        asks = [(s, s.ask(batch)) for s in strategies if not s.done]
+        if not asks:
+            return
+        for s, asked in asks:
+            if not asked:
+                raise RuntimeError(f"{type(s).__name__} is not done but asked for nothing")
+        outcomes = evaluate([c for _, asked in asks for c in asked])
+        n = sum(len(asked) for _, asked in asks)
+        if len(outcomes) != n:
+            raise ValueError(f"evaluate returned {len(outcomes)} outcomes for {n} candidates")
+        k = 0
+        for s, asked in asks:
+            s.tell(asked, outcomes[k:k + len(asked)])
+            k += len(asked)
 
 
 def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,
@@ -186,7 +218,14 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     -------
     dict
         ``{"iterations": [...], "final_score": float, "bundle": str, "validation":
-        DataFrame of the accepted iteration's rollouts}``.
+        DataFrame of the accepted iteration's rollouts, "heldout": [...],
+        "heldout_score": float or None, "heldout_validation": DataFrame}``.
+        ``heldout`` holds each iteration's held-out metrics (:func:`heldout_metrics`,
+        plus ``heldout_wall_s``), apart from ``iterations``: the held-out rollouts
+        (``cfg.heldout_starts`` starts, :func:`validate_heldout`) run after the
+        iteration's own metrics are taken and decide nothing (no acceptance, no stuck
+        pair, no draw of training). ``heldout_score`` and ``heldout_validation`` are those
+        of the accepted skill (None and an empty table without held-out starts).
     """
     cfg.validate()
     skills_dir = run_dir / "skills"
@@ -198,12 +237,15 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         dataset = frames["dataset"]
         best_val = _frame_rollouts(frames["validation"])
         history = state["iterations"]
+        heldout = state.get("heldout", [])
+        best_held = _frame_rollouts(frames["heldout"]) if "heldout" in frames else []
         best_score = float(state["best_score"])
         stuck = {(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
                  for k, v in state["stuck"].items()}
         start_it = last + 1
     else:
         dataset, best_val, history, best_score, stuck, start_it = None, [], [], -1.0, {}, 0
+        heldout, best_held = [], []
     for it in range(start_it, cfg.max_iterations):
         if best_score >= 100.0:
             break
@@ -230,13 +272,25 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
             stuck[key] = 0 if r.outcome == SUCCESS else stuck.get(key, 0) + 1
         m = iteration_metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0)
         history.append(asdict(m))
+        if cfg.heldout_starts:
+            t1 = time.perf_counter()
+            held = validate_heldout(cfg, executor, bundle, progress)
+            heldout.append({**heldout_metrics(cfg, it, held),
+                            "heldout_wall_s": time.perf_counter() - t1})
+            if accepted:
+                best_held = held
         save_checkpoint(run_dir, it, {
             "iterations": history, "best_score": best_score,
-            "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()},
-        }, {"dataset": dataset, "validation": _rollouts_frame(best_val)})
+            "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()}, "heldout": heldout,
+        }, {"dataset": dataset, "validation": _rollouts_frame(best_val),
+            "heldout": _rollouts_frame(best_held)})
         if on_iteration:
             on_iteration(m)
     accepted_name = (skills_dir / "accepted.txt").read_text().strip()
+    last_accepted = max(h["iteration"] for h in history if h["accepted"])
+    final_held = [h for h in heldout if h["iteration"] == last_accepted]
     return {"iterations": history, "final_score": best_score,
             "bundle": str(skills_dir / accepted_name), "dataset": dataset,
-            "validation": _rollouts_frame(best_val)}
+            "validation": _rollouts_frame(best_val), "heldout": heldout,
+            "heldout_score": final_held[0]["heldout_score"] if final_held else None,
+            "heldout_validation": _rollouts_frame(best_held)}

@@ -5,14 +5,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout
 from a2l.framework.config import FrameworkConfig, discretizers
 
-__all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "iteration_metrics",
-           "score_of"]
+__all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "heldout_metrics",
+           "iteration_metrics", "score_of"]
 
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
@@ -43,9 +44,7 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
                       accepted: bool, wall: float) -> IterationResult:
     """The metrics of iteration `it` from its validation rollouts `val` (dataset of `size`
     rows, `accepted` or not, `wall` seconds)."""
-    names = discretizers(cfg).effects.values
-    rate = {names[e]: float(np.mean([r.outcome == SUCCESS for r in val if r.wanted == e]))
-            for e in range(cfg.n_effects)}
+    rate = _success_rates(cfg, val)
     moves = [len(r.moves) for r in val if r.outcome == SUCCESS]
     return IterationResult(
         iteration=it, score=score_of(val, cfg.n_effects, cfg.n_starts), success_rate=rate,
@@ -53,3 +52,20 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
         mean_movements=float(np.mean(moves)) if moves else float("nan"),
         dataset_size=size, accepted=accepted, wall_s=wall)
 
+
+def heldout_metrics(cfg: FrameworkConfig, it: int, held: Sequence[Rollout]) -> dict[str, Any]:
+    """The held-out metrics of iteration `it` from its rollouts `held` from the
+    ``cfg.heldout_starts`` held-out starts: ``{"iteration", "heldout_score",
+    "heldout_success_rate": {effect: rate}, "heldout_false_positives"}`` (the score as
+    :func:`score_of`, over the held-out starts)."""
+    return {"iteration": it,
+            "heldout_score": score_of(held, cfg.n_effects, cfg.heldout_starts),
+            "heldout_success_rate": _success_rates(cfg, held),
+            "heldout_false_positives": sum(r.outcome == FALSE_POSITIVE for r in held)}
+
+
+def _success_rates(cfg: FrameworkConfig, rollouts: Sequence[Rollout]) -> dict[str, float]:
+    """Share of the rollouts wanting each effect that produced it, by effect name."""
+    names = discretizers(cfg).effects.values
+    return {names[e]: float(np.mean([r.outcome == SUCCESS for r in rollouts if r.wanted == e]))
+            for e in range(cfg.n_effects)}

@@ -18,11 +18,15 @@ from a2l.framework.runner import CppSkillRunner
 from a2l.framework.scoring import FAIL, FALSE_POSITIVE, SUCCESS
 from a2l.parallel import Executor
 
-__all__ = ["validate", "validate_task"]
+__all__ = ["heldout_task", "validate", "validate_heldout", "validate_task"]
+
+#: One validation rollout: ``(config as a dict, bundle path, start index, wanted effect)``.
+ValidationTask = tuple[dict[str, Any], str, int, int]
 
 
-def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
-    """One validation rollout: ``(config, bundle_path, start, wanted_effect)``.
+def validate_task(task: ValidationTask) -> Rollout:
+    """One validation rollout: ``(config, bundle_path, start, wanted_effect)``, from the
+    training start ``start`` (:meth:`FrameworkConfig.start_offsets`).
 
     The skill runs in closed loop through the C++ step until the object moves (success if
     with the wanted effect, else false positive), or the step returns a stop status (step
@@ -30,6 +34,25 @@ def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
     """
     cfg_d, bundle, start, wanted = task
     cfg = FrameworkConfig(**cfg_d)
+    return _closed_loop(cfg, bundle, start, cfg.start_offsets()[start], wanted)
+
+
+def heldout_task(task: ValidationTask) -> Rollout:
+    """As :func:`validate_task`, from the held-out start ``start``
+    (:meth:`FrameworkConfig.heldout_offsets`; ``Rollout.start`` is its index there)."""
+    cfg_d, bundle, start, wanted = task
+    cfg = FrameworkConfig(**cfg_d)
+    offsets = cfg.heldout_offsets()
+    if not 0 <= start < len(offsets):
+        raise ValueError(f"held-out start {start} out of range: the config has "
+                         f"{len(offsets)} held-out starts")
+    return _closed_loop(cfg, bundle, start, offsets[start], wanted)
+
+
+def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarray,
+                 wanted: int) -> Rollout:
+    """The skill of `bundle` for effect `wanted` from `offset` (shape (3,)) off the object,
+    recorded as start `start`."""
     disc = discretizers(cfg)
     runner = CppSkillRunner.cached(bundle)
     if tuple(runner.labels) != tuple(disc.movements.labels):
@@ -44,7 +67,7 @@ def validate_task(task: tuple[dict[str, Any], str, int, int]) -> Rollout:
             status.append(st)
         return move
 
-    r = play(scene_env(cfg), disc, start, cfg.start_offsets()[start], [], choose, cfg.step_cap + 1)
+    r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.step_cap + 1)
     r.wanted = wanted
     if r.moved:
         r.outcome = SUCCESS if r.effect == wanted else FALSE_POSITIVE
@@ -65,3 +88,19 @@ def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
     return executor.map(validate_task, tasks,
                         on_done=(lambda k: progress("validate", k, total)) if progress else None)
 
+
+
+def validate_heldout(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
+                     progress: Callable[[str, int, int], None] | None = None
+                     ) -> list[Rollout]:
+    """Run the skill for every (held-out start, effect) pair (``cfg.heldout_starts`` starts,
+    :meth:`FrameworkConfig.heldout_offsets`); results in (start, effect) order, empty
+    without held-out starts."""
+    cfg_d = asdict(cfg)
+    tasks = [(cfg_d, str(bundle_path), s, e)
+             for s in range(cfg.heldout_starts) for e in range(cfg.n_effects)]
+    if not tasks:
+        return []
+    total = len(tasks)
+    return executor.map(heldout_task, tasks,
+                        on_done=(lambda k: progress("held-out", k, total)) if progress else None)
