@@ -524,11 +524,12 @@ class BulletScene(Scene):
         """
         c = self._client
         out = [("floor", np.array([0.0, 0.0, _FLOOR_Z - 0.05]), np.array([3.0, 3.0, 0.05]))]
-        bodies = [("table", self._table, [-1])]
+        ids = self._bodies.ids  # rebuilt at every reset: read the current ids
+        bodies = [("table", ids["table"], [-1])]
         bodies += [(o.name, o.body, list(range(-1, p.getNumJoints(o.body, physicsClientId=c))))
                    for o in self._objects.values() if o.name not in self._removed]
-        if getattr(self, "_lamp", None) is not None:
-            bodies.append(("lamp", self._lamp, [-1]))
+        if "lamp" in ids:
+            bodies.append(("lamp", ids["lamp"], [-1]))
         for name, body, links in bodies:
             for link in links:
                 if link >= 0 and p.getCollisionShapeData(body, link, physicsClientId=c) == ():
