@@ -298,7 +298,10 @@ std::vector<std::string> CollisionModel::moving_links() const {
 Result CollisionModel::set_joint_positions(const std::map<std::string, double>& positions) {
   Impl& m = *impl_;
   std::vector<double> q = m.fixed_q;
-  for (const auto& [name, value] : positions) {
+  for (const auto& entry : positions) {
+    // (no structured binding: clang 14 cannot capture one in the lambda below)
+    const std::string& name = entry.first;
+    const double value = entry.second;
     const auto it = std::find_if(m.nodes.begin(), m.nodes.end(),
                                  [&](const LinkNode& n) { return n.joint == name; });
     if (it == m.nodes.end())
