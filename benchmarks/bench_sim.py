@@ -173,7 +173,7 @@ def _baxter_section() -> str:
     for key, label in _PHASES.items():
         lines.append(f"| {label} | {truth[key]:.2f} | {seen[key]:.2f} |")
     lines += [
-        f"| of which physics steps (`stepSimulation`, {55} a movement) | "
+        f"| of which physics steps (`stepSimulation`) | "
         f"{truth['_sim_step']:.2f} | {seen['_sim_step']:.2f} |",
         f"| **whole movement** (`execute`) | **{truth['total']:.2f}** | **{seen['total']:.2f}** |",
         f"| physics steps, CPU time of this process | {truth['_sim_step_cpu']:.2f} | "
@@ -181,23 +181,20 @@ def _baxter_section() -> str:
         f"| whole movement, CPU time of this process | {truth['total_cpu']:.2f} | "
         f"{seen['total_cpu']:.2f} |",
         "",
-        "The floor of a movement is its physics: 55 steps of the 56-link Baxter multibody "
-        "(19 joints held by position motors); the IK and the Python around the steps cost "
-        "the difference between the last two rows. This machine is shared: the process gets "
-        "a fraction of a core, so wall times run 2-3x the CPU time and vary between runs; "
-        "the CPU rows are what a movement costs on a free core. Before this branch's exact "
-        "starts (commit 15ce53e: `restoreState`, unsorted pairs) the 93 carried-out "
-        "movements of `tests/python/data/baxter_movements.json` (more contacts than the "
-        "movements above) took 13.3 and 13.6 ms of CPU (median, two runs alternating with "
-        "the new code), after 14.2 and 14.8 ms: sorting the pairs costs ~7 %. Cheaper "
-        "physics changes what movements do (contacts are chaotic: any change of the "
-        "solver's arithmetic moves the box by up to centimetres): merging Baxter's fixed "
-        "links (`URDF_MERGE_FIXED_LINKS`, 19 links) cut the steps' CPU time by ~30 % (16.2 "
-        "-> 11.0 ms a movement on that set) but changed 5 of its 96 effects, excluding the "
-        "floor from the robot's collisions saved ~5 % and changed 3; neither was adopted. "
+        "The floor of a movement is its physics steps (the Baxter multibody, its joints held "
+        "by position motors); the IK and the Python around the steps cost the difference "
+        "between the physics and whole-movement rows. In this run a movement's wall time was "
+        f"{truth['total'] / max(truth['total_cpu'], 1e-9):.2f}x its CPU time (ground truth): "
+        "above 1 when other processes share the cores, and then the CPU rows are what a "
+        "movement costs on a free core. Cheaper physics changes what movements do (contacts "
+        "are chaotic: any change of the solver's arithmetic moves the box by up to "
+        "centimetres); `tests/python/test_sim_movement_reference.py` replays a fixed set of "
+        "96 movements and fails if a status, an effect or a step count changes, which is how "
+        "merging Baxter's fixed links (`URDF_MERGE_FIXED_LINKS`) and excluding the floor "
+        "from the robot's collisions were rejected. "
         "With a perceived context the scene renders a camera frame at every movement's "
         "start (to observe effects from the camera): rollouts that read the simulator's "
-        "truth should say so (`context_source='ground_truth'`).",
+        "truth should say so (`context_source='ground_truth'`; the framework's scenes do).",
     ]
     costs = _reset_costs()
     lines += [
