@@ -47,7 +47,7 @@ $(STAMP_APT):
 
 $(STAMP_VENV): $(STAMP_APT)
 	@[ -x $(PY) ] || { echo "[setup] creating $(VENV)"; python3 -m venv $(VENV); }
-	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja
+	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools wheel
 	@touch $@
 
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES)
