@@ -72,9 +72,9 @@ _WAIT = 1.0         # how long the light-on demonstration waits at the retreat p
 
 
 def _start(rng: np.random.Generator) -> NDArray[np.float64]:
-    """A start relative to the object: in front of, beside and above it."""
-    return np.array([rng.uniform(-0.14, 0.06), rng.uniform(-0.15, 0.15),
-                     rng.uniform(0.12, 0.22)])
+    """A start relative to the object: above it, a little in front or beside."""
+    return np.array([rng.uniform(-0.10, 0.06), rng.uniform(-0.10, 0.10),
+                     rng.uniform(0.14, 0.22)])
 
 
 def _bezier(p0: NDArray[np.float64], p1: NDArray[np.float64], p2: NDArray[np.float64],
@@ -171,8 +171,10 @@ def grasp_light_demonstration(seed: int, light: str, start: ArrayLike | None = N
         Seeds the start, the path and the speed.
     light : {"off", "on"}
         Off: the grasp (:func:`grasp_demonstration`) with ``light: off`` in every segment's
-        states. On: move away from the block to :data:`RETREAT` and wait there ``1 s``
-        (the last samples repeat the retreat point), one segment under ``light: on``.
+        states. On: move away from the block (up first, then back) to :data:`RETREAT` and
+        wait there ``1 s`` (the last samples repeat the retreat point), one segment under
+        ``light: on``; half the starts are the grasp's, half a point on a grasp's approach
+        (the light came on mid-grasp), down to the grasp point itself.
     start : array_like, shape (3,), optional
         Start relative to the block (m).
     """
@@ -182,10 +184,18 @@ def grasp_light_demonstration(seed: int, light: str, start: ArrayLike | None = N
         raise A2LValueError(f"light must be 'off' or 'on', got {light!r}")
     rng = np.random.default_rng(seed)
     speed = _SPEED * rng.uniform(0.8, 1.2)
-    p0 = _start(rng) if start is None else np.asarray(start, dtype=float).reshape(3)
+    if start is not None:
+        p0 = np.asarray(start, dtype=float).reshape(3)
+    elif rng.uniform() < 0.5:
+        p0 = _start(rng)
+    else:  # the light came on during a grasp: from a point of a grasp's approach
+        reach = _from_above(rng, GRASP_POINT, None)
+        p0 = reach[rng.integers(len(reach) // 3, len(reach))]
     goal = RETREAT + rng.normal(0, 0.005, 3)
-    mid = (p0 + goal) / 2 + np.array([0, 0, 0.03]) + rng.normal(0, 0.01, 3)
-    path = _bezier(p0, mid, mid, goal, _SPACING)
+    # up first (off the block), then back to the retreat point
+    c1 = p0 + np.array([0.0, 0.0, 0.10]) + rng.normal(0, 0.005, 3)
+    c2 = goal + np.array([0.03, 0.0, 0.0]) + rng.normal(0, 0.01, 3)
+    path = _bezier(p0, c1, c2, goal, _SPACING)
     times = _timed(path, speed)
     n_wait = 5
     wait_t = times[-1] + np.linspace(_WAIT / n_wait, _WAIT, n_wait)
