@@ -21,7 +21,7 @@ from a2l.lfd.manipulation import (
     segment_actions,
 )
 from a2l.sim import make_scene
-from a2l.sim.outcomes import AWAY, effect_test, stayed_away
+from a2l.sim.outcomes import AWAY_RADIUS, effect_test, stayed_away
 
 
 def test_grasp_light_scene_has_a_lamp_the_camera_sees() -> None:
@@ -86,8 +86,8 @@ def test_demonstrations_are_seeded_segments_in_the_object_frame() -> None:
                                        {"light": "off", "gripper": "closed"}]
     (away,) = on
     assert away.states == {"light": "on"}
-    assert np.linalg.norm(away.positions[-1] - RETREAT) < 0.03
-    assert np.linalg.norm(away.positions[-1]) > AWAY
+    assert np.linalg.norm(away.positions[-1] - RETREAT) < AWAY_RADIUS / 2
+    assert np.linalg.norm(away.positions[-1]) > 0.15
     # waits: the last second at the same place
     assert away.times[-1] - away.times[-6] == pytest.approx(1.0)
     assert np.allclose(away.positions[-6:], away.positions[-1])
@@ -133,4 +133,11 @@ def test_the_light_on_behaviour_is_not_a_grasp_and_a_grasp_is_not_away() -> None
                                             {"light": "off", "gripper": "open"})], "block")
         assert not effect_test("grasped")(scene)
         # staying next to the block is not "away"
+        assert not stayed_away(scene)
+        # at the retreat pose with the block knocked over is not "away" either
+        scene.reset()
+        block = np.asarray(scene.ground_truth()["objects"]["block"])
+        scene.reset(eef=block + RETREAT)
+        assert stayed_away(scene)
+        scene.perturb("move_object", delta=(0.02, 0.0))
         assert not stayed_away(scene)

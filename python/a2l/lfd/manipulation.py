@@ -15,7 +15,7 @@ grasp          reach: start -> above the block -> down to the grasp point       
                (gripper open); lift: straight up by :data:`LIFT` (gripper closed)
 press          press: start -> above the button -> down on it                       -
 grasp_light    light off: the grasp's segments with ``light: off`` added;            close / -
-               light on: start -> :data:`RETREAT` (away from the block), then wait
+               light on: start -> ``RETREAT`` (away from the block), then wait
 =============  ===================================================================  ============
 
 Frames: every segment is expressed relative to the object's position at the start of the
@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l.errors import A2LValueError
 from a2l.lfd.demonstration import Demonstration
+from a2l.sim.outcomes import RETREAT
 
 __all__ = [
     "ABOVE",
@@ -61,8 +62,6 @@ PRESS_POINT: NDArray[np.float64] = np.array([0.0, 0.0, -0.012])
 ABOVE = 0.10
 #: Rise of the lift segment (m); the ``grasped`` effect needs 5 cm.
 LIFT = 0.10
-#: Where the light-on demonstration waits, relative to the block (m): back and up.
-RETREAT: NDArray[np.float64] = np.array([-0.12, 0.0, 0.16])
 #: The object each skill acts on, as the scene names it.
 SKILL_OBJECTS: dict[str, str] = {"grasp": "block", "press": "button", "grasp_light": "block"}
 
@@ -171,7 +170,8 @@ def grasp_light_demonstration(seed: int, light: str, start: ArrayLike | None = N
         Seeds the start, the path and the speed.
     light : {"off", "on"}
         Off: the grasp (:func:`grasp_demonstration`) with ``light: off`` in every segment's
-        states. On: move away from the block (up first, then back) to :data:`RETREAT` and
+        states. On: move away from the block (up first, then back) to
+        :data:`a2l.sim.outcomes.RETREAT` and
         wait there ``1 s`` (the last samples repeat the retreat point), one segment under
         ``light: on``; half the starts are the grasp's, half a point on a grasp's approach
         (the light came on mid-grasp), down to the grasp point itself.

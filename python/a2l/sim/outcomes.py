@@ -4,8 +4,9 @@
   where it was at the episode's start, in the closed gripper (the scene's detector,
   :meth:`a2l.sim.Scene.observe_effect`).
 - ``pressed``: the button toggled the light since the episode's start.
-- ``away`` (the light-on behaviour of ``grasp_light``, a "hot stove"): the end-effector is
-  at least :data:`AWAY` from the block, the block has not moved (< 1 cm) and is not held.
+- ``away`` (the light-on behaviour of ``grasp_light``, a "hot stove"): the end-effector
+  waits at the retreat pose, within :data:`AWAY_RADIUS` of ``block + RETREAT`` (back and
+  up, 20 cm from the block), and the block has not moved (< 1 cm) since the episode's start.
 
 Every test reads the ground truth (the true state of the world, not the camera's).
 """
@@ -15,26 +16,31 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from a2l.errors import A2LValueError
 
-__all__ = ["AWAY", "EFFECT_TESTS", "effect_test", "stayed_away"]
+__all__ = ["AWAY_RADIUS", "EFFECT_TESTS", "RETREAT", "effect_test", "stayed_away"]
 
-#: Distance (m) from the block beyond which the end-effector is "away" from it.
-AWAY = 0.15
+#: Where the light-on behaviour waits, relative to the block (m): back and up.
+RETREAT: NDArray[np.float64] = np.array([-0.12, 0.0, 0.16])
+#: How close to the retreat pose the end-effector must be (m).
+AWAY_RADIUS = 0.04
 
 
-def stayed_away(scene: Any, obj: str | None = None, distance: float = AWAY,
-                tolerance: float = 0.01) -> bool:
-    """The light-on behaviour: away from the object, which was left where it was.
+def stayed_away(scene: Any, obj: str | None = None, offset: ArrayLike = RETREAT,
+                radius: float = AWAY_RADIUS, tolerance: float = 0.01) -> bool:
+    """The light-on behaviour: at the retreat pose, the object left where it was.
 
     Parameters
     ----------
     scene : a2l.sim.Scene
     obj : str, optional
         Default: the scene's primary object.
-    distance : float
-        Smallest end-effector-object distance (m).
+    offset : array_like, shape (3,)
+        The retreat pose relative to the object (m).
+    radius : float
+        Largest distance (m) of the end-effector from ``object + offset``.
     tolerance : float
         Largest displacement (m) of the object since the episode's start.
     """
@@ -45,8 +51,8 @@ def stayed_away(scene: Any, obj: str | None = None, distance: float = AWAY,
         return False
     now = np.asarray(now, dtype=float)
     moved = float(np.linalg.norm(now - np.asarray(start, dtype=float)))
-    far = float(np.linalg.norm(scene.eef_position() - now))
-    return far >= distance and moved < tolerance
+    off = float(np.linalg.norm(scene.eef_position() - now - np.asarray(offset, dtype=float)))
+    return off <= radius and moved < tolerance
 
 
 def _effect_named(effect: str) -> Any:
