@@ -179,7 +179,7 @@ def test_run_skill_stops_on_the_cpp_status_and_checks_its_inputs(bundles, tmp_pa
         with pytest.raises(ValueError, match="mode"):
             run_skill(scene, bundles["push_right"], "right", mode="dmp")
         with pytest.raises(ValueError, match="no effect test"):
-            run_skill(scene, bundles["push_right"], "grasped")
+            run_skill(scene, bundles["push_right"], "spun")
     with make_skill_scene("push_right", 0, scene="virtual", step=0.03) as scene:
         with pytest.raises(ValueError, match="moves by 0.03 m"):
             run_skill(scene, bundles["push_right"], "right")

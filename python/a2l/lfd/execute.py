@@ -13,7 +13,9 @@ The run ends when the effect test says the effect is produced (or went wrong), w
 step returns a stop status (``step_cap``, ``unknown_context``...), when a movement cannot be
 carried out for good (``unreachable``, ``workspace_limit``, ``joint_limit``) or at
 ``max_steps``. Effect tests (:data:`EFFECT_TESTS`) are keyed by effect name; the push ones
-are here, other skills register theirs with :func:`register_effect_test`.
+are here, other skills register theirs with :func:`register_effect_test`; an effect without
+one falls back on the scene outcome of that name (:mod:`a2l.sim.outcomes`: ``grasped``,
+``pressed``, ``away``), done once it holds.
 
 The displacement an effect test sees is the one the robot produced: the sum, over the
 executed movements, of the object's displacement during each one, so a perturbation that
@@ -34,7 +36,7 @@ from a2l import _core
 from a2l.lfd.demonstrators import PUSH_DIRECTIONS
 
 __all__ = ["EFFECT_TESTS", "Progress", "SkillRun", "SkillStep", "push_test",
-           "register_effect_test", "run_skill"]
+           "register_effect_test", "run_skill", "scene_test"]
 
 #: A push skill succeeds when the object moved at least this far (m) the right way.
 PUSH_DISTANCE = 0.05
@@ -94,6 +96,27 @@ def push_test(effect: str, distance: float = PUSH_DISTANCE) -> EffectTest:
 
 #: Effect name -> effect test.
 EFFECT_TESTS: dict[str, EffectTest] = {e: push_test(e) for e in PUSH_DIRECTIONS}
+
+
+def scene_test(fn: Callable[[Any], bool]) -> EffectTest:
+    """An effect test from a test of the scene's episode so far (``f(scene) -> bool``, such
+    as :data:`a2l.sim.outcomes.EFFECT_TESTS`): done (and successful) once it holds."""
+
+    def test(pr: Progress) -> tuple[bool, bool]:
+        ok = bool(fn(pr.scene))
+        return ok, ok
+
+    return test
+
+
+def _effect_test(effect: str) -> EffectTest | None:
+    """The registered test of `effect`, else the scene outcome of that name, else None."""
+    if effect in EFFECT_TESTS:
+        return EFFECT_TESTS[effect]
+    from a2l.sim import outcomes
+
+    fn = outcomes.EFFECT_TESTS.get(effect)
+    return None if fn is None else scene_test(fn)
 
 
 def register_effect_test(effect: str, test: EffectTest) -> None:
@@ -293,9 +316,10 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
     t0 = time.perf_counter()
     if mode not in ("table", "ds"):
         raise ValueError(f"mode must be 'table' or 'ds', got {mode!r}")
-    test = effect_test or EFFECT_TESTS.get(effect)
+    test = effect_test or _effect_test(effect)
     if test is None:
-        raise ValueError(f"no effect test for effect {effect!r}; known: {sorted(EFFECT_TESTS)}")
+        raise ValueError(f"no effect test for effect {effect!r}; known: {sorted(EFFECT_TESTS)} "
+                         "and the scene outcomes of a2l.sim.outcomes")
     path = os.fspath(bundle_path)
     table = _TableStep(path)
     if abs(scene.step_length - table.step_len) > 1e-9:
