@@ -4,6 +4,8 @@ Subcommands
 -----------
 demo
     The main job (see ``a2l demo --help``).
+demo-record
+    Record demonstrations by teleoperation in the PyBullet GUI (keys: a2l.lfd.teleop).
 experiment push
     The A2L push experiment (see ``a2l experiment push --help``).
 experiment discretization
@@ -14,6 +16,8 @@ experiment babbling
     One exploration method (NovEB, random or goal babbling) on Baxter's push scenes.
 experiment babbling-compare
     Every exploration method over several seeds, side by side.
+experiment lfd-skills
+    Demonstrated skills learned, then run on held-out seeds (``--help``).
 experiment sweep
     The push experiment over many seeds: iterations to reach score 100.
 """
@@ -31,6 +35,57 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
     return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
                     starts=args.starts, workers=args.workers)
+
+
+def _cmd_demo_record(args: argparse.Namespace) -> int:
+    from a2l.lfd.teleop import record_demonstrations
+
+    start = None
+    if args.start is not None:
+        try:
+            start = [float(v) for v in args.start.split(",")]
+        except ValueError:
+            start = []
+        if len(start) != 3:
+            raise UsageError("--start", f"expected DX,DY,DZ (3 numbers, m), got {args.start!r}")
+    keys = None
+    if args.keys is not None:
+        keys = [k for k in args.keys.split(",") if k.strip()]
+    if not 0 < args.step <= 0.1:
+        raise UsageError("--step", f"must be in (0, 0.1] m, got {args.step}")
+    out = Path(args.out)
+    if out.suffix.lower() not in (".csv", ".parquet", ".pq"):
+        raise UsageError("--out", f"'{out}': use a .csv or .parquet file")
+    try:
+        rec = record_demonstrations(args.scene, out, seed=args.seed, keys=keys, start=start,
+                                    step=args.step)
+    except ValueError as exc:
+        raise UsageError("--keys" if keys is not None else "--scene", str(exc)) from None
+    return 0 if rec.recordings else 1
+
+
+def _add_demo_record_parser(sub: argparse._SubParsersAction) -> None:
+    rec = sub.add_parser(
+        "demo-record", help="record demonstrations by teleoperation in the PyBullet GUI",
+        description="Move Baxter's end-effector with the keyboard in the PyBullet GUI and "
+        "record demonstrations (the part-1 demonstration format, relative to the object). "
+        "Keys: arrows = x/y, Page Up/Down = z (1 cm steps), Space = gripper, Return = "
+        "start/stop recording, q = save and quit.")
+    rec.add_argument("--scene", choices=("grasp", "grasp_light", "press", "push"),
+                     required=True, help="the scene to demonstrate in")
+    rec.add_argument("--out", metavar="FILE", required=True,
+                     help="demonstration file to write (.csv or .parquet)")
+    rec.add_argument("--seed", type=_nonnegative_int, default=0, help="scene seed (default 0)")
+    rec.add_argument("--step", type=float, default=0.01, metavar="M",
+                     help="length of one move (default 0.01 m)")
+    rec.add_argument("--start", metavar="DX,DY,DZ", default=None,
+                     help="start the end-effector here relative to the object (m; default: "
+                     "the neutral pose)")
+    rec.add_argument("--keys", metavar="CMD,CMD,...", default=None,
+                     help="no GUI: run these commands instead of reading the keyboard "
+                     "(forward, back, left, right, up, down, gripper, record, quit; "
+                     "'down*5' repeats)")
+    rec.set_defaults(func=_cmd_demo_record)
 
 
 class UsageError(Exception):
@@ -333,6 +388,9 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     experiment = sub.add_parser("experiment", help="run an A2L experiment (run directory "
                                 "with config, metrics, plots, report)")
     exps = experiment.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")
+    from a2l.experiments import lfd_skills
+
+    lfd_skills.add_parser(exps)
 
     push = exps.add_parser(
         "push", help="the iterative framework on the push effects",
@@ -442,6 +500,7 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--workers", type=_positive_int, default=None, metavar="N",
                       help="worker processes for the rollouts (default: up to 2)")
     demo.set_defaults(func=_cmd_demo)
+    _add_demo_record_parser(sub)
     _add_experiment_parsers(sub)
     return parser
 

@@ -9,9 +9,10 @@ Make a scene with :func:`make_scene`::
         ok = scene.execute((1, 0, 0))          # +x by 5 cm through the C++ IK
         print(scene.observe_effect(), scene.context().objects["box"].distance)
 
-Scenes: ``push`` (a box), ``grasp`` (a block the gripper can lift), ``press`` (a button
-toggling a light, and a box) in PyBullet with Baxter; ``virtual`` (the C++ kinematic push
-model of docs/virtual_scene.md, no physics).
+Scenes: ``push`` (a box), ``grasp`` (a block the gripper can lift), ``grasp_light`` (the
+block next to a lamp: a "hot stove"), ``press`` (a button toggling a light, and a box) in
+PyBullet with Baxter; ``virtual`` (the C++ kinematic push model of docs/virtual_scene.md,
+no physics).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from typing import Any
 
 from a2l.sim.config import (
     GraspConfig,
+    GraspLightConfig,
     PressConfig,
     PushConfig,
     SceneConfig,
@@ -38,6 +40,7 @@ __all__ = [
     "SCENES",
     "Context",
     "GraspConfig",
+    "GraspLightConfig",
     "MoveResult",
     "ObjectContext",
     "PressConfig",
@@ -53,7 +56,7 @@ __all__ = [
 ]
 
 #: Names of the scenes :func:`make_scene` builds.
-SCENES: tuple[str, ...] = ("push", "grasp", "press", "virtual")
+SCENES: tuple[str, ...] = ("push", "grasp", "grasp_light", "press", "virtual")
 
 
 def make_scene(name: str, seed: int = 0, **config: Any) -> Scene:
@@ -61,13 +64,14 @@ def make_scene(name: str, seed: int = 0, **config: Any) -> Scene:
 
     Parameters
     ----------
-    name : {"push", "grasp", "press", "virtual"}
+    name : {"push", "grasp", "grasp_light", "press", "virtual"}
         The scene.
     seed : int
         Seeds every random draw of the scene (object jitter on reset).
     **config
         Fields of the scene's config dataclass (:class:`PushConfig`, :class:`GraspConfig`,
-        :class:`PressConfig`, :class:`VirtualConfig`), e.g. ``gui=True``, ``step=0.03``.
+        :class:`GraspLightConfig`, :class:`PressConfig`, :class:`VirtualConfig`), e.g.
+        ``gui=True``, ``step=0.03``.
 
     Returns
     -------
@@ -86,6 +90,8 @@ def make_scene(name: str, seed: int = 0, **config: Any) -> Scene:
 
         return VirtualScene(cfg, seed)
     from a2l.sim.bullet import GraspScene, PressScene, PushScene
+    from a2l.sim.grasp_light import GraspLightScene
 
-    cls = {"push": PushScene, "grasp": GraspScene, "press": PressScene}[name]
+    cls = {"push": PushScene, "grasp": GraspScene, "grasp_light": GraspLightScene,
+           "press": PressScene}[name]
     return cls(cfg, seed)

@@ -19,6 +19,7 @@ from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
 from a2l.sim.bodies import BodyCache
 from a2l.sim.config import GraspConfig, PressConfig, PushConfig, SceneConfig
+from a2l.sim.lamp import LampMixin
 from a2l.sim.perception import Camera, ColorTarget, Perception
 from a2l.sim.scene import MoveResult, Observation, Scene
 
@@ -617,11 +618,7 @@ class GraspScene(BulletScene):
                       cfg.block_position, cfg.block_color)
 
 
-_LAMP_ON = (1.0, 0.85, 0.05, 1.0)
-_LAMP_OFF = (0.22, 0.22, 0.22, 1.0)
-
-
-class PressScene(BulletScene):
+class PressScene(LampMixin, BulletScene):
     """A button that toggles a light, and a box (config: :class:`a2l.sim.PressConfig`).
 
     The button's cap slides down on a prismatic joint held up by a spring (a position
@@ -632,9 +629,6 @@ class PressScene(BulletScene):
     name = "press"
     primary_object = "button"
     config: PressConfig
-
-    def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
-        return _LAMP_ON
 
     def _build_objects(self) -> None:
         cfg, c = self.config, self._client
@@ -665,13 +659,7 @@ class PressScene(BulletScene):
             linkJointTypes=[p.JOINT_PRISMATIC], linkJointAxis=[(0, 0, 1)])
         self._objects["button"] = _Object("button", body, (sx, sy, sz), tuple(cfg.button_color),
                                           (bx, by), movable=False, link=0)
-        lr = cfg.lamp_radius
-        lamp_col = p.createCollisionShape(p.GEOM_SPHERE, radius=lr, physicsClientId=c)
-        lamp_vis = p.createVisualShape(p.GEOM_SPHERE, radius=lr, rgbaColor=_LAMP_OFF,
-                                       physicsClientId=c)
-        lx, ly = cfg.lamp_position
-        self._bodies.add("lamp", baseMass=0, baseCollisionShapeIndex=lamp_col,
-                         baseVisualShapeIndex=lamp_vis, basePosition=(lx, ly, cfg.table_z + lr))
+        self._build_lamp()
         self._presses = 0
         self._button_down = False
 
@@ -679,18 +667,9 @@ class PressScene(BulletScene):
     def _button(self) -> int:
         return self._bodies.ids["button"]
 
-    @property
-    def _lamp(self) -> int:
-        return self._bodies.ids["lamp"]
-
     def _spring(self) -> None:
         p.setJointMotorControl2(self._button, 0, p.POSITION_CONTROL, targetPosition=0.0,
                                 force=6.0, physicsClientId=self._client)
-
-    def _show_light(self) -> None:
-        p.changeVisualShape(self._lamp, -1,
-                            rgbaColor=_LAMP_ON if self._states["light"] == "on" else _LAMP_OFF,
-                            physicsClientId=self._client)
 
     def _reset_extra(self) -> None:
         p.resetJointState(self._button, 0, 0.0, 0.0, physicsClientId=self._client)
@@ -714,18 +693,6 @@ class PressScene(BulletScene):
         if not self._button_down and depth > cfg.button_trigger:
             self._button_down = True
             self._presses += 1
-            self._states["light"] = "off" if self._states["light"] == "on" else "on"
-            self._show_light()
+            self._flip_light()
         elif self._button_down and depth < cfg.button_trigger / 2:
             self._button_down = False
-
-    def _toggle(self, state: str) -> None:
-        if state == "light":
-            self._states["light"] = "off" if self._states["light"] == "on" else "on"
-            self._show_light()
-            self._tick += 1
-            return
-        super()._toggle(state)
-
-
-

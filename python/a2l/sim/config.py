@@ -16,6 +16,7 @@ from a2l.errors import A2LValueError
 
 __all__ = [
     "GraspConfig",
+    "GraspLightConfig",
     "PressConfig",
     "PushConfig",
     "SceneConfig",
@@ -310,9 +311,11 @@ class GraspConfig(SceneConfig):
     """The ``grasp`` scene: a narrow block that Baxter's electric gripper can hold.
 
     The fingers close along the world y axis; ``block_size[1]`` must fit between the open
-    finger tips (4.8 cm) and exceed the closed gap (0.65 cm).
+    finger tips (4.8 cm) and exceed the closed gap (0.65 cm). ``grasped`` needs the block
+    5 cm up (``lift_threshold``), in the closed gripper.
     """
 
+    lift_threshold: float = 0.05
     block_size: tuple[float, float, float] = (0.03, 0.03, 0.06)
     block_mass: float = 0.05
     block_friction: float = 1.0
@@ -324,6 +327,36 @@ class GraspConfig(SceneConfig):
         if not 0.008 <= self.block_size[1] <= 0.045:
             raise _err("block_size", f"y extent must be in [0.008, 0.045] m to fit the "
                        f"gripper, got {self.block_size[1]}")
+
+
+@dataclass
+class GraspLightConfig(GraspConfig):
+    """The ``grasp_light`` scene: the grasp block and a lamp, a "hot stove" next to it.
+
+    With the light on the block must not be taken: the skill moves away and waits. The
+    light is a high-level state (``"off"``/``"on"``) switched by ``states`` at reset or by
+    the ``toggle`` perturbation; the camera sees the lamp.
+
+    Attributes
+    ----------
+    lamp_position : tuple of 2 float
+        Where the lamp stands on the table (m).
+    lamp_radius : float
+        Radius of the lamp's sphere (m).
+    """
+
+    lamp_position: tuple[float, float] = (0.85, -0.05)
+    lamp_radius: float = 0.03
+
+    def state_values(self) -> dict[str, tuple[str, ...]]:
+        return {"gripper": ("open", "closed"), "light": ("off", "on")}
+
+    def _validate_objects(self) -> None:
+        super()._validate_objects()
+        _positive(self, "lamp_radius")
+        _vector(self, "lamp_position", 2)
+        self.check_on_table("lamp_position", self.lamp_position,
+                            (self.lamp_radius, self.lamp_radius))
 
 
 @dataclass
@@ -428,6 +461,7 @@ class VirtualConfig:
 _CONFIGS: dict[str, type] = {
     "push": PushConfig,
     "grasp": GraspConfig,
+    "grasp_light": GraspLightConfig,
     "press": PressConfig,
     "virtual": VirtualConfig,
 }

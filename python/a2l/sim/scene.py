@@ -188,8 +188,11 @@ class Scene(ABC):
             carried out is never replaced by another one.
         """
         d = as_direction(movement)
+        return self._carry_out(self.step_length * d / np.linalg.norm(d))
+
+    def _carry_out(self, disp: NDArray[np.float64]) -> MoveResult:
+        """Record the step's start, then move by `disp` (or stay, held)."""
         self._step_start = self._snapshot()
-        disp = self.step_length * d / np.linalg.norm(d)
         if self._hold > 0:
             self._hold -= 1
             here = self.eef_position()
@@ -197,6 +200,27 @@ class Scene(ABC):
             return MoveResult(False, "held", f"end-effector held still ({self._hold} more "
                               "steps)", here + disp, self.eef_position())
         return self._move(disp)
+
+    def execute_displacement(self, displacement: ArrayLike) -> MoveResult:
+        """Move the end-effector by an arbitrary displacement (a DS step), at most one
+        movement's length.
+
+        Parameters
+        ----------
+        displacement : array_like, shape (3,)
+            Finite, ``0 < ||displacement|| <= step`` (m).
+
+        Returns
+        -------
+        MoveResult
+            As :meth:`execute` (a hold perturbation holds it too).
+        """
+        disp = np.asarray(displacement, dtype=float).reshape(-1)
+        norm = float(np.linalg.norm(disp)) if disp.shape == (3,) else np.nan
+        if not (np.isfinite(norm) and 0 < norm <= self.step_length * (1 + 1e-9)):
+            raise A2LValueError(f"a displacement is 3 finite numbers of length in (0, "
+                                f"{self.step_length}] m, got {displacement!r}")
+        return self._carry_out(disp)
 
     def ground_truth(self) -> dict[str, dict[str, Any]]:
         """True object positions and high-level states.

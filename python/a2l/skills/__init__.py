@@ -11,19 +11,11 @@ From a raw interaction dataset to a skill bundle::
 
 from __future__ import annotations
 
+from a2l.skills.bins import DistanceBins, InclinationBins, OrientationBins
 from a2l.skills.bundle import load_bundle, save_bundle
 from a2l.skills.compile import PolicyTable, compile_policy, relevant_evidence
-from a2l.skills.discretize import (
-    AXIS_EFFECTS,
-    DIAGONAL_EFFECTS,
-    Discretizer,
-    DistanceBins,
-    EffectDiscretizer,
-    HighLevelState,
-    InclinationBins,
-    MovementRepertoire,
-    OrientationBins,
-)
+from a2l.skills.discretize import Discretizer
+from a2l.skills.effects import AXIS_EFFECTS, DIAGONAL_EFFECTS, EffectDiscretizer
 from a2l.skills.export import make_skill_spec
 from a2l.skills.k2 import K2Score, k2_local_score
 from a2l.skills.learning import (
@@ -32,7 +24,9 @@ from a2l.skills.learning import (
     learn_network,
     learn_structure,
 )
+from a2l.skills.repertoire import MovementRepertoire
 from a2l.skills.spec import BUNDLE_SCHEMA_VERSION, VARIABLE_KINDS, SkillSpec, VariableSpec
+from a2l.skills.states import HighLevelState
 from a2l.skills.synthetic import KnownStructure, known_structure_dataset, push_dataset
 
 __all__ = [

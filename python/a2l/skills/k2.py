@@ -23,7 +23,7 @@ import pandas as pd
 from pgmpy.structure_score import BaseStructureScore
 from scipy.special import gammaln
 
-from a2l.skills.discretize import as_state_names, state_codes
+from a2l.skills.states import as_state_names, state_codes
 
 __all__ = ["K2Score", "k2_local_score"]
 

@@ -17,8 +17,8 @@ from pgmpy.causal_discovery import ExpertKnowledge, HillClimbSearch
 from pgmpy.models import DiscreteBayesianNetwork
 from pgmpy.parameter_estimator import DiscreteBayesianEstimator
 
-from a2l.skills.discretize import as_state_names, state_codes
 from a2l.skills.k2 import K2Score
+from a2l.skills.states import as_state_names, state_codes
 
 __all__ = ["STRUCTURES", "hand_coded_structure", "learn_network", "learn_structure"]
 

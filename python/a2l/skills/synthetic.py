@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from a2l.skills.discretize import Discretizer, MovementRepertoire
+from a2l.skills.discretize import Discretizer
+from a2l.skills.repertoire import MovementRepertoire
 
 __all__ = ["KnownStructure", "known_structure_dataset", "push_dataset"]
 
