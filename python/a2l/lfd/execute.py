@@ -231,8 +231,12 @@ class _TableStep:
         if status != "ok":
             return status, "", np.zeros(3), None
         m = int(out.movement)
-        return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), \
-            tuple(int(v) for v in self.directions[m])
+        mv = self.skill.movements
+        if mv.is_action(m):  # open / close / stay: the scene runs the action by name
+            command: Any = _core.movement_action_name(mv.action(m))
+        else:
+            command = tuple(int(v) for v in self.directions[m])
+        return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), command
 
 
 class _DSStep:
