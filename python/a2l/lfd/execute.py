@@ -209,7 +209,8 @@ class SkillRun:
 
 
 class _TableStep:
-    """The C++ step of a bundle's compiled table."""
+    """The C++ step of a bundle's compiled table; an action (open, close, stay) is returned
+    as its name, which :meth:`a2l.sim.Scene.execute` carries out."""
 
     def __init__(self, bundle: str) -> None:
         self.skill = _core.load_bundle(bundle)
@@ -230,6 +231,9 @@ class _TableStep:
         status = _core.status_name(out.status)
         if status != "ok":
             return status, "", np.zeros(3), None
+        if out.action != _core.MovementAction.none:  # open / close / stay: no displacement
+            name = _core.movement_action_name(out.action)
+            return "ok", name, np.zeros(3), name
         m = int(out.movement)
         return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), \
             tuple(int(v) for v in self.directions[m])
