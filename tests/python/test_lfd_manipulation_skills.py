@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.lfd.execute import run_skill
+from a2l.lfd.execute import light_test, run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial, skill_config
 from a2l.lfd.manipulation import GRASP_POINT, demonstrate
 from a2l.lfd.manipulation_skills import (
@@ -87,6 +87,8 @@ def test_learned_skill_reproduces_its_effect_on_held_out_seeds(name: str, bundle
 
 def test_the_light_decides_what_the_grasp_does_even_mid_action(bundles) -> None:
     name = "grasp_light"
+    by_light = SKILLS[name].extra["effect_by_light"]
+    assert by_light == {"off": "grasped", "on": "away"}
     with make_skill_scene(name, 0) as scene:
         # the light switched on after 3 movements of a grasp: the skill turns to the
         # retreat, waits there, and the block is not taken
@@ -101,7 +103,7 @@ def test_the_light_decides_what_the_grasp_does_even_mid_action(bundles) -> None:
                     scene.perturb("toggle", state="light")
 
             run = run_skill(scene, bundles[name], "grasped", on_step=switch,
-                            object_name="block")
+                            object_name="block", effect_test=light_test(by_light))
             assert run.success, (seed, run.stop, [s.label for s in run.steps])
             assert run.steps[0].states["light"] == "off"
             assert run.steps[-1].states["light"] == "on"

@@ -44,7 +44,7 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         The worker imported another copy of a2l than the parent (``package``): its results
         would not be the code under test's.
     """
-    from a2l.lfd.execute import run_skill
+    from a2l.lfd.execute import light_test, run_skill
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
 
     if task.get("package") and task["package"] != _package_dir():
@@ -62,8 +62,11 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         scene = _SCENES[key] = make_skill_scene(
             name, 0, cfg, scene=None if scene_name == "baxter" else scene_name)
     reset_for_trial(scene, name, task["seed"])
-    run = run_skill(scene, task["bundle"], SKILLS[name].effect, mode=task["mode"],
-                    object_name=SKILLS[name].object_name)
+    recipe = SKILLS[name]
+    by_light = recipe.extra.get("effect_by_light")
+    run = run_skill(scene, task["bundle"], recipe.effect, mode=task["mode"],
+                    object_name=recipe.object_name,
+                    effect_test=light_test(by_light) if by_light else None)
     return {"skill": name, "seed": task["seed"], "scene": scene_name, "mode": task["mode"],
             "success": bool(run.success), "stop": run.stop, "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),

@@ -36,7 +36,7 @@ from a2l import _core
 from a2l.lfd.demonstrators import PUSH_DIRECTIONS
 
 __all__ = ["EFFECT_TESTS", "Progress", "SkillRun", "SkillStep", "push_test",
-           "register_effect_test", "run_skill", "scene_test"]
+           "light_test", "register_effect_test", "run_skill", "scene_test"]
 
 #: A push skill succeeds when the object moved at least this far (m) the right way.
 PUSH_DISTANCE = 0.05
@@ -117,6 +117,18 @@ def _effect_test(effect: str) -> EffectTest | None:
 
     fn = outcomes.EFFECT_TESTS.get(effect)
     return None if fn is None else scene_test(fn)
+
+
+def light_test(effect_by_light: dict[str, str]) -> EffectTest:
+    """The effect test of a skill whose wanted outcome depends on the light: the test of
+    ``effect_by_light[light]`` for the light the step sees (``"off"`` when none)."""
+    tests = {}
+    for light, effect in effect_by_light.items():
+        test = _effect_test(effect)
+        if test is None:
+            raise ValueError(f"no effect test for effect {effect!r} (light {light!r})")
+        tests[light] = test
+    return lambda pr: tests[pr.states.get("light", "off")](pr)
 
 
 def register_effect_test(effect: str, test: EffectTest) -> None:

@@ -27,10 +27,12 @@ precision matters, every :data:`FINE_RESOLUTION`; every context variable is a fi
 of the movement (hill-climbing with K2 otherwise drops ``distance -> move``, and the table
 then never knows when to close).
 
-The effect test (:func:`grasp_test`, registered for ``grasped``): the block >= 5 cm up in
-the closed gripper; in the ``grasp_light`` scene with the light on, the demonstrated
-behaviour instead: the end-effector at the retreat pose (:data:`a2l.sim.outcomes.RETREAT`,
-within 4 cm) without having moved the block.
+Effect tests: ``grasped`` (the block >= 5 cm up in the closed gripper) and ``pressed``
+are the scene's (:mod:`a2l.sim.outcomes`); ``grasp_light`` wants ``grasped`` with the light
+off and ``away`` with it on (:data:`EFFECT_BY_LIGHT`, in the recipe's ``extra``;
+:func:`a2l.lfd.execute.light_test`): the end-effector at the retreat pose
+(:data:`a2l.sim.outcomes.RETREAT`, within 4 cm) without having moved the block
+(:func:`away_test`, registered for ``away``).
 """
 
 from __future__ import annotations
@@ -52,8 +54,9 @@ from a2l.lfd.manipulation import GRASP_POINT, PRESS_POINT, SKILL_OBJECTS, _start
 from a2l.lfd.skill import Behaviour
 from a2l.sim.outcomes import AWAY_RADIUS, RETREAT
 
-__all__ = ["CONFIG", "FINE_RADIUS", "FINE_RESOLUTION", "N_INCLINATION", "NamedEffects",
-           "Phase", "grasp_test", "manipulation_discretizer", "phase_rows", "skill_phases"]
+__all__ = ["CONFIG", "EFFECT_BY_LIGHT", "FINE_RADIUS", "FINE_RESOLUTION", "N_INCLINATION",
+           "NamedEffects", "Phase", "away_test", "manipulation_discretizer", "phase_rows",
+           "skill_phases"]
 
 #: The configuration of the manipulation skills (see the module docstring for why).
 CONFIG = LfDConfig(step=0.02, resolution=0.01, tube=0.06, n_orient=8, n_dist=12,
@@ -284,24 +287,19 @@ def _behaviours(skill: str) -> Any:
     return behaviours
 
 
-def grasp_test(pr: Progress) -> tuple[bool, bool]:
-    """Effect test of ``grasped`` (``(done, success)``), the light-dependent grasp included.
-
-    Light on in the ``grasp_light`` scene: done and successful once the end-effector is at
-    the retreat pose and the movements have not moved the block (< 1 cm); done and failed
-    if the block was grasped. Otherwise: done and successful once the scene says
-    ``grasped`` (block >= 5 cm up in the closed gripper).
-    """
-    scene = pr.scene
-    grasped = scene.observe_effect(since="episode", source="ground_truth") == "grasped"
-    if scene.name == "grasp_light" and pr.states.get("light") == "on":
-        if grasped:
-            return True, False
-        here = np.asarray(scene.ground_truth()["objects"]["block"], dtype=float)
-        at = float(np.linalg.norm(pr.eef - here - RETREAT)) <= AWAY_RADIUS
-        untouched = float(np.linalg.norm(pr.produced)) < 0.01
-        return at and untouched, at and untouched
-    return grasped, grasped
+def away_test(pr: Progress) -> tuple[bool, bool]:
+    """Effect test of ``away`` (the light-on behaviour of ``grasp_light``), ``(done,
+    success)``: done and successful once the end-effector is within
+    :data:`a2l.sim.outcomes.AWAY_RADIUS` of the retreat pose relative to the block where it
+    is now, the movements having moved the block less than 1 cm (a perturbation that moves
+    it is not the skill's doing); done and failed if the block was grasped."""
+    if pr.scene.observe_effect(since="episode", source="ground_truth") == "grasped":
+        return True, False
+    obj = np.asarray(pr.obj, dtype=float)
+    at = bool(np.all(np.isfinite(obj))) and \
+        float(np.linalg.norm(pr.eef - obj - RETREAT)) <= AWAY_RADIUS
+    ok = at and float(np.linalg.norm(pr.produced)) < 0.01
+    return ok, ok
 
 
 #: The manipulation skills' high-level states (name, values).
@@ -311,6 +309,8 @@ _HIGH_LEVEL: dict[str, tuple[tuple[str, tuple[str, ...]], ...]] = {
     "grasp_light": (("gripper", ("open", "closed")), ("light", ("off", "on"))),
 }
 _ACTIONS = {"grasp": ("close",), "press": (), "grasp_light": ("close", "stay")}
+#: What ``grasp_light`` should do under each light value (the effect tested).
+EFFECT_BY_LIGHT = {"off": "grasped", "on": "away"}
 _EFFECTS = {"grasp": "grasped", "press": "pressed", "grasp_light": "grasped"}
 
 
@@ -334,11 +334,20 @@ _DESCRIPTIONS = {
                    "retreat pose and wait",
 }
 
-for _skill in ("grasp", "press", "grasp_light"):
-    register_skill(SkillRecipe(
-        name=_skill, scene=_skill, effect=_EFFECTS[_skill], object_name=SKILL_OBJECTS[_skill],
-        behaviours=_behaviours(_skill), start=_start,
-        high_level=(), planar=False, object_jitter=0.03, setup=_setup(_skill),
-        discretizer=lambda cfg, s=_skill: manipulation_discretizer(s, cfg),
-        description=_DESCRIPTIONS[_skill], config=CONFIG, context_edges=True))
-register_effect_test("grasped", grasp_test)
+def _register() -> None:
+    from a2l.skills import HighLevelState
+
+    for skill in ("grasp", "press", "grasp_light"):
+        register_skill(SkillRecipe(
+            name=skill, scene=skill, effect=_EFFECTS[skill], object_name=SKILL_OBJECTS[skill],
+            behaviours=_behaviours(skill), start=_start,
+            high_level=tuple(HighLevelState(n, v) for n, v in _HIGH_LEVEL[skill]),
+            planar=False, object_jitter=0.03, setup=_setup(skill),
+            discretizer=lambda cfg, s=skill: manipulation_discretizer(s, cfg),
+            description=_DESCRIPTIONS[skill], config=CONFIG, context_edges=True,
+            extra={"effect_by_light": dict(EFFECT_BY_LIGHT)} if skill == "grasp_light"
+            else {}))
+    register_effect_test("away", away_test)
+
+
+_register()
