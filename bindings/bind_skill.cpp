@@ -229,20 +229,43 @@ effect_produced : bool
           },
           py::arg("bins"), "Most probable movement of `bins`; -1 if uniform or out of range.");
 
-  py::class_<MovementRepertoire>(m, "MovementRepertoire", "The movements of a skill.")
+  py::enum_<MovementAction>(m, "MovementAction",
+                            "What a movement does besides a displacement (none for one).")
+      .value("none", MovementAction::none)
+      .value("open", MovementAction::open)
+      .value("close", MovementAction::close)
+      .value("stay", MovementAction::stay);
+  m.def("movement_action_name", &movement_action_name, py::arg("action"),
+        "The bundle name of an action ('open', 'close', 'stay'; 'none').");
+
+  py::class_<MovementRepertoire>(m, "MovementRepertoire",
+                                 "The movements of a skill: directions, then actions.")
       .def_property_readonly("size", &MovementRepertoire::size)
+      .def_property_readonly("n_directions", &MovementRepertoire::n_directions)
+      .def_property_readonly("n_actions", &MovementRepertoire::n_actions)
+      .def_property_readonly(
+          "actions",
+          [](const MovementRepertoire& r) {
+            std::vector<std::string> names;
+            for (MovementAction a : r.actions()) names.emplace_back(movement_action_name(a));
+            return names;
+          },
+          "Names of the actions, in movement order (after the directions).")
+      .def("action", &MovementRepertoire::action, py::arg("i"),
+           "The action of movement i (MovementAction.none for a direction).")
+      .def("is_action", &MovementRepertoire::is_action, py::arg("i"))
       .def_property_readonly("step", &MovementRepertoire::step, "Movement length (m).")
       .def_property_readonly("labels", &MovementRepertoire::labels)
       .def_property_readonly(
           "directions",
           [](const MovementRepertoire& r) {
-            Eigen::MatrixXi d(r.size(), 3);
-            for (int i = 0; i < r.size(); ++i) d.row(i) = r.direction(i).transpose();
+            Eigen::MatrixXi d(r.n_directions(), 3);
+            for (int i = 0; i < r.n_directions(); ++i) d.row(i) = r.direction(i).transpose();
             return d;
           },
-          "Sign vectors, shape (n_moves, 3).")
+          "Sign vectors of the directions, shape (n_directions, 3).")
       .def("displacement", &MovementRepertoire::displacement, py::arg("i"),
-           "Displacement of movement i, shape (3,): step * d / |d|.")
+           "Displacement of movement i, shape (3,): step * d / |d| (zero for an action).")
       .def("label", &MovementRepertoire::label, py::arg("i"))
       .def("__len__", &MovementRepertoire::size);
 
@@ -350,6 +373,7 @@ effect_produced : bool
       .def_readonly("movement", &StepOutput::movement)
       .def_readonly("probability", &StepOutput::probability)
       .def_readonly("displacement", &StepOutput::displacement)
+      .def_readonly("action", &StepOutput::action)
       .def_readonly("record", &StepOutput::record);
 
   py::class_<SkillState>(m, "SkillState", R"doc(

@@ -8,7 +8,7 @@ namespace a2l::bindings {
 
 void bind_status(py::module_& m) {
   py::enum_<Status> s(m, "Status", "Outcome of a call into the C++ core.");
-  for (int i = 0; i <= static_cast<int>(Status::internal_error); ++i) {
+  for (int i = 0; i <= static_cast<int>(Status::converged); ++i) {
     const auto st = static_cast<Status>(i);
     s.value(status_name(st), st);
   }

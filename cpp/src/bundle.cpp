@@ -100,7 +100,8 @@ bool parse_variables(const json& m, std::vector<Variable>& vars, Errors& e) {
 }
 
 bool parse_movements(const json& m, double& step, std::vector<Eigen::Vector3i>& dirs,
-                     std::vector<std::string>& labels, Errors& e) {
+                     std::vector<std::string>& labels, std::vector<MovementAction>& actions,
+                     Errors& e) {
   const json* mv = nullptr;
   if (!get_object(m, "", "movements", mv, e)) return false;
   if (!get_number(*mv, "movements.", "step", step, e)) return false;
@@ -138,6 +139,29 @@ bool parse_movements(const json& m, double& step, std::vector<Eigen::Vector3i>& 
     if (!as_string((*l)[i], "movements.labels[" + std::to_string(i) + "]", s, e)) return false;
     labels.push_back(std::move(s));
   }
+  const json* a = nullptr;
+  if (!get_array(*mv, "movements.", "actions", a, e)) return false;
+  if (a->size() + d->size() > static_cast<size_t>(kMaxMoves)) {
+    return e.parse("movements.actions: " + std::to_string(a->size()) + " actions and " +
+                   std::to_string(d->size()) + " directions, at most " + std::to_string(kMaxMoves) +
+                   " movements");
+  }
+  for (size_t i = 0; i < a->size(); ++i) {
+    const std::string field = "movements.actions[" + std::to_string(i) + "]";
+    std::string s;
+    if (!as_string((*a)[i], field, s, e)) return false;
+    MovementAction act = MovementAction::none;
+    if (!parse_movement_action(s, act)) {
+      return e.parse(field + ": unknown action '" + s + "' (open, close, stay)");
+    }
+    for (size_t k = 0; k < actions.size(); ++k) {
+      if (actions[k] == act) {
+        return e.parse(field + ": '" + s + "' repeats movements.actions[" + std::to_string(k) +
+                       "]");
+      }
+    }
+    actions.push_back(act);
+  }
   return true;
 }
 
@@ -158,7 +182,8 @@ Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const Array
                    std::string name, std::vector<Variable> vars,
                    const std::vector<std::int64_t>& shape, double step,
                    std::vector<Eigen::Vector3i> dirs, std::vector<std::string> labels,
-                   const SkillSettings& settings, RobotInfo robot, Skill* out) {
+                   std::vector<MovementAction> actions, const SkillSettings& settings,
+                   RobotInfo robot, Skill* out) {
   std::vector<double> posterior(post.nbytes / 8);
   std::vector<std::int32_t> argmax(amax.nbytes / 4);
   if (!posterior.empty()) std::memcpy(posterior.data(), blob + post.offset, post.nbytes);
@@ -169,8 +194,8 @@ Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const Array
   if (!r.ok()) return Result::failure(Status::parse_error, r.message);
   PolicyTable table;
   std::vector<int> ishape(shape.begin(), shape.end());
-  r = PolicyTable::create(std::move(ishape), static_cast<int>(dirs.size()), std::move(posterior),
-                          std::move(argmax), table);
+  r = PolicyTable::create(std::move(ishape), static_cast<int>(dirs.size() + actions.size()),
+                          std::move(posterior), std::move(argmax), table);
   if (!r.ok()) return Result::failure(Status::parse_error, "arrays: " + r.message);
   // argmax agrees with the posterior: -1 exactly where the row is uniform within
   // execution.uniform_tolerance, else a most probable movement (so the runtime never guesses).
@@ -204,7 +229,8 @@ Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const Array
     }
   }
   MovementRepertoire moves;
-  r = MovementRepertoire::create(step, std::move(dirs), std::move(labels), moves);
+  r = MovementRepertoire::create(step, std::move(dirs), std::move(labels), moves,
+                                 std::move(actions));
   if (!r.ok()) return Result::failure(Status::parse_error, r.message);
   Skill skill;
   r = Skill::create(std::move(name), std::move(disc), std::move(table), std::move(moves), settings,
@@ -297,17 +323,18 @@ Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::st
   double step = 0.0;
   std::vector<Eigen::Vector3i> dirs;
   std::vector<std::string> labels;
+  std::vector<MovementAction> actions;
   SkillSettings settings;
   std::vector<std::int64_t> shape;
   if (is_skill) {
     if (!get_string(m, "", "target", target, e) || !parse_robot(m, robot, e) ||
-        !parse_variables(m, vars, e) || !parse_movements(m, step, dirs, labels, e) ||
+        !parse_variables(m, vars, e) || !parse_movements(m, step, dirs, labels, actions, e) ||
         !parse_execution(m, settings, e)) {
       return err();
     }
     for (const Variable& v : vars) shape.push_back(v.n_bins);
     std::vector<std::int64_t> pshape = shape;
-    pshape.push_back(static_cast<std::int64_t>(dirs.size()));
+    pshape.push_back(static_cast<std::int64_t>(dirs.size() + actions.size()));
     if (!get_object(m, "", "arrays", arrays, e)) return err();
     entries.resize(2);
     if (!parse_array(*arrays, "posterior", "float64", 8, pshape, room, entries[0], e) ||
@@ -357,9 +384,9 @@ Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::st
   }
   if (has_ds && !read_ds_arrays(data + blob, entries, maps, e)) return err();
   if (is_skill) {
-    Result r =
-        build_skill(data + blob, entries[0], entries[1], std::move(name), std::move(vars), shape,
-                    step, std::move(dirs), std::move(labels), settings, std::move(robot), skill);
+    Result r = build_skill(data + blob, entries[0], entries[1], std::move(name), std::move(vars),
+                           shape, step, std::move(dirs), std::move(labels), std::move(actions),
+                           settings, std::move(robot), skill);
     if (!r.ok()) return fail(Status::parse_error, r.message);
   }
   if (ds != nullptr) *ds = std::move(maps);

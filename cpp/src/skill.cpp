@@ -92,6 +92,7 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   out.movement = -1;
   out.probability = 0.0;
   out.displacement.setZero();
+  out.action = MovementAction::none;
   TraceRecord& rec = out.record;
   rec.step = state.calls_;
   rec.movement = -1;
@@ -177,6 +178,7 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   out.movement = chosen;
   out.probability = prob;
   out.displacement = skill.movements().displacement(chosen);
+  out.action = skill.movements().action(chosen);
   rec.movement = chosen;
   rec.probability = prob;
   return finish(Status::ok);

@@ -38,6 +38,8 @@ const char* status_name(Status status) noexcept {
       return "not_initialized";
     case Status::internal_error:
       return "internal_error";
+    case Status::converged:
+      return "converged";
   }
   return "unknown_status";
 }

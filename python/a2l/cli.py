@@ -16,6 +16,8 @@ experiment babbling
     One exploration method (NovEB, random or goal babbling) on Baxter's push scenes.
 experiment babbling-compare
     Every exploration method over several seeds, side by side.
+experiment lfd-skills
+    Demonstrated skills learned, then run on held-out seeds (``--help``).
 experiment sweep
     The push experiment over many seeds: iterations to reach score 100.
 """
@@ -386,6 +388,9 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     experiment = sub.add_parser("experiment", help="run an A2L experiment (run directory "
                                 "with config, metrics, plots, report)")
     exps = experiment.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")
+    from a2l.experiments import lfd_skills
+
+    lfd_skills.add_parser(exps)
 
     push = exps.add_parser(
         "push", help="the iterative framework on the push effects",

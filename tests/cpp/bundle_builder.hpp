@@ -65,7 +65,8 @@ inline BundleParts sample_parts(std::uint64_t seed = 1, double uniform_share = 0
           {1, -1, 0},
           {-1, 1, 0},
           {-1, -1, 0}}},
-        {"labels", {"+x", "-x", "+y", "-y", "+x+y", "+x-y", "-x+y", "-x-y"}}}},
+        {"labels", {"+x", "-x", "+y", "-y", "+x+y", "+x-y", "-x+y", "-x-y"}},
+        {"actions", json::array()}}},
       {"execution", {{"step_cap", 12}, {"smoothing", smoothing}, {"uniform_tolerance", 1e-9}}},
       {"extra", {{"note", "unknown keys are ignored"}}}};
   p.shape = {4, 3, 8, 4, 2};

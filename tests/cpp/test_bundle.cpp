@@ -121,8 +121,9 @@ TEST(Bundle, WrongVersions) {
   const std::uint32_t next = a2l::kBundleSchemaVersion + 1;
   expect_error(load(build(sample_parts(), json(), next)), Status::version_mismatch,
                "schema version");
-  // version 1 (before the DS section) is not read either
+  // versions 1 (before the DS section) and 2 (before movement actions) are not read either
   expect_error(load(build(sample_parts(), json(), 1)), Status::version_mismatch, "schema version");
+  expect_error(load(build(sample_parts(), json(), 2)), Status::version_mismatch, "schema version");
   expect_error(load(with([&](json& m) { m["schema_version"] = next; })), Status::version_mismatch,
                "schema_version");
 }

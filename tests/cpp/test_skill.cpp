@@ -265,7 +265,10 @@ a2l::Skill smoothing_skill(const std::vector<double>& bin0, const std::vector<do
                                   {"low", 0.05},
                                   {"high", 0.20}}})},
       {"movements",
-       {{"step", 0.05}, {"directions", {{1, 0, 0}, {-1, 0, 0}}}, {"labels", {"+x", "-x"}}}},
+       {{"step", 0.05},
+        {"directions", {{1, 0, 0}, {-1, 0, 0}}},
+        {"labels", {"+x", "-x"}},
+        {"actions", json::array()}}},
       {"execution", {{"step_cap", 12}, {"smoothing", true}, {"uniform_tolerance", 1e-9}}}};
   p.shape = {3};
   p.n_moves = 2;

@@ -4,8 +4,9 @@
 // its checksums repaired (manifest CRC in the header, then the arrays' CRCs in the manifest),
 // which lets the fuzzer reach the JSON parser and every validator behind the checksums. When
 // the bytes do load, the skill must be consistent: step() on contexts derived from the input
-// stays in bounds. The DS section is loaded too (load_ds_bundle_from_memory): loaded maps must
-// build a DiffeoDS, whose evaluation on points derived from the input returns a status.
+// stays in bounds, and an action (open, close, stay) displaces nothing. The DS section is
+// loaded too (load_ds_bundle_from_memory): loaded maps must build a DiffeoDS, whose evaluation
+// on points derived from the input returns a status.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -90,6 +91,12 @@ void exercise(const std::uint8_t* data, std::size_t size) {
     state.smoothing = (k % 2) ? a2l::Smoothing::on : a2l::Smoothing::off;
     const a2l::Status s = a2l::step(skill, state, c, out);
     if (s == a2l::Status::ok && (out.movement < 0 || out.movement >= skill.n_moves())) {
+      __builtin_trap();
+    }
+    // an action displaces nothing; a displacement is no action
+    if (s == a2l::Status::ok &&
+        (out.action != skill.movements().action(out.movement) ||
+         (out.action != a2l::MovementAction::none && !out.displacement.isZero()))) {
       __builtin_trap();
     }
   }

@@ -1,6 +1,7 @@
 """Write a few small valid bundles as the seed corpus of tests/fuzz/fuzz_bundle.cpp.
 
-Skill bundles, DS-only bundles (d = 2 and d = 3) and a skill with a DS (the ``ds`` section).
+Skill bundles (one with movement actions), DS-only bundles (d = 2 and d = 3) and a skill with a
+DS (the ``ds`` section).
 
 Usage: ``python tests/fuzz/make_seeds.py DIR``
 """
@@ -19,9 +20,16 @@ from a2l.skills.bundle import DSArrays, bundle_bytes, save_ds_bundle
 _BOUND = float(np.sqrt(np.e / 2.0))
 
 
-def spec(seed: int, variables: list[VariableSpec], n_moves: int, robot: bool) -> SkillSpec:
+def spec(
+    seed: int,
+    variables: list[VariableSpec],
+    n_moves: int,
+    robot: bool,
+    actions: tuple[str, ...] = (),
+) -> SkillSpec:
     rng = np.random.default_rng(seed)
     shape = tuple(v.n_bins for v in variables)
+    n_dirs, n_moves = n_moves, n_moves + len(actions)
     post = rng.random((*shape, n_moves)) + 0.01
     post /= post.sum(axis=-1, keepdims=True)
     uniform = rng.random(shape) < 0.3
@@ -31,10 +39,11 @@ def spec(seed: int, variables: list[VariableSpec], n_moves: int, robot: bool) ->
     return SkillSpec(
         name=f"seed{seed}",
         variables=variables,
-        directions=dirs[:n_moves],
+        directions=dirs[:n_dirs],
         posterior=post,
         argmax=argmax,
-        labels=[f"m{i}" for i in range(n_moves)],
+        labels=[f"m{i}" for i in range(n_dirs)],
+        actions=list(actions),
         smoothing=bool(seed % 2),
         robot={
             "name": "baxter",
@@ -77,6 +86,9 @@ def main() -> None:
     save_ds_bundle(out / "seed5.a2lb", ds(5, 3, 4), name="ds3", metadata={"K": 4})
     save_ds_bundle(out / "seed6.a2lb", ds(6, 2, 0), name="linear")
     atomic_write_bytes(out / "seed7.a2lb", bundle_bytes(spec(7, [dist], 2, False), ds=ds(7, 3, 3)))
+    gripper = VariableSpec("gripper", "high_level", 2, values=("open", "closed"))
+    actions = ("open", "close", "stay")
+    save_bundle(spec(8, [eff, dist, light, gripper], 6, False, actions), out / "seed8.a2lb")
 
 
 if __name__ == "__main__":

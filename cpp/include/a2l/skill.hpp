@@ -96,7 +96,10 @@ struct StepOutput {
   int movement = -1;                                       //!< chosen movement (ok only), else -1
   double probability = 0.0;                                //!< its probability (ok only), else 0
   Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  //!< its displacement (m)
-  TraceRecord record;                                      //!< what was pushed into the trace
+  //! The movement's action (`open`, `close`, `stay`; displacement zero), `none` for a
+  //! displacement or when the run stops.
+  MovementAction action = MovementAction::none;
+  TraceRecord record;  //!< what was pushed into the trace
 };
 
 //! Smoothing choice of a run: the bundle's setting or an override.
@@ -158,7 +161,8 @@ class SkillState {
   std::uint64_t dropped_ = 0;
 };
 
-//! One step of a skill: context -> bins -> table -> movement.
+//! One step of a skill: context -> bins -> table -> movement (a displacement, or an action of
+//! the repertoire: `out.action` set, displacement zero).
 //!
 //! Stops (returns a status other than `ok`, movement -1) when:
 //! - `context.effect_produced` is set: `effect_produced`;

@@ -29,6 +29,7 @@ enum class Status : int {
   version_mismatch,   //!< a file has a schema version this build does not read
   not_initialized,    //!< an object was used before it was loaded
   internal_error,     //!< a bug: please report it
+  converged,          //!< a DS phase reached its target (within tolerance, no end action)
 };
 
 //! The snake_case name of a status, e.g. "unknown_link". Never allocates.

@@ -17,6 +17,9 @@ column                              dtype      meaning
 ``effect_dz``                                  (the episode's observed effect), **or**
 ``effect``                          str        the effect's name, when it is known already
 high-level states (optional)        str        one column per state (e.g. ``light``)
+``action`` (optional)               str        an action of the repertoire (``open``,
+                                               ``close``, ``stay``) the row took instead of
+                                               its displacement; empty or None otherwise
 ==================================  =========  ==============================================
 
 Positions are in the robot's base frame: x forward (away from the robot), y to the left,

@@ -456,6 +456,12 @@ class BulletScene(Scene):
         self._command()
         self.settle(0.4)
 
+    def _gripper(self, closed: bool) -> None:
+        if closed:
+            self.close_gripper()
+        else:
+            self.open_gripper()
+
     def close_gripper(self) -> None:
         """Close the gripper and let the fingers move (0.4 s); an object between the finger
         tips is squeezed with the fingers' effort limit."""

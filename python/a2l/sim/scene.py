@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 from a2l.errors import A2LValueError
 from a2l.sim.context import Context, low_level_state
 from a2l.sim.effects import push_effect
+from a2l.skills.spec import ACTIONS
 
 __all__ = ["DIRECTIONS", "MoveResult", "Observation", "Scene", "as_direction"]
 
@@ -147,6 +148,12 @@ class Scene(ABC):
     @abstractmethod
     def _toggle(self, state: str) -> None: ...
 
+    def _gripper(self, closed: bool) -> None:
+        """Close (or open) the gripper and let the fingers move; scenes with a gripper
+        override it."""
+        raise A2LValueError(f"{type(self).__name__} has no gripper: the actions 'open' and "
+                            "'close' cannot be carried out")
+
     @abstractmethod
     def _park(self, name: str) -> None:
         """Take object `name` out of the scene until the next reset."""
@@ -173,23 +180,36 @@ class Scene(ABC):
         """Length of one discrete movement (m)."""
         return float(self.config.step)
 
-    def execute(self, movement: ArrayLike) -> MoveResult:
-        """Carry out one discrete movement of the end-effector.
+    def execute(self, movement: ArrayLike | str) -> MoveResult:
+        """Carry out one discrete movement of the end-effector, or an action.
 
         Parameters
         ----------
-        movement : tuple of 3 int
-            Signs in {-1, 0, 1}, not all 0; the end-effector moves by ``step * d / ||d||``.
+        movement : tuple of 3 int, or str
+            Signs in {-1, 0, 1}, not all 0: the end-effector moves by ``step * d / ||d||``.
+            Or an action of the repertoire (:data:`a2l.skills.spec.ACTIONS`): ``"open"`` /
+            ``"close"`` the gripper (high-level state ``gripper``), ``"stay"`` (hold still for
+            one movement's duration).
 
         Returns
         -------
         MoveResult
             True when carried out; otherwise ``status`` says why. A movement that cannot be
             carried out is never replaced by another one.
+
+        Raises
+        ------
+        a2l.A2LValueError
+            Not a movement nor an action, or open/close in a scene without a gripper.
         """
+        if isinstance(movement, str):
+            return self._execute_action(movement)
         d = as_direction(movement)
+        return self._carry_out(self.step_length * d / np.linalg.norm(d))
+
+    def _carry_out(self, disp: NDArray[np.float64]) -> MoveResult:
+        """Record the step's start, then move by `disp` (or stay, held)."""
         self._step_start = self._snapshot()
-        disp = self.step_length * d / np.linalg.norm(d)
         if self._hold > 0:
             self._hold -= 1
             here = self.eef_position()
@@ -197,6 +217,43 @@ class Scene(ABC):
             return MoveResult(False, "held", f"end-effector held still ({self._hold} more "
                               "steps)", here + disp, self.eef_position())
         return self._move(disp)
+
+    def _execute_action(self, action: str) -> MoveResult:
+        if action not in ACTIONS:
+            raise A2LValueError(f"unknown action {action!r}: an action is one of {ACTIONS}")
+        self._step_start = self._snapshot()
+        here = self.eef_position()
+        if self._hold > 0:  # held: the arm and the gripper stay as they are
+            self._hold -= 1
+            self._idle()
+            return MoveResult(False, "held", f"end-effector held still ({self._hold} more "
+                              "steps)", here, self.eef_position())
+        if action == "stay":
+            self._idle()
+        else:
+            self._gripper(action == "close")
+        return MoveResult(True, "ok", "", here, self.eef_position())
+
+    def execute_displacement(self, displacement: ArrayLike) -> MoveResult:
+        """Move the end-effector by an arbitrary displacement (a DS step), at most one
+        movement's length.
+
+        Parameters
+        ----------
+        displacement : array_like, shape (3,)
+            Finite, ``0 < ||displacement|| <= step`` (m).
+
+        Returns
+        -------
+        MoveResult
+            As :meth:`execute` (a hold perturbation holds it too).
+        """
+        disp = np.asarray(displacement, dtype=float).reshape(-1)
+        norm = float(np.linalg.norm(disp)) if disp.shape == (3,) else np.nan
+        if not (np.isfinite(norm) and 0 < norm <= self.step_length * (1 + 1e-9)):
+            raise A2LValueError(f"a displacement is 3 finite numbers of length in (0, "
+                                f"{self.step_length}] m, got {displacement!r}")
+        return self._carry_out(disp)
 
     def ground_truth(self) -> dict[str, dict[str, Any]]:
         """True object positions and high-level states.

@@ -189,6 +189,7 @@ def bundle_bytes(spec: SkillSpec, ds: DSArrays | None = None) -> bytes:
             "step": float(spec.step),
             "directions": [[int(x) for x in row] for row in directions],
             "labels": [str(label) for label in labels],
+            "actions": [str(a) for a in spec.actions],
         },
         "execution": {
             "step_cap": int(spec.step_cap),
@@ -351,7 +352,8 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
     -------
     SkillSpec
         ``posterior`` float64 of shape (*bins, n_moves), ``argmax`` int32 of shape (*bins,),
-        ``directions`` int64 of shape (n_moves, 3).
+        ``directions`` int64 of shape (n_directions, 3), ``actions`` the actions' names
+        (n_moves = n_directions + len(actions)).
 
     Raises
     ------
@@ -407,4 +409,5 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
         uniform_tolerance=float(ex["uniform_tolerance"]),
         robot=None if manifest["robot"] is None else dict(manifest["robot"]),
         extra=dict(extra) if isinstance(extra, dict) else {},
+        actions=[str(x) for x in mv["actions"]],
     )

@@ -190,7 +190,7 @@ class Discretizer:
                 raise ValueError(f"column {h.name!r} has unknown value(s) {bad}; known: {h.values}")
             cols[h.name] = idx
         move = raw.loc[:, list(MOVE_COLUMNS)].to_numpy(np.float64)
-        cols[self.movements.name] = self.movements.discretize(move)
+        cols[self.movements.name] = self._movement_indices(raw, move)
         keep = np.logical_and.reduce([c >= 0 for c in cols.values()])
         states = self.state_names()
         out = pd.DataFrame(
@@ -202,6 +202,25 @@ class Discretizer:
         )
         out.attrs["dropped_rows"] = int((~keep).sum())
         return out
+
+    def _movement_indices(self, raw: pd.DataFrame, move: np.ndarray) -> np.ndarray:
+        """Movement index per row: the row's ``action`` (optional column: an action name, or
+        empty / None for a displacement) if it has one, else its displacement's direction."""
+        idx = self.movements.discretize(move)
+        if "action" not in raw.columns:
+            return idx
+        names = ["" if v is None or (isinstance(v, float) and np.isnan(v)) else str(v)
+                 for v in raw["action"]]
+        bad = sorted({n for n in names if n and n not in self.movements.actions})
+        if bad:
+            raise ValueError(
+                f"column 'action' has action(s) {bad} outside the repertoire's "
+                f"{list(self.movements.actions)}"
+            )
+        for i, n in enumerate(names):
+            if n:
+                idx[i] = self.movements.index_of(n)
+        return idx
 
     def to_json(self) -> dict[str, object]:
         """A JSON-able description (kept in a bundle's ``extra`` and in run configs)."""
@@ -217,6 +236,7 @@ class Discretizer:
             "step": m.step,
             "dead_band": m.dead_band,
             "relative_dead_band": m.relative_dead_band,
+            "actions": list(m.actions),
         }
         e = self.effects
         d["effect"] = {

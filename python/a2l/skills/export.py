@@ -28,7 +28,8 @@ def make_skill_spec(
 
     Each axis of the table becomes a bundle variable described by `discretizer` (its
     kind, bins or value names); the table's target states must be movement labels of
-    ``discretizer.movements``, and give the repertoire's order in the bundle.
+    ``discretizer.movements``, and give the repertoire's order in the bundle (directions in
+    table order, then the actions).
 
     Parameters
     ----------
@@ -83,7 +84,16 @@ def make_skill_spec(
     unknown = [s for s in table.target_states if s not in pos]
     if unknown:
         raise ValueError(f"target state(s) {unknown} are not movement labels {moves.labels}")
-    order = [pos[s] for s in table.target_states]
+    # the bundle's movement axis: directions first, then actions (docs/bundle_format.md)
+    states = list(table.target_states)
+    perm = [i for i, s in enumerate(states) if not moves.is_action(pos[s])]
+    perm += [i for i, s in enumerate(states) if moves.is_action(pos[s])]
+    n_dirs = sum(1 for s in states if not moves.is_action(pos[s]))
+    new_index = np.empty(len(perm), dtype=np.int32)
+    new_index[perm] = np.arange(len(perm), dtype=np.int32)
+    argmax = np.asarray(table.argmax_indices)
+    argmax = np.where(argmax < 0, -1, new_index[np.maximum(argmax, 0)])
+    order = [pos[states[i]] for i in perm]
     meta = dict(extra or {})
     meta.setdefault("discretizer", discretizer.to_json())
     if table.ignored:
@@ -91,11 +101,12 @@ def make_skill_spec(
     return SkillSpec(
         name=name,
         variables=variables,
-        directions=np.ascontiguousarray(moves.directions[order], dtype=np.int64),
-        posterior=np.ascontiguousarray(table.values, dtype=np.float64),
-        argmax=np.ascontiguousarray(table.argmax_indices, dtype=np.int32),
+        directions=np.ascontiguousarray(moves.directions[order[:n_dirs]], dtype=np.int64),
+        posterior=np.ascontiguousarray(table.values[..., perm], dtype=np.float64),
+        argmax=np.ascontiguousarray(argmax, dtype=np.int32),
         step=moves.step,
-        labels=[str(s) for s in table.target_states],
+        labels=[states[i] for i in perm[:n_dirs]],
+        actions=[states[i] for i in perm[n_dirs:]],
         step_cap=step_cap,
         smoothing=smoothing,
         uniform_tolerance=table.uniform_tolerance,

@@ -11,10 +11,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BUNDLE_SCHEMA_VERSION", "VARIABLE_KINDS", "SkillSpec", "VariableSpec"]
+__all__ = ["ACTIONS", "BUNDLE_SCHEMA_VERSION", "VARIABLE_KINDS", "SkillSpec", "VariableSpec"]
 
 #: Schema version written and read by this version of a2l.
-BUNDLE_SCHEMA_VERSION = 2
+BUNDLE_SCHEMA_VERSION = 3
+
+#: Actions a movement repertoire may hold besides its directions (``movements.actions``):
+#: open and close the gripper, stay (hold still for one movement's duration).
+ACTIONS = ("open", "close", "stay")
 
 #: Kinds of evidence variables a bundle may hold.
 VARIABLE_KINDS = ("effect", "distance", "orientation", "inclination", "high_level")
@@ -68,16 +72,17 @@ class SkillSpec:
         The skill's name (e.g. ``"push"``).
     variables : list of VariableSpec
         Evidence variables, in the axis order of `posterior`.
-    directions : ndarray of int, shape (n_moves, 3)
-        Movement repertoire: signs in {-1, 0, 1}, not all zero.
+    directions : ndarray of int, shape (n_directions, 3)
+        Movement repertoire's directions: signs in {-1, 0, 1}, not all zero.
     posterior : ndarray of float64, shape (*bins, n_moves)
-        P(move | evidence) for every evidence combination.
+        P(move | evidence) for every evidence combination; n_moves = n_directions +
+        len(actions), the actions last.
     argmax : ndarray of int32, shape (*bins,)
         Most probable movement, or -1 where the posterior is uniform.
     step : float
         Movement length (m).
     labels : list of str
-        A name per movement.
+        A name per direction.
     step_cap : int
         Most movements a run may take.
     smoothing : bool
@@ -88,6 +93,9 @@ class SkillSpec:
         ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
     extra : dict
         Free-form metadata kept in the manifest under ``"extra"``.
+    actions : list of str
+        Actions of the repertoire after the directions (names of :data:`ACTIONS`, each at
+        most once): movement ``n_directions + j`` is ``actions[j]``.
     """
 
     name: str
@@ -102,3 +110,4 @@ class SkillSpec:
     uniform_tolerance: float = 1e-9
     robot: dict[str, str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+    actions: list[str] = field(default_factory=list)

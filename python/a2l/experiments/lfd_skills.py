@@ -1,0 +1,221 @@
+"""``a2l experiment lfd-skills``: demonstrated skills learned, then tried on held-out seeds.
+
+Each skill of :data:`a2l.lfd.library.SKILLS` is demonstrated by its scripted demonstrator
+(demonstration seeds ``0 .. n_demos - 1``), learned with :data:`a2l.lfd.config.DEFAULT`,
+and run in closed loop through the C++ step from ``trials`` trial set-ups drawn from seeds
+``seed, seed + 1, ...`` (default 1000: no demonstration and no tuning used them). Output:
+``skills/<name>.a2lb``, ``trials.csv`` (one row per trial), ``metrics.json`` (success rate,
+mean movements, failures by stop status, learning times) and ``report.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import time
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from a2l.lfd.config import DEFAULT, LfDConfig
+
+__all__ = ["add_parser", "evaluate", "run_lfd_skills", "trial_task"]
+
+#: Scenes per worker process, keyed by (skill, scene, config overrides).
+_SCENES: dict[str, Any] = {}
+
+
+def _package_dir() -> str:
+    import a2l
+
+    return os.path.dirname(os.path.abspath(a2l.__file__))
+
+
+def trial_task(task: dict[str, Any]) -> dict[str, Any]:
+    """One trial: ``{"skill", "bundle", "seed", "scene", "mode", "cfg", "package"}``.
+
+    Raises
+    ------
+    RuntimeError
+        The worker imported another copy of a2l than the parent (``package``): its results
+        would not be the code under test's.
+    """
+    from a2l.lfd.execute import run_skill
+    from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
+
+    if task.get("package") and task["package"] != _package_dir():
+        raise RuntimeError(f"this worker imported a2l from {_package_dir()}, the parent from "
+                           f"{task['package']}: start the experiment with the interpreter of "
+                           "the package under test")
+    cfg = LfDConfig(**task["cfg"])
+    name, scene_name = task["skill"], task["scene"]
+    key = repr((name, scene_name, cfg.step))
+    scene = _SCENES.get(key)
+    if scene is None:
+        for old in _SCENES.values():
+            old.close()
+        _SCENES.clear()
+        scene = _SCENES[key] = make_skill_scene(
+            name, 0, cfg, scene=None if scene_name == "baxter" else scene_name)
+    reset_for_trial(scene, name, task["seed"])
+    run = run_skill(scene, task["bundle"], SKILLS[name].effect, mode=task["mode"])
+    return {"skill": name, "seed": task["seed"], "scene": scene_name, "mode": task["mode"],
+            "success": bool(run.success), "stop": run.stop, "movements": run.movements,
+            "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
+            "wall": run.wall}
+
+
+@contextlib.contextmanager
+def progress_bar(label: str, total: int, quiet: bool = False
+                 ) -> Iterator[Callable[[int], None] | None]:
+    """A rich progress bar; yields the ``on_done(n)`` callback (None when quiet)."""
+    if quiet:
+        yield None
+        return
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    with Progress(f"[bold]{label}", BarColumn(), MofNCompleteColumn(),
+                  TimeElapsedColumn()) as bar:
+        t = bar.add_task(label, total=total)
+        yield lambda n: bar.update(t, completed=n)
+
+
+def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
+             mode: str = "table", cfg: LfDConfig = DEFAULT, executor: Any = None,
+             on_done: Callable[[int], None] | None = None) -> list[dict[str, Any]]:
+    """Run every skill of `bundles` from every trial seed; one result dict per trial.
+
+    Parameters
+    ----------
+    bundles : dict of str to Path
+        Skill name -> bundle.
+    seeds : sequence of int
+        Trial seeds.
+    scene : {"baxter", "virtual"}
+        Baxter in PyBullet (the recipe's scene) or the C++ virtual scene.
+    mode : {"table", "ds"}
+    cfg : LfDConfig
+        Its ``step`` is the scenes' movement length.
+    executor : a2l.parallel.Executor, optional
+        Where trials run (default: this process).
+    """
+    from a2l.parallel import Executor
+
+    tasks = [{"skill": n, "bundle": str(b), "seed": int(s), "scene": scene, "mode": mode,
+              "cfg": cfg.to_json(), "package": _package_dir()}
+             for n, b in bundles.items() for s in seeds]
+    if executor is None:
+        with Executor(1) as ex:
+            return ex.map(trial_task, tasks, on_done=on_done)
+    return executor.map(trial_task, tasks, on_done=on_done)
+
+
+def summarise(trials: pd.DataFrame) -> dict[str, dict[str, Any]]:
+    """Per skill: ``success_rate``, ``successes``, ``trials``, ``mean_movements``,
+    ``failures`` (stop status -> count) and the failing seeds."""
+    out: dict[str, dict[str, Any]] = {}
+    for name, g in trials.groupby("skill", sort=False):
+        fails = g[~g.success]
+        out[str(name)] = {
+            "success_rate": float(g.success.mean()), "successes": int(g.success.sum()),
+            "trials": len(g), "mean_movements": float(g.movements.mean()),
+            "failures": {str(k): int(v) for k, v in fails.stop.value_counts().items()},
+            "failed_seeds": [int(s) for s in fails.seed],
+        }
+    return out
+
+
+def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
+                   trials: int = 20, seed: int = 1000, scene: str = "baxter",
+                   mode: str = "table", workers: int = 1, cfg: LfDConfig = DEFAULT,
+                   quiet: bool = False) -> dict[str, Any]:
+    """Learn the skills and try them; write the run directory (see the module docstring).
+
+    Returns
+    -------
+    dict
+        The metrics written to ``metrics.json``.
+    """
+    from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+    from a2l.lfd.library import SKILLS, learn_recipe
+    from a2l.parallel import Executor
+
+    names = list(skills or [n for n in SKILLS if n.startswith("push_")])
+    unknown = [n for n in names if n not in SKILLS]
+    if unknown:
+        raise ValueError(f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+    run_dir = make_run_dir("lfd-skills", out)
+    bundles, learning = {}, {}
+    for name in names:
+        t0 = time.perf_counter()
+        learned = learn_recipe(name, run_dir / "skills", cfg)
+        bundles[name] = learned.bundle
+        learning[name] = {"rows": learned.rows, "seconds": time.perf_counter() - t0,
+                          **{f"{k}_s": v for k, v in learned.timings.items()}}
+    seeds = list(range(seed, seed + trials))
+    with Executor(workers) as ex, progress_bar("trials", len(names) * trials, quiet) as bar:
+        results = evaluate(bundles, seeds, scene, mode, cfg, ex, bar)
+    frame = pd.DataFrame(results)
+    atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
+    summary = summarise(frame)
+    metrics = {"scene": scene, "mode": mode, "seeds": [seeds[0], seeds[-1]],
+               "config": cfg.to_json(), "skills": summary, "learning": learning}
+    write_json(run_dir / "metrics.json", metrics)
+    lines = [f"# Demonstrated skills on held-out seeds ({scene}, {mode})", "",
+             f"Trial seeds {seeds[0]}-{seeds[-1]}; demonstrations from seeds 0-"
+             f"{cfg.n_demos - 1}; config {cfg.to_json()}.", "",
+             "| skill | success | mean movements | failures (stop: count) | failed seeds |"
+             " learning (s) |", "|---|---|---|---|---|---|"]
+    for name, s in summary.items():
+        fails = ", ".join(f"{k}: {v}" for k, v in s["failures"].items()) or "-"
+        lines.append(f"| {name} | {s['successes']}/{s['trials']} | "
+                     f"{s['mean_movements']:.1f} | {fails} | "
+                     f"{' '.join(map(str, s['failed_seeds'])) or '-'} | "
+                     f"{learning[name]['seconds']:.2f} |")
+    atomic_write_text(run_dir / "report.md", "\n".join(lines) + "\n")
+    if not quiet:
+        print("\n".join(lines[6:]))
+        print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
+    return metrics
+
+
+def _cmd(args: argparse.Namespace) -> int:
+    from a2l.cli import UsageError
+
+    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    if args.trials < 1:
+        raise UsageError("--trials", f"must be >= 1, got {args.trials}")
+    if args.workers < 1:
+        raise UsageError("--workers", f"must be >= 1, got {args.workers}")
+    try:
+        run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
+                       args.workers, quiet=args.quiet)
+    except ValueError as exc:
+        raise UsageError("--skills", str(exc)) from None
+    return 0
+
+
+def add_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment lfd-skills``."""
+    p = exps.add_parser(
+        "lfd-skills", help="demonstrated skills: learn, then run on held-out seeds",
+        description="Learn each demonstrated skill from its scripted demonstrations "
+        "(vector field -> dataset -> Bayesian network -> compiled table) and run it in closed "
+        "loop through the C++ step from held-out trial seeds; write report.md, "
+        "metrics.json, trials.csv and the bundles.")
+    p.add_argument("--out", required=True, help="run directory")
+    p.add_argument("--skills", default=None,
+                   help="comma-separated skill names (default: the push skills)")
+    p.add_argument("--trials", type=int, default=20, help="trials per skill (default 20)")
+    p.add_argument("--seed", type=int, default=1000, help="first trial seed (default 1000)")
+    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
+    p.add_argument("--mode", choices=("table", "ds"), default="table")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd)

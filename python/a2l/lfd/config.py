@@ -1,0 +1,92 @@
+"""The one configuration of the demonstration -> skill pipeline (:class:`LfDConfig`).
+
+Every LfD skill (:data:`a2l.lfd.library.SKILLS`) is learned with :data:`DEFAULT` unless a
+caller overrides fields. The grid and discretization values are the ones the
+parametrization study (``a2l experiment parametrization``) selected; the study's report
+says how.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any
+
+__all__ = ["DEFAULT", "LfDConfig"]
+
+
+@dataclass(frozen=True)
+class LfDConfig:
+    """Parameters of the demonstration -> dataset -> skill pipeline.
+
+    Attributes
+    ----------
+    resolution : float
+        Spacing of the grid sampled around the demonstrations (m).
+    tube : float
+        Grid points farther than this from every demonstration are not sampled (m).
+    step : float
+        Movement length of the repertoire (m); the scene moves by it too.
+    n_orient, n_dist : int
+        Orientation sections and distance bins (the babbling path's discretizer).
+    dist_low, dist_high : float
+        Range of the distance bins (m).
+    smoothing : bool
+        METHOD.md's chapter-6 neighbour smoothing in the C++ step.
+    n_demos : int
+        Demonstrations per skill.
+    maps : int
+        Elementary maps K of each diffeomorphic DS.
+    path_length : float
+        Longest path a skill is expected to take (m): its step cap is
+        ``ceil(path_length / step)``.
+    """
+
+    resolution: float = 0.01
+    tube: float = 0.06
+    step: float = 0.05
+    n_orient: int = 16
+    n_dist: int = 3
+    dist_low: float = 0.05
+    dist_high: float = 0.20
+    smoothing: bool = False
+    n_demos: int = 8
+    maps: int = 60
+    path_length: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("resolution", "tube", "step", "dist_low", "dist_high", "path_length"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"LfDConfig.{name}: must be a positive length, got {v!r}")
+        if self.dist_low >= self.dist_high:
+            raise ValueError(f"LfDConfig.dist_low, dist_high: need low < high, got "
+                             f"{self.dist_low}, {self.dist_high}")
+        for name in ("n_orient", "n_dist", "n_demos", "maps"):
+            v = getattr(self, name)
+            if not isinstance(v, int) or isinstance(v, bool) or v < 1:
+                raise ValueError(f"LfDConfig.{name}: must be a positive integer, got {v!r}")
+        if not isinstance(self.smoothing, bool):
+            raise ValueError(f"LfDConfig.smoothing: must be True or False, got "
+                             f"{self.smoothing!r}")
+
+    @property
+    def step_cap(self) -> int:
+        """Most movements of a run: ``ceil(path_length / step)``."""
+        return int(math.ceil(self.path_length / self.step - 1e-9))
+
+    def with_(self, **changes: Any) -> LfDConfig:
+        """A copy with some fields changed; an unknown field is an error naming it."""
+        known = {f.name for f in fields(self)}
+        bad = sorted(set(changes) - known)
+        if bad:
+            raise ValueError(f"unknown LfDConfig field(s) {bad}; known: {sorted(known)}")
+        return replace(self, **changes)
+
+    def to_json(self) -> dict[str, Any]:
+        """The fields as a JSON-able dict."""
+        return asdict(self)
+
+
+#: The configuration every skill uses (selected by the parametrization study).
+DEFAULT = LfDConfig()

@@ -1,0 +1,188 @@
+"""The demonstrated skills: how each is demonstrated, learned and tried.
+
+:data:`SKILLS` maps a skill name to its :class:`SkillRecipe`: the scene it acts in, the
+effect, the scripted demonstrations, the trial start distribution and the high-level states
+of its table. The push skills are here; other modules register theirs with
+:func:`register_skill`.
+
+A trial (:func:`reset_for_trial`) draws, from its seed only, the object's position (its
+configured home ± ``object_jitter``) and the end-effector's start relative to the object
+from the recipe's start distribution: the same distribution the demonstrations start from,
+so that held-out trials (seeds no demonstration and no tuning used) measure generalisation
+to new starts, not to another task.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.lfd.demonstrators import PushDemonstrator
+from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
+
+__all__ = ["SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene", "register_skill",
+           "reset_for_trial"]
+
+_TRIAL_STREAM = 0x7472696C  # seeds trial draws apart from every other stream
+
+
+@dataclass(frozen=True)
+class SkillRecipe:
+    """How a demonstrated skill is made and tried.
+
+    Attributes
+    ----------
+    name : str
+        Skill name (``"push_right"``).
+    scene : str
+        The :func:`a2l.sim.make_scene` scene it acts in on Baxter.
+    effect : str
+        The effect it produces (the wanted effect of its runs).
+    object_name : str
+        The object it acts on.
+    behaviours : callable ``(cfg, seed) -> list of Behaviour``
+        The seeded scripted demonstrations.
+    start : callable ``(rng) -> ndarray (3,)``
+        A trial's end-effector start relative to the object.
+    high_level : tuple of a2l.skills.HighLevelState
+        High-level states of the table.
+    planar : bool
+        8 planar movements or 26 in 3-D.
+    object_jitter : float
+        A trial places the object within ± this of its home on each table axis (m).
+    setup : callable ``(scene, rng) -> None``, optional
+        Extra trial set-up after the reset (a high-level state to set...).
+    discretizer : callable ``cfg -> a2l.skills.Discretizer``, optional
+        Instead of :func:`a2l.lfd.dataset.skill_discretizer`.
+    description : str
+        One line for humans.
+    """
+
+    name: str
+    scene: str
+    effect: str
+    object_name: str
+    behaviours: Callable[[LfDConfig, int], list[Behaviour]]
+    start: Callable[[np.random.Generator], np.ndarray]
+    high_level: tuple[Any, ...] = ()
+    planar: bool = True
+    object_jitter: float = 0.02
+    setup: Callable[[Any, np.random.Generator], None] | None = None
+    discretizer: Callable[[LfDConfig], Any] | None = None
+    description: str = ""
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+#: Skill name -> recipe.
+SKILLS: dict[str, SkillRecipe] = {}
+
+
+def register_skill(recipe: SkillRecipe) -> None:
+    """Add (or replace) a recipe in :data:`SKILLS`."""
+    SKILLS[recipe.name] = recipe
+
+
+def _recipe(name: str) -> SkillRecipe:
+    if name not in SKILLS:
+        raise ValueError(f"unknown skill {name!r}; known: {sorted(SKILLS)}")
+    return SKILLS[name]
+
+
+def _push_recipe(effect: str) -> SkillRecipe:
+    demonstrator = PushDemonstrator(effect)
+
+    def behaviours(cfg: LfDConfig, seed: int) -> list[Behaviour]:
+        return [Behaviour(demonstrator.demonstrations(cfg.n_demos, seed), effect)]
+
+    return SkillRecipe(
+        name=f"push_{effect}", scene="push", effect=effect, object_name="box",
+        behaviours=behaviours, start=demonstrator.start,
+        description=f"push the box {effect} (>= 5 cm), from a start within "
+                    f"{demonstrator.spread_deg:.0f} deg of the side opposite the push, "
+                    f"{demonstrator.r_low:.2f}-{demonstrator.r_high:.2f} m away")
+
+
+for _effect in ("right", "left", "close", "far"):
+    register_skill(_push_recipe(_effect))
+
+
+def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig = DEFAULT,
+                     scene: str | None = None, **config: Any) -> Any:
+    """The scene a skill is tried in, with the movement length of `cfg`.
+
+    Parameters
+    ----------
+    name : str
+        A skill of :data:`SKILLS`.
+    seed : int
+        The scene's seed.
+    cfg : LfDConfig
+        Its ``step`` is the scene's movement length.
+    scene : str, optional
+        Another :func:`a2l.sim.make_scene` scene than the recipe's (``"virtual"``, or
+        ``"press"`` for a push with a light).
+    **config
+        Scene config overrides (``gui=True``, ``context_source="perceived"``...). Default:
+        ground-truth context and no reset jitter (trials place the object themselves).
+
+    Returns
+    -------
+    a2l.sim.Scene
+    """
+    from a2l.sim import make_scene
+
+    recipe = _recipe(name)
+    config.setdefault("context_source", "ground_truth")
+    config.setdefault("object_jitter", 0.0)
+    config.setdefault("step", cfg.step)
+    return make_scene(scene or recipe.scene, seed=seed, **config)
+
+
+def _object_home(scene: Any, name: str) -> tuple[np.ndarray, float]:
+    """Configured (x, y) of object `name` and the height of its centre."""
+    cfg = scene.config
+    if hasattr(cfg, "box_half_size") and name == "box":  # the virtual scene
+        return np.asarray(cfg.box_position, float), cfg.table_z + cfg.box_half_size[2]
+    pos, size = getattr(cfg, f"{name}_position", None), getattr(cfg, f"{name}_size", None)
+    if pos is None or size is None:
+        raise ValueError(f"scene {scene.name!r} has no configured object {name!r}")
+    return np.asarray(pos, float), cfg.table_z + size[2] / 2
+
+
+def reset_for_trial(scene: Any, name: str, seed: int) -> dict[str, np.ndarray]:
+    """Reset `scene` for a trial of skill `name`, every draw from `seed`.
+
+    Returns
+    -------
+    dict
+        ``{"object": (3,), "eef": (3,), "start": (3,)}``: the object's and the
+        end-effector's positions and the start relative to the object.
+    """
+    recipe = _recipe(name)
+    rng = np.random.default_rng(np.random.SeedSequence([int(seed), _TRIAL_STREAM]))
+    xy, z = _object_home(scene, recipe.object_name)
+    j = recipe.object_jitter
+    xy = xy + rng.uniform(-j, j, 2)
+    start = np.asarray(recipe.start(rng), dtype=float).reshape(3)
+    obj = np.array([xy[0], xy[1], z])
+    scene.reset(eef=obj + start, objects={recipe.object_name: xy})
+    if recipe.setup is not None:
+        recipe.setup(scene, rng)
+    return {"object": obj, "eef": obj + start, "start": start}
+
+
+def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig = DEFAULT,
+                 seed: int = 0) -> LearnedSkill:
+    """Demonstrate (seeds ``seed ...``), learn and save skill `name` as
+    ``out_dir/<name>.a2lb``."""
+    recipe = _recipe(name)
+    disc = recipe.discretizer(cfg) if recipe.discretizer else None
+    return learn_skill(name, recipe.behaviours(cfg, seed), Path(out_dir) / f"{name}.a2lb",
+                       cfg, high_level=recipe.high_level, planar=recipe.planar,
+                       discretizer=disc)
