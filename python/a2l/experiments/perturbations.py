@@ -109,7 +109,7 @@ def _check(skills: Sequence[str], conditions: Sequence[str], trials: int, seed: 
 def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                       trials: int = 50, seed: int = DEFAULT_SEED, workers: int = 1,
                       cluster: str | None = None, conditions: Sequence[str] = CONDITIONS,
-                      cfg: LfDConfig = DEFAULT, bundles: dict[str, str] | None = None,
+                      cfg: LfDConfig | None = None, bundles: dict[str, str] | None = None,
                       quiet: bool = False, plots: bool = True,
                       command: str | None = None) -> dict[str, Any]:
     """Learn the skills, run every trial under every condition and write the run directory.
@@ -128,8 +128,9 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         Where trials run (:class:`a2l.parallel.Executor`).
     conditions : sequence of str
         Subset of :data:`CONDITIONS`.
-    cfg : LfDConfig
-        The pipeline's configuration.
+    cfg : LfDConfig, optional
+        The pipeline's configuration (default: each skill's own,
+        :func:`a2l.lfd.library.skill_config`).
     bundles : dict of str to path, optional
         Already learned bundles (skill -> path): not learned again.
     quiet, plots : bool
@@ -150,11 +151,14 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         make_run_dir,
         write_json,
     )
-    from a2l.lfd.library import SKILLS
+    from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
 
     names = list(skills) if skills else list(SKILLS)
     conds = [c for c in CONDITIONS if c in conditions] if conditions else []
+    _check(names, list(conditions), trials, seed, workers, DEFAULT)  # names first
+    cfgs = {n: skill_config(n, cfg) for n in names}
+    cfg = max(cfgs.values(), key=lambda c: c.n_demos)  # the seeds every skill's demos use
     _check(names, list(conditions), trials, seed, workers, cfg)
     out_path = Path(out)
     if out_path.exists() and not out_path.is_dir():
@@ -171,18 +175,21 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
               "modes": list(MODES), "trial_seeds": [seeds[0], seeds[-1]],
               "demonstration_seeds": [0, cfg.n_demos - 1], "scenes": scenes,
               "window": list(WINDOW), "move_m": list(MOVE_RANGE), "hold_s": list(HOLD_RANGE),
-              "lfd": cfg.to_json(), "workers": workers, "cluster": cluster,
+              "lfd": cfgs[names[0]].to_json(),
+              "lfd_by_skill": {n: c.to_json() for n, c in cfgs.items()},
+              "workers": workers, "cluster": cluster,
               "command": command}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     with Executor(workers, cluster) as ex:
         todo = [n for n in names if not bundles or n not in bundles]
-        learned = ex.map(_learn, [(n, str(run_dir / "skills"), cfg.to_json()) for n in todo])
+        learned = ex.map(_learn, [(n, str(run_dir / "skills"), cfgs[n].to_json())
+                                  for n in todo])
         learning = {r["skill"]: r for r in learned}
         paths = {**{n: str(b) for n, b in (bundles or {}).items() if n in names},
                  **{r["skill"]: r["bundle"] for r in learned}}
         tasks = [{"skill": n, "bundle": paths[n], "mode": m, "seed": s, "scene": scenes[n],
-                  "conditions": conds, "cfg": cfg.to_json()}
+                  "conditions": conds, "cfg": cfgs[n].to_json()}
                  for n in names for m in MODES for s in seeds]
         with progress_bar("perturbation trials", len(tasks), quiet) as bar:
             results = ex.map(trial_task, tasks, on_done=bar)
