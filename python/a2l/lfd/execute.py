@@ -247,12 +247,8 @@ class _TableStep:
             name = _core.movement_action_name(out.action)
             return "ok", name, np.zeros(3), name
         m = int(out.movement)
-        mv = self.skill.movements
-        if mv.is_action(m):  # open / close / stay: the scene runs the action by name
-            command: Any = _core.movement_action_name(mv.action(m))
-        else:
-            command = tuple(int(v) for v in self.directions[m])
-        return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), command
+        return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), \
+            tuple(int(v) for v in self.directions[m])
 
 
 class _DSStep:
