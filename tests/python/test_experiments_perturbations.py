@@ -144,7 +144,8 @@ def test_one_and_two_workers_give_identical_results(runs: dict[int, Path]) -> No
     ({"conditions": ["earthquake"]}, "--conditions: unknown condition"),
     ({"trials": 0}, "--trials: must be >= 1"),
     ({"workers": 0}, "--workers: must be >= 1"),
-    ({"seed": 3}, "--seed: trial seeds 3.. overlap the demonstration seeds 0..15"),
+    ({"seed": 3}, "--seed: trial seeds 3.. overlap the demonstration seeds "
+                  f"0..{2 * DEFAULT.n_demos - 1}"),
 ])
 def test_bad_arguments_are_named(tmp_path: Path, kwargs: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
