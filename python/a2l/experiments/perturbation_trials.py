@@ -133,7 +133,8 @@ def light_effects(recipe: Any, cfg: LfDConfig) -> dict[str, str] | None:
     return dict(recipe.extra.get("effect_by_light", EFFECT_BY_LIGHT))
 
 
-def _effect_test(effect: str, registered_first: bool) -> Callable[[Any], tuple[bool, bool]]:
+def _effect_test(effect: str) -> Callable[[Any], tuple[bool, bool]]:
+    """The test of a light-independent skill's effect, blind to the light."""
     from a2l.lfd.execute import EFFECT_TESTS, scene_test
     from a2l.sim.outcomes import EFFECT_TESTS as SCENE_TESTS
 
@@ -142,8 +143,6 @@ def _effect_test(effect: str, registered_first: bool) -> Callable[[Any], tuple[b
             ok = pr.scene.presses > 0
             return ok, ok
         return pressed
-    if registered_first and effect in EFFECT_TESTS:
-        return EFFECT_TESTS[effect]
     if effect in SCENE_TESTS:  # the scene's outcome, blind to the light
         return scene_test(SCENE_TESTS[effect])
     if effect in EFFECT_TESTS:
@@ -154,16 +153,13 @@ def _effect_test(effect: str, registered_first: bool) -> Callable[[Any], tuple[b
 def skill_test(recipe: Any, by_light: dict[str, str] | None
                ) -> Callable[[Any], tuple[bool, bool]]:
     """The effect test of a trial: a light-independent skill's ignores the light; a
-    light-dependent skill's is its registered test (which follows the light state seen at
-    each step), else the test of ``by_light[light]``."""
-    from a2l.lfd.execute import EFFECT_TESTS
+    light-dependent skill's is the test of ``by_light[light]`` for the light seen at each
+    step (:func:`a2l.lfd.execute.light_test`)."""
+    from a2l.lfd.execute import light_test
 
     if by_light is None:
-        return _effect_test(recipe.effect, registered_first=False)
-    if recipe.effect in EFFECT_TESTS:
-        return EFFECT_TESTS[recipe.effect]
-    tests = {v: _effect_test(e, registered_first=True) for v, e in by_light.items()}
-    return lambda pr: tests[pr.states.get("light", "off")](pr)
+        return _effect_test(recipe.effect)
+    return light_test(by_light)
 
 
 def _scene(skill: str, scene_name: str, cfg: LfDConfig) -> Any:

@@ -65,7 +65,7 @@ from a2l.experiments.perturbation_trials import (
     skill_scene,
     trial_task,
 )
-from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.lfd.config import LfDConfig
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
            "add_parser", "demonstration_seeds", "draw_perturbation", "run_perturbations",
@@ -89,9 +89,9 @@ def _learn(job: tuple[str, str, dict[str, Any]]) -> dict[str, Any]:
 def skill_cfg(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
     """The configuration skill `name` is learned and run with: `cfg`, else the recipe's
     own (``SkillRecipe.config``), else :data:`a2l.lfd.config.DEFAULT`."""
-    from a2l.lfd.library import SKILLS
+    from a2l.lfd.library import skill_config
 
-    return cfg or getattr(SKILLS[name], "config", None) or DEFAULT
+    return skill_config(name, cfg)
 
 
 def demonstration_seeds(cfgs: dict[str, LfDConfig]) -> list[int]:
