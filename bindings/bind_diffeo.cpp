@@ -24,9 +24,10 @@ struct PyDiffeo {
   DiffeoDS<3> d3;
 };
 
-PyDiffeo make_ds(DiffeoMaps maps) {
+PyDiffeo make_ds(DiffeoMaps maps, double negligible = kDiffeoNegligible) {
   PyDiffeo p;
-  Result r = maps.dim == 3 ? DiffeoDS<3>::create(maps, p.d3) : DiffeoDS<2>::create(maps, p.d2);
+  Result r = maps.dim == 3 ? DiffeoDS<3>::create(maps, p.d3, negligible)
+                           : DiffeoDS<2>::create(maps, p.d2, negligible);
   check(r);
   p.maps = std::move(maps);
   return p;
@@ -45,7 +46,7 @@ std::vector<double> flat(const Array& a) {
 }
 
 PyDiffeo from_arrays(const Array& target, const Array& centers, const Array& vectors,
-                     const Array& rhos, double speed) {
+                     const Array& rhos, double speed, double negligible) {
   if (target.ndim() != 1 || (target.shape(0) != 2 && target.shape(0) != 3)) {
     raise(Status::size_mismatch,
           "diffeomorphic DS: target must have shape (2,) or (3,), got " + shape_str(target));
@@ -72,7 +73,7 @@ PyDiffeo from_arrays(const Array& target, const Array& centers, const Array& vec
   m.vectors = flat(vectors);
   m.rhos = flat(rhos);
   m.speed = speed;
-  return make_ds(std::move(m));
+  return make_ds(std::move(m), negligible);
 }
 
 // Apply `f(in, out) -> Status` (D doubles each) to x of shape (d,) or (M, d); out has the shape
@@ -229,6 +230,8 @@ DiffeoIntegrator parse_method(const std::string& method) {
 void bind_diffeo(py::module_& m) {
   m.attr("DIFFEO_INVERTIBILITY_BOUND") = kDiffeoInvertibilityBound;
   m.attr("DIFFEO_MAX_ITERATIONS") = kDiffeoMaxIterations;
+  m.attr("DIFFEO_NEGLIGIBLE") = kDiffeoNegligible;
+  m.attr("DIFFEO_UNDERFLOW") = kDiffeoUnderflow;
   py::class_<PyDiffeo>(m, "DiffeoDS", R"doc(
 Diffeomorphic dynamical system (fast diffeomorphic matching), evaluated in C++.
 
@@ -245,6 +248,10 @@ rhos : array_like, shape (K,)
     Inverse widths rho_i >= 0, with rho_i ||v_i|| < sqrt(e/2) (invertibility).
 speed : float
     Gain (> 0) of the line-space system z_dot = -speed (z - target).
+negligible : float
+    Cutoff t in [DIFFEO_NEGLIGIBLE, DIFFEO_UNDERFLOW] (40 and 746): a map is skipped where its
+    weight is below exp(-t). The default changes results by less than double precision;
+    DIFFEO_UNDERFLOW skips only weights that underflow (to measure what the cutoff saves).
 
 Raises
 ------
@@ -253,7 +260,7 @@ a2l.A2LValueError
     bad map's index).
 )doc")
       .def(py::init(&from_arrays), py::arg("target"), py::arg("centers"), py::arg("vectors"),
-           py::arg("rhos"), py::arg("speed") = 1.0)
+           py::arg("rhos"), py::arg("speed") = 1.0, py::arg("negligible") = kDiffeoNegligible)
       .def(
           "forward", [](const PyDiffeo& p, const Array& x) { return dispatch(p, x, "forward"); },
           py::arg("x"), "y = Phi(x); x (d,) or (M, d) -> same shape.")
@@ -297,6 +304,9 @@ dict
     after one untimed warm-up pass over the M points).
 )doc")
       .def_property_readonly("dim", [](const PyDiffeo& p) { return p.maps.dim; })
+      .def_property_readonly(
+          "negligible",
+          [](const PyDiffeo& p) { return p.maps.dim == 3 ? p.d3.negligible() : p.d2.negligible(); })
       .def_property_readonly("n_maps", [](const PyDiffeo& p) { return p.maps.n_maps(); })
       .def_property_readonly("speed", [](const PyDiffeo& p) { return p.maps.speed; })
       .def_property_readonly(

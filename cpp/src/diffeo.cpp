@@ -87,7 +87,12 @@ Result validate_diffeo_maps(const DiffeoMaps& m) {
 }
 
 template <int D>
-Result DiffeoDS<D>::create(const DiffeoMaps& maps, DiffeoDS& out) {
+Result DiffeoDS<D>::create(const DiffeoMaps& maps, DiffeoDS& out, double negligible) {
+  if (!(negligible >= kDiffeoNegligible && negligible <= kDiffeoUnderflow)) {
+    return bad(Status::invalid_argument, "negligible = " + num(negligible) + " must be in [" +
+                                             num(kDiffeoNegligible) + ", " + num(kDiffeoUnderflow) +
+                                             "]");
+  }
   if (maps.dim != D) {
     return bad(Status::size_mismatch, "dim is " + std::to_string(maps.dim) + ", this DS has " +
                                           std::to_string(D) + " dimensions");
@@ -104,14 +109,17 @@ Result DiffeoDS<D>::create(const DiffeoMaps& maps, DiffeoDS& out) {
     m.rho2 = maps.rhos[i] * maps.rhos[i];
     m.vv = m.v.squaredNorm();
     m.vnorm = std::sqrt(m.vv);
-    // Every point z - k v (k in [0, 1]) is at least ||z|| - ||v|| from the center: beyond
-    // ||z|| > ||v|| + sqrt(underflow) / rho, the weight underflows whatever k.
-    const double reach = m.rho2 > 0.0 ? m.vnorm + std::sqrt(kDiffeoUnderflow / m.rho2)
-                                      : std::numeric_limits<double>::infinity();
+    // With eps = exp(-negligible) and ||z|| >= sqrt(negligible) / rho + eps ||v||:
+    // g(eps) = eps - exp(-rho^2 ||z - eps v||^2) >= eps - exp(-rho^2 (||z|| - eps ||v||)^2) >= 0,
+    // and g is increasing, so the root weight is <= eps: the map is negligible there.
+    const double reach = m.rho2 > 0.0
+                             ? std::sqrt(negligible / m.rho2) + std::exp(-negligible) * m.vnorm
+                             : std::numeric_limits<double>::infinity();
     m.skip_zz = reach * reach;
   }
   ds.target_ = Eigen::Map<const Vec>(maps.target.data());
   ds.speed_ = maps.speed;
+  ds.negligible_ = negligible;
   out = std::move(ds);
   return Result::success();
 }
@@ -157,7 +165,7 @@ constexpr double kAccept = 3e-20;
 template <int D>
 double DiffeoDS<D>::solve_weight(const Map& m, const Vec& z) noexcept {
   const double zz = z.squaredNorm();
-  if (zz > m.skip_zz) return 0.0;  // the weight underflows for every k
+  if (zz >= m.skip_zz) return 0.0;  // the root weight is below exp(-negligible)
   const double t0 = m.rho2 * zz;
   const double a = 2.0 * m.rho2 * z.dot(m.v), b = m.rho2 * m.vv;
   const double e0 = std::exp(-t0);
@@ -211,7 +219,7 @@ Status DiffeoDS<D>::forward(const Vec& x, Vec& y) const noexcept {
   Vec p = x;
   for (const Map& m : maps_) {
     const double r2 = m.rho2 * (p - m.c).squaredNorm();
-    if (r2 > kDiffeoUnderflow) continue;
+    if (r2 > negligible_) continue;  // weight < exp(-negligible): skipped
     p += std::exp(-r2) * m.v;
   }
   if (!p.allFinite()) return Status::invalid_argument;
@@ -240,7 +248,7 @@ Status DiffeoDS<D>::jacobian(const Vec& x, Vec& y, Mat& jac) const noexcept {
   for (const Map& m : maps_) {
     const Vec w = p - m.c;
     const double r2 = m.rho2 * w.squaredNorm();
-    if (r2 > kDiffeoUnderflow) continue;
+    if (r2 > negligible_) continue;  // weight < exp(-negligible): skipped
     const double k = std::exp(-r2);
     // J_i = I - 2 rho^2 k v w^T, J <- J_i J
     const Eigen::Matrix<double, 1, D> wj = w.transpose() * j;

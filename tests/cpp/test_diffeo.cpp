@@ -233,7 +233,7 @@ TEST(Diffeo, VelocityMatchesPlainImplementation3D) { check_velocity<3>(22); }
 
 TEST(Diffeo, EveryBranchOfTheOneMapSolveIsExact) {
   // one map, points from its center outwards: near (Halley), far (series, weight <= 1e-6) and
-  // underflowing (skipped); against 200 bisections
+  // negligible (skipped, weight < exp(-40)); against 200 bisections
   DiffeoMaps m;
   m.dim = 2;
   m.target = {0.0, 0.0};
@@ -248,6 +248,56 @@ TEST(Diffeo, EveryBranchOfTheOneMapSolveIsExact) {
     ASSERT_EQ(ds.inverse(y, x), Status::ok);
     EXPECT_LT((x - plain.inverse(y)).norm(), 4e-16 * (1.0 + y.norm())) << "r = " << r;
   }
+}
+
+TEST(Diffeo, NegligibleMapsAreSkippedWithinDoublePrecision) {
+  // one map, centred so that the query point y = 0 is just beyond the cutoff's reach: the
+  // default DS skips the map (inverse returns y itself) while the underflow-only DS still
+  // undoes a weight in (0, exp(-40)] (visible at y = 0, invisible next to larger coordinates)
+  const double rho = 0.85 * a2l::kDiffeoInvertibilityBound / std::hypot(0.8, 0.5);
+  const double reach = 1.001 * std::sqrt(a2l::kDiffeoNegligible) / rho;
+  DiffeoMaps one;
+  one.dim = 2;
+  one.target = {0.0, 0.0};
+  one.centers = {-reach * 0.6, reach * 0.8};
+  one.vectors = {0.8, 0.5};
+  one.rhos = {rho};
+  const DiffeoDS<2> cut = make<2>(one);
+  DiffeoDS<2> full;
+  ASSERT_TRUE(DiffeoDS<2>::create(one, full, a2l::kDiffeoUnderflow).ok());
+  EXPECT_EQ(cut.negligible(), a2l::kDiffeoNegligible);
+  EXPECT_EQ(full.negligible(), a2l::kDiffeoUnderflow);
+  const Eigen::Vector2d y = Eigen::Vector2d::Zero();
+  Eigen::Vector2d x_cut, x_full;
+  ASSERT_EQ(cut.inverse(y, x_cut), Status::ok);
+  ASSERT_EQ(full.inverse(y, x_full), Status::ok);
+  EXPECT_EQ(x_cut, y);
+  EXPECT_NE(x_full, y);
+  EXPECT_LT((x_full - y).norm(), std::exp(-a2l::kDiffeoNegligible) * std::hypot(0.8, 0.5));
+  // 150 random maps, points far and near: both cutoffs agree to double precision
+  const DiffeoMaps m = random_maps(2, 150, 31);
+  const DiffeoDS<2> a = make<2>(m);
+  DiffeoDS<2> b;
+  ASSERT_TRUE(DiffeoDS<2>::create(m, b, a2l::kDiffeoUnderflow).ok());
+  std::mt19937_64 rng(32);
+  for (int n = 0; n < 500; ++n) {
+    const Eigen::Vector2d p = random_point<2>(rng, 40.0);
+    Eigen::Vector2d fa, fb, ya, yb, xa, xb;
+    ASSERT_EQ(a.velocity(p, fa), Status::ok);
+    ASSERT_EQ(b.velocity(p, fb), Status::ok);
+    EXPECT_LT((fa - fb).norm(), 1e-14 * (1.0 + fb.norm())) << "p = " << p.transpose();
+    ASSERT_EQ(a.forward(p, ya), Status::ok);
+    ASSERT_EQ(b.forward(p, yb), Status::ok);
+    EXPECT_LT((ya - yb).norm(), 1e-14 * (1.0 + yb.norm()));
+    ASSERT_EQ(a.inverse(p, xa), Status::ok);
+    ASSERT_EQ(b.inverse(p, xb), Status::ok);
+    EXPECT_LT((xa - xb).norm(), 1e-14 * (1.0 + xb.norm()));
+  }
+  // the cutoff is refused outside [kDiffeoNegligible, kDiffeoUnderflow]
+  DiffeoDS<2> bad;
+  EXPECT_EQ(DiffeoDS<2>::create(m, bad, 39.0).status, Status::invalid_argument);
+  EXPECT_EQ(DiffeoDS<2>::create(m, bad, 747.0).status, Status::invalid_argument);
+  EXPECT_EQ(DiffeoDS<2>::create(m, bad, std::nan("")).status, Status::invalid_argument);
 }
 
 TEST(Diffeo, NoMapsIsTheLinearSystem) {

@@ -45,13 +45,16 @@ def test_short_lasa_run_writes_the_run_directory(tmp_path):
     for section in ("shapes", "dmp", "linear", "demo_spread"):
         assert set(metrics[section]) == {"Angle", "Line"}
     a2l = metrics["shapes"]["Angle"]
-    assert {"dtw", "sea", "vrmse", "fit_ms", "eval_us", "converged"} <= set(a2l)
+    assert {"dtw", "sea", "vrmse", "fit_ms", "eval_us", "converged", "converged_euler",
+            "roundtrip_max"} <= set(a2l)
     assert set(metrics["dmp"]["Line"]) == {"dtw", "sea", "vrmse"}
     assert set(metrics["linear"]["Line"]) == {"dtw", "sea", "vrmse"}
     assert set(metrics["demo_spread"]["Line"]) == {"dtw"}
     for name in ("Angle", "Line"):
         m = metrics["shapes"][name]
         assert m["converged"] == 1.0                         # every start reached the target
+        assert m["converged_euler"] == 1.0                   # also with coarse Euler steps
+        assert m["worst_end_distance"] < 0.5 and m["roundtrip_max"] < 1e-9
         assert 0 < m["dtw"] < metrics["linear"][name]["dtw"] or name == "Line"
         assert m["fit_ms"] > 0 and m["eval_us"] > 0
     # the angle is far from a straight line: the DS must beat the linear floor clearly
@@ -74,3 +77,23 @@ def test_lasa_command_refuses_unknown_shapes(tmp_path, capsys):
 def test_config_validation_names_the_parameter():
     with pytest.raises(ValueError, match="mu"):
         LasaConfig(mu=1.5).validate()
+    for bad, name in (({"n_starts": 0}, "n_starts"), ({"start_steps": 0}, "start_steps"),
+                      ({"tolerance": 0.0}, "tolerance"), ({"horizon": -1.0}, "horizon")):
+        with pytest.raises(ValueError, match=name):
+            LasaConfig(**bad).validate()
+
+
+def test_exact_flow_check_matches_a_fine_rollout():
+    """``converged`` follows the exact flow: its end points are those of a fine RK4 rollout."""
+    from a2l.experiments.lasa import _exact_flow_check
+
+    demos, durations = load_lasa_shape("Angle")
+    ds = DiffeoDS.fit(demos[0], K=30, beta=0.5, mu=0.6, duration=durations[0])
+    starts = np.array([[-40.0, 10.0], [5.0, -8.0], [ds.target[0] + 0.1, ds.target[1]]])
+    horizon = 0.3 * durations[0]                   # short: not every start gets there
+    check = _exact_flow_check(ds, starts, horizon, tolerance=0.5)
+    ends = np.array([ds.rollout(s, horizon / 2000, 2001, "rk4")[-1] for s in starts])
+    dist = np.linalg.norm(ends - ds.target, axis=1)
+    assert check["worst_end_distance"] == pytest.approx(dist.max(), rel=1e-6)
+    assert check["converged"] == pytest.approx(np.mean(dist < 0.5))
+    assert check["roundtrip_max"] < 1e-9

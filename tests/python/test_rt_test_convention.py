@@ -19,6 +19,9 @@ REAL_TIME_CALLS = {
     ".tick()": "executor control tick",
     ".set_target(": "executor target (each new movement of a control tick)",
     "scene.move(": "virtual scene move",
+    "Discretizer::context_bin(": "context bins (the step's, and the learning side's through "
+    "a2l._core.context_bins)",
+    "classify_effect(": "effect classification (a2l-run's loop; a2l._core.classify_effects)",
     ".fk(": "forward kinematics",
     ".jacobian(": "Jacobian",
     ".ik(": "inverse kinematics",

@@ -14,9 +14,10 @@
 //! returns a Status: `invalid_argument` for a non-finite input (or a result that overflows),
 //! `size_mismatch` for a wrong buffer size. The inverse of one map is a scalar equation in its
 //! weight k (see DiffeoDS::inverse), solved by safeguarded Halley iterations inside a
-//! guaranteed bracket with at most kDiffeoMaxIterations iterations: bounded time. Maps whose
-//! weight underflows to 0 in double (rho^2 ||.||^2 > kDiffeoUnderflow) are skipped, which gives
-//! the same result as evaluating them.
+//! guaranteed bracket with at most kDiffeoMaxIterations iterations: bounded time. A map whose
+//! weight at the point is below exp(-kDiffeoNegligible) is skipped there (no exp, no solve): the
+//! result changes by less than double precision (see kDiffeoNegligible); the iteration bound
+//! holds for every map that is not skipped.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,7 +33,15 @@ inline constexpr double kDiffeoInvertibilityBound = 1.165821990798562;
 //! Most iterations of the scalar solve of one map's inverse (bisection alone reaches double
 //! precision on [0, 1] within 64 halvings).
 inline constexpr int kDiffeoMaxIterations = 64;
-//! exp(-t) is exactly 0 in double for t above this: such a map's weight underflows.
+//! A map is skipped at a point where its weight k = exp(-rho^2 ||x - c||^2) is below
+//! exp(-kDiffeoNegligible) = 4.2e-18 (below the double epsilon 2.2e-16 / 50): skipping it moves
+//! the point by less than 4.2e-18 ||v|| and changes the Jacobian factor I - 2 rho^2 k v w^T by
+//! less than 2 (rho ||v||) (rho ||w||) k < 6.3e-17 (rho ||v|| < sqrt(e/2), rho ||w|| >= sqrt(40)).
+//! The inverse skips a map when ||y - c|| >= sqrt(kDiffeoNegligible) / rho + 4.2e-18 ||v||,
+//! which guarantees the root weight is below the same bound.
+inline constexpr double kDiffeoNegligible = 40.0;
+//! exp(-t) is exactly 0 in double for t above this: the largest cutoff DiffeoDS::create accepts
+//! (it skips only maps whose weight underflows; for measuring what the cutoff saves).
 inline constexpr double kDiffeoUnderflow = 746.0;
 //! Most maps a DS may hold (bundles and bindings refuse more).
 inline constexpr int kDiffeoMaxMaps = 100000;
@@ -76,8 +85,12 @@ class DiffeoDS {
   using Mat = Eigen::Matrix<double, D, D>;  //!< a Jacobian
 
   //! Build from `maps` after validate_diffeo_maps() (and maps.dim == D).
+  //! \param negligible  the cutoff t: a map is skipped where its weight is below exp(-t);
+  //!                    in [kDiffeoNegligible, kDiffeoUnderflow] (the default loses nothing
+  //!                    in double; kDiffeoUnderflow skips only weights that underflow)
   //! \return the validation failure (naming the map), else `ok`; `out` is untouched on failure.
-  static Result create(const DiffeoMaps& maps, DiffeoDS& out);
+  static Result create(const DiffeoMaps& maps, DiffeoDS& out,
+                       double negligible = kDiffeoNegligible);
 
   //! The description it was built from (same values, dim = D).
   DiffeoMaps maps() const;
@@ -88,6 +101,8 @@ class DiffeoDS {
   const Vec& target() const noexcept { return target_; }
   //! The gain of the line-space system.
   double speed() const noexcept { return speed_; }
+  //! The cutoff t of create(): maps whose weight is below exp(-t) are skipped.
+  double negligible() const noexcept { return negligible_; }
 
   //! y = Phi(x). \return `invalid_argument` if x is not finite or y overflows.
   Status forward(const Vec& x, Vec& y) const noexcept;
@@ -124,7 +139,7 @@ class DiffeoDS {
     Vec v;                 // displacement
     double rho = 0.0;      // inverse width
     double rho2 = 0.0;     // rho^2
-    double skip_zz = 0.0;  // ||y - c||^2 beyond which the weight underflows for every k
+    double skip_zz = 0.0;  // ||y - c||^2 beyond which the root weight is negligible
     double vv = 0.0;       // ||v||^2
     double vnorm = 0.0;    // ||v||
   };
@@ -134,6 +149,7 @@ class DiffeoDS {
   std::vector<Map> maps_;
   Vec target_ = Vec::Zero();
   double speed_ = 1.0;
+  double negligible_ = kDiffeoNegligible;
 };
 
 extern template class DiffeoDS<2>;

@@ -8,7 +8,14 @@ demonstrations each) to the demonstrations' time-aligned mean, and measures per 
   (:mod:`a2l.lfd.metrics`), averaged over the 7 demonstrations;
 - fit time (wall and CPU), the C++ velocity query time (median over a grid of points);
 - the fraction of ``n_starts`` random starts (seeded, uniform in the demonstrations'
-  bounding box enlarged by 50 %) whose Euler rollout ends within ``tolerance`` of the target.
+  bounding box enlarged by 50 %) that end within ``tolerance`` of the target after
+  ``horizon`` demonstration durations. ``converged`` follows the DS's exact flow: its
+  trajectories are images of the line-space system's, x(t) = Phi(target + (z0 - target)
+  exp(-speed t)) with z0 = Phi^-1(x0), so the state at time T is computed without integration
+  error (one inverse and one forward map per start; the round trip Phi(Phi^-1(x0)) = x0 is
+  checked, ``roundtrip_max``). ``converged_euler`` is the same test with an explicit Euler
+  rollout of ``start_steps`` steps (what a controller applying the field each tick at that
+  coarse step does), reported beside it.
 
 Baselines on the same reference and starts: a DMP (``movement_primitives``, imitating the
 same mean) and the linear DS ``xdot = -speed (x - target)`` (the floor), both lasting the
@@ -52,13 +59,15 @@ class LasaConfig:
     n_starts : int
         Random starts per shape for the convergence test.
     tolerance : float
-        A start converged if its rollout ends within this distance of the target.
+        A start converged if its state after ``horizon`` durations is within this distance
+        of the target.
     enlarge : float
         The start box is the demonstrations' bounding box enlarged by this fraction.
     horizon : float
         Rollout duration of the convergence test, in demonstration durations.
     start_steps : int
-        Explicit Euler steps of one convergence rollout (step = horizon * duration / steps).
+        Explicit Euler steps of one rollout of the Euler convergence column
+        (step = horizon * duration / steps); ``converged`` itself uses the exact flow.
     dmp_weights : int
         Basis functions per dimension of the DMP baseline.
     grid : int
@@ -90,6 +99,12 @@ class LasaConfig:
             raise ValueError(f"mu must be in (0, 1), got {self.mu}")
         if not self.regularisation >= 0:
             raise ValueError(f"regularisation must be >= 0, got {self.regularisation}")
+        for name in ("n_starts", "start_steps", "dmp_weights", "grid"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
+        for name in ("tolerance", "enlarge", "horizon"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
 
     def fit_parameters(self) -> dict[str, Any]:
         """Keyword arguments of :func:`a2l.lfd.fit.fit_diffeo` (K, beta, mu, regularisation)."""
@@ -98,12 +113,6 @@ class LasaConfig:
         beta = schedule(BETA_SCHEDULE, max(self.K - 1, 1)) if self.beta is None else self.beta
         mu = schedule(MU_SCHEDULE, self.K) if self.mu is None else self.mu
         return {"K": self.K, "beta": beta, "mu": mu, "regularisation": self.regularisation}
-        for name in ("n_starts", "start_steps", "dmp_weights", "grid"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
-        for name in ("tolerance", "enlarge", "horizon"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
 
 
 def _lasa() -> Any:
@@ -192,10 +201,11 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
     lo, hi = _box(demos, cfg.enlarge)
     rng = np.random.default_rng(cfg.seed + index)
     starts = rng.uniform(lo, hi, size=(cfg.n_starts, 2))
-    dt = cfg.horizon * duration / cfg.start_steps
+    horizon = cfg.horizon * duration
+    exact = _exact_flow_check(ds, starts, horizon, cfg.tolerance)
+    dt = horizon / cfg.start_steps
     ends = np.array([ds.rollout(s, dt, cfg.start_steps + 1, "euler")[-1] for s in starts])
-    dist = np.linalg.norm(ends - ds.target, axis=1)
-    converged = float(np.mean(dist < cfg.tolerance))
+    euler_dist = np.linalg.norm(ends - ds.target, axis=1)
 
     gx, gy = np.linspace(lo[0], hi[0], cfg.grid), np.linspace(lo[1], hi[1], cfg.grid)
     grid = np.stack(np.meshgrid(gx, gy), axis=-1).reshape(-1, 2)
@@ -207,9 +217,10 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
     return {
         "name": name,
         "a2l": {**_scores(reps, demos, durations), "fit_ms": fit_ms, "fit_cpu_ms": fit_cpu_ms,
-                "eval_us": timing["median_ns"] / 1e3, "converged": converged,
-                "n_maps": ds.n_maps, "fit_max_error": fitted.max_error,
-                "worst_end_distance": float(dist.max())},
+                "eval_us": timing["median_ns"] / 1e3, **exact,
+                "converged_euler": float(np.mean(euler_dist < cfg.tolerance)),
+                "worst_end_distance_euler": float(euler_dist.max()),
+                "n_maps": ds.n_maps, "fit_max_error": fitted.max_error},
         "dmp": _scores(dmp, demos, durations),
         "linear": _scores(lin, demos, durations),
         "demo_spread": {"dtw": spread},
@@ -218,6 +229,22 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
         "maps": {"target": ds.target, "centers": ds.centers, "vectors": ds.vectors,
                  "rhos": ds.rhos, "speed": ds.speed, "metadata": ds.metadata},
     }
+
+
+def _exact_flow_check(ds: Any, starts: np.ndarray, horizon: float,
+                      tolerance: float) -> dict[str, float]:
+    """Convergence of starts (M, d) on the DS's exact flow after `horizon` seconds.
+
+    Returns ``converged`` (fraction ending within `tolerance` of the target),
+    ``worst_end_distance`` and ``roundtrip_max`` (largest ``|Phi(Phi^-1(x0)) - x0|``: the
+    inverse the check relies on is exact to this).
+    """
+    z0 = ds.inverse(starts)
+    roundtrip = float(np.abs(ds.forward(z0) - starts).max())
+    z = ds.target + np.exp(-ds.speed * horizon) * (z0 - ds.target)
+    dist = np.linalg.norm(ds.forward(z) - ds.target, axis=1)
+    return {"converged": float(np.mean(dist < tolerance)),
+            "worst_end_distance": float(dist.max()), "roundtrip_max": roundtrip}
 
 
 def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = None,
@@ -310,6 +337,9 @@ def _summary(metrics: dict[str, Any]) -> dict[str, Any]:
         "eval_us_median": float(np.median([v["eval_us"] for v in a2l.values()])),
         "all_converged": bool(all(v["converged"] == 1.0 for v in a2l.values())),
         "min_converged": float(min(v["converged"] for v in a2l.values())),
+        "all_converged_euler": bool(all(v["converged_euler"] == 1.0 for v in a2l.values())),
+        "min_converged_euler": float(min(v["converged_euler"] for v in a2l.values())),
+        "roundtrip_max": float(max(v["roundtrip_max"] for v in a2l.values())),
     }
 
 
