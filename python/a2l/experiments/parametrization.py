@@ -132,11 +132,12 @@ def _plot(cells: pd.DataFrame, chosen: dict[str, Any], path: Path) -> None:
 def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                         grid: dict[str, Sequence[Any]] | None = None, trials: int = 20,
                         seed: int = 500, scene: str = "baxter", workers: int = 1,
-                        base: LfDConfig = DEFAULT, quiet: bool = False) -> dict[str, Any]:
+                        base: LfDConfig | None = None, quiet: bool = False) -> dict[str, Any]:
     """The study (see the module docstring); returns the metrics written to
-    ``metrics.json``."""
+    ``metrics.json``. A cell's configuration is the skill's own
+    (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values."""
     from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
-    from a2l.lfd.library import SKILLS
+    from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
 
     names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
@@ -150,7 +151,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     tasks = []
     for name in names:
         for i, combo in enumerate(combos):
-            cfg = base.with_(**dict(zip(DEFAULT_GRID, combo, strict=True)))
+            cfg = skill_config(name, base).with_(**dict(zip(DEFAULT_GRID, combo, strict=True)))
             tasks.append({"skill": name, "cell": i, "cfg": cfg.to_json(), "seeds": seeds,
                           "scene": scene, "dir": str(run_dir / "skills" / name),
                           "package": _package_dir()})

@@ -60,7 +60,11 @@ class LfDConfig:
     path_length: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("resolution", "tube", "step", "dist_low", "dist_high", "path_length"):
+        if not (isinstance(self.dist_low, (int, float)) and math.isfinite(self.dist_low)
+                and self.dist_low >= 0):
+            raise ValueError(f"LfDConfig.dist_low: must be a length >= 0, got "
+                             f"{self.dist_low!r}")
+        for name in ("resolution", "tube", "step", "dist_high", "path_length"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"LfDConfig.{name}: must be a positive length, got {v!r}")

@@ -36,7 +36,7 @@ from a2l import _core
 from a2l.lfd.demonstrators import PUSH_DIRECTIONS
 
 __all__ = ["EFFECT_TESTS", "Progress", "SkillRun", "SkillStep", "push_test",
-           "register_effect_test", "run_skill", "scene_test"]
+           "light_test", "register_effect_test", "run_skill", "scene_test"]
 
 #: A push skill succeeds when the object moved at least this far (m) the right way.
 PUSH_DISTANCE = 0.05
@@ -117,6 +117,18 @@ def _effect_test(effect: str) -> EffectTest | None:
 
     fn = outcomes.EFFECT_TESTS.get(effect)
     return None if fn is None else scene_test(fn)
+
+
+def light_test(effect_by_light: dict[str, str]) -> EffectTest:
+    """The effect test of a skill whose wanted outcome depends on the light: the test of
+    ``effect_by_light[light]`` for the light the step sees (``"off"`` when none)."""
+    tests = {}
+    for light, effect in effect_by_light.items():
+        test = _effect_test(effect)
+        if test is None:
+            raise ValueError(f"no effect test for effect {effect!r} (light {light!r})")
+        tests[light] = test
+    return lambda pr: tests[pr.states.get("light", "off")](pr)
 
 
 def register_effect_test(effect: str, test: EffectTest) -> None:
@@ -209,7 +221,8 @@ class SkillRun:
 
 
 class _TableStep:
-    """The C++ step of a bundle's compiled table."""
+    """The C++ step of a bundle's compiled table; an action (open, close, stay) is returned
+    as its name, which :meth:`a2l.sim.Scene.execute` carries out."""
 
     def __init__(self, bundle: str) -> None:
         self.skill = _core.load_bundle(bundle)
@@ -230,6 +243,9 @@ class _TableStep:
         status = _core.status_name(out.status)
         if status != "ok":
             return status, "", np.zeros(3), None
+        if out.action != _core.MovementAction.none:  # open / close / stay: no displacement
+            name = _core.movement_action_name(out.action)
+            return "ok", name, np.zeros(3), name
         m = int(out.movement)
         return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), \
             tuple(int(v) for v in self.directions[m])
