@@ -128,9 +128,28 @@ int Discretizer::inclination_bin(double phi, int n) noexcept {
   return static_cast<int>(x);
 }
 
+int Discretizer::context_bin(const Variable& v, const Eigen::Vector3d& eef,
+                             const Eigen::Vector3d& object) noexcept {
+  const Eigen::Vector3d r = eef - object;  // eef relative to the object
+  if (!r.allFinite()) return -1;
+  // Sums written out (not Eigen's norm()): the order of the additions is part of the
+  // definition, as a point on a bin edge must fall in the same bin on every path.
+  const double planar2 = r.x() * r.x() + r.y() * r.y();
+  switch (v.kind) {
+    case VariableKind::distance:
+      return distance_bin(std::sqrt(planar2 + r.z() * r.z()), v.low, v.high, v.n_bins);
+    case VariableKind::orientation:
+      return orientation_bin(std::atan2(r.y(), r.x()), v.n_bins);
+    case VariableKind::inclination:
+      return inclination_bin(std::atan2(std::sqrt(planar2), r.z()), v.n_bins);
+    case VariableKind::effect:
+    case VariableKind::high_level:
+      break;
+  }
+  return -1;
+}
+
 Status Discretizer::discretize(const Context& c, int* bins) const noexcept {
-  const bool finite = c.eef.allFinite() && c.object.allFinite();
-  const Eigen::Vector3d rel = c.eef - c.object;  // eef relative to the object
   Status status = Status::ok;
   const int n = n_variables();
   for (int i = 0; i < n; ++i) {
@@ -146,13 +165,9 @@ Status Discretizer::discretize(const Context& c, int* bins) const noexcept {
         break;
       }
       case VariableKind::distance:
-        if (finite) b = distance_bin(rel.norm(), v.low, v.high, v.n_bins);
-        break;
       case VariableKind::orientation:
-        if (finite) b = orientation_bin(std::atan2(rel.y(), rel.x()), v.n_bins);
-        break;
       case VariableKind::inclination:
-        if (finite) b = inclination_bin(std::atan2(rel.head<2>().norm(), rel.z()), v.n_bins);
+        b = context_bin(v, c.eef, c.object);
         break;
     }
     bins[i] = b;

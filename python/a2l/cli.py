@@ -18,6 +18,10 @@ experiment babbling-compare
     Every exploration method over several seeds, side by side.
 experiment lfd-skills
     Demonstrated skills learned, then run on held-out seeds (``--help``).
+experiment parametrization
+    Grid x step x bins x smoothing study of demonstrated skills; selects the default.
+experiment perturbations
+    Demonstrated skills under perturbations: context skill vs DS alone.
 experiment sweep
     The push experiment over many seeds: iterations to reach score 100.
 """
@@ -388,9 +392,11 @@ def _add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     experiment = sub.add_parser("experiment", help="run an A2L experiment (run directory "
                                 "with config, metrics, plots, report)")
     exps = experiment.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")
-    from a2l.experiments import lfd_skills
+    from a2l.experiments import lfd_skills, parametrization, perturbations
 
     lfd_skills.add_parser(exps)
+    parametrization.add_parser(exps)
+    perturbations.add_parser(exps)
 
     push = exps.add_parser(
         "push", help="the iterative framework on the push effects",

@@ -50,6 +50,9 @@ def test_cli_runs_the_whole_demo(tmp_path, capfd: pytest.CaptureFixture[str]) ->
     # a2l-run ran the exported skill on 8 episodes of each of the 4 effects.
     run = re.search(r"^success (\d+)/(\d+)", text, re.MULTILINE)
     assert run is not None and int(run.group(2)) == 32, text
+    # Part 4: the demonstrated push, with the box moved and the light switched mid-action.
+    assert "the box is moved 4 cm to the right" in text and "the light is switched on" in text
+    assert "OK: the box went far despite the changes" in text
 
 
 def test_demo_gui_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch,

@@ -15,9 +15,13 @@ GUARD_PATTERN = "NoAlloc|AllocationCounter"
 #: Real-time entry points (their C++ spelling at a call site) -> what they are.
 REAL_TIME_CALLS = {
     "a2l::step(": "skill step (with and without smoothing)",
+    "a2l::step_ds(": "skill step of the DS phases",
     ".tick()": "executor control tick",
     ".set_target(": "executor target (each new movement of a control tick)",
     "scene.move(": "virtual scene move",
+    "Discretizer::context_bin(": "context bins (the step's, and the learning side's through "
+    "a2l._core.context_bins)",
+    "classify_effect(": "effect classification (a2l-run's loop; a2l._core.classify_effects)",
     ".fk(": "forward kinematics",
     ".jacobian(": "Jacobian",
     ".ik(": "inverse kinematics",

@@ -92,9 +92,20 @@ class Discretizer {
   //! -1 if phi is not finite.
   static int inclination_bin(double phi, int n) noexcept;
 
+  //! Bin of the geometric variable `v` (distance, orientation or inclination) for an
+  //! end-effector at `eef` and an object at `object`, by the formulas above applied to
+  //! r = eef - object (distance sqrt(rx*rx + ry*ry + rz*rz), orientation atan2(ry, rx),
+  //! inclination atan2(sqrt(rx*rx + ry*ry), rz)). The one implementation of the context bins:
+  //! discretize() and the Python learning side (a2l._core.context_bins) call it.
+  //! \return the bin, or -1 if r is not finite (an unknown context) or `v` is not of a
+  //!         geometric kind. Allocates nothing.
+  static int context_bin(const Variable& v, const Eigen::Vector3d& eef,
+                         const Eigen::Vector3d& object) noexcept;
+
   //! The bins of `context`, one per variable, into `bins[0 .. n_variables())`.
-  //! \return `unknown_context` if a position is not finite or a discrete index is out of
-  //!         range (bins then holds -1 at that axis), else `ok`. Allocates nothing.
+  //! \return `unknown_context` if eef - object is not finite (see context_bin()) or a discrete
+  //!         index is out of range (bins then holds -1 at that axis), else `ok`. Allocates
+  //!         nothing.
   Status discretize(const Context& context, int* bins) const noexcept;
 
  private:

@@ -1,7 +1,8 @@
 """``a2l experiment lfd-skills``: demonstrated skills learned, then tried on held-out seeds.
 
 Each skill of :data:`a2l.lfd.library.SKILLS` is demonstrated by its scripted demonstrator
-(demonstration seeds ``0 .. n_demos - 1``), learned with :data:`a2l.lfd.config.DEFAULT`,
+(demonstration seeds ``0 .. n_demos - 1``), learned with its configuration
+(:func:`a2l.lfd.library.skill_config`: :data:`a2l.lfd.config.DEFAULT` for the push skills),
 and run in closed loop through the C++ step from ``trials`` trial set-ups drawn from seeds
 ``seed, seed + 1, ...`` (default 1000: no demonstration and no tuning used them). Output:
 ``skills/<name>.a2lb``, ``trials.csv`` (one row per trial), ``metrics.json`` (success rate,
@@ -20,7 +21,7 @@ from typing import Any
 
 import pandas as pd
 
-from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.lfd.config import LfDConfig
 
 __all__ = ["add_parser", "evaluate", "run_lfd_skills", "trial_task"]
 
@@ -43,7 +44,7 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         The worker imported another copy of a2l than the parent (``package``): its results
         would not be the code under test's.
     """
-    from a2l.lfd.execute import run_skill
+    from a2l.lfd.execute import light_test, run_skill
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
 
     if task.get("package") and task["package"] != _package_dir():
@@ -61,7 +62,11 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         scene = _SCENES[key] = make_skill_scene(
             name, 0, cfg, scene=None if scene_name == "baxter" else scene_name)
     reset_for_trial(scene, name, task["seed"])
-    run = run_skill(scene, task["bundle"], SKILLS[name].effect, mode=task["mode"])
+    recipe = SKILLS[name]
+    by_light = recipe.extra.get("effect_by_light")
+    run = run_skill(scene, task["bundle"], recipe.effect, mode=task["mode"],
+                    object_name=recipe.object_name,
+                    effect_test=light_test(by_light) if by_light else None)
     return {"skill": name, "seed": task["seed"], "scene": scene_name, "mode": task["mode"],
             "success": bool(run.success), "stop": run.stop, "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
@@ -84,7 +89,7 @@ def progress_bar(label: str, total: int, quiet: bool = False
 
 
 def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
-             mode: str = "table", cfg: LfDConfig = DEFAULT, executor: Any = None,
+             mode: str = "table", cfg: LfDConfig | None = None, executor: Any = None,
              on_done: Callable[[int], None] | None = None) -> list[dict[str, Any]]:
     """Run every skill of `bundles` from every trial seed; one result dict per trial.
 
@@ -97,15 +102,17 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
     scene : {"baxter", "virtual"}
         Baxter in PyBullet (the recipe's scene) or the C++ virtual scene.
     mode : {"table", "ds"}
-    cfg : LfDConfig
-        Its ``step`` is the scenes' movement length.
+    cfg : LfDConfig, optional
+        Its ``step`` is the scenes' movement length (default: each skill's own,
+        :func:`a2l.lfd.library.skill_config`).
     executor : a2l.parallel.Executor, optional
         Where trials run (default: this process).
     """
+    from a2l.lfd.library import skill_config
     from a2l.parallel import Executor
 
     tasks = [{"skill": n, "bundle": str(b), "seed": int(s), "scene": scene, "mode": mode,
-              "cfg": cfg.to_json(), "package": _package_dir()}
+              "cfg": skill_config(n, cfg).to_json(), "package": _package_dir()}
              for n, b in bundles.items() for s in seeds]
     if executor is None:
         with Executor(1) as ex:
@@ -130,7 +137,7 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, Any]]:
 
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                    trials: int = 20, seed: int = 1000, scene: str = "baxter",
-                   mode: str = "table", workers: int = 1, cfg: LfDConfig = DEFAULT,
+                   mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
                    quiet: bool = False) -> dict[str, Any]:
     """Learn the skills and try them; write the run directory (see the module docstring).
 
@@ -140,7 +147,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         The metrics written to ``metrics.json``.
     """
     from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
-    from a2l.lfd.library import SKILLS, learn_recipe
+    from a2l.lfd.library import SKILLS, learn_recipe, skill_config
     from a2l.parallel import Executor
 
     names = list(skills or [n for n in SKILLS if n.startswith("push_")])
@@ -162,11 +169,14 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     summary = summarise(frame)
     metrics = {"scene": scene, "mode": mode, "seeds": [seeds[0], seeds[-1]],
-               "config": cfg.to_json(), "skills": summary, "learning": learning}
+               "config": skill_config(names[0], cfg).to_json(),
+               "configs": {n: skill_config(n, cfg).to_json() for n in names},
+               "skills": summary, "learning": learning}
     write_json(run_dir / "metrics.json", metrics)
     lines = [f"# Demonstrated skills on held-out seeds ({scene}, {mode})", "",
              f"Trial seeds {seeds[0]}-{seeds[-1]}; demonstrations from seeds 0-"
-             f"{cfg.n_demos - 1}; config {cfg.to_json()}.", "",
+             f"{skill_config(names[0], cfg).n_demos - 1}; config "
+             f"{ {n: skill_config(n, cfg).to_json() for n in names} }.", "",
              "| skill | success | mean movements | failures (stop: count) | failed seeds |"
              " learning (s) |", "|---|---|---|---|---|---|"]
     for name, s in summary.items():

@@ -25,6 +25,10 @@ class LfDConfig:
         Spacing of the grid sampled around the demonstrations (m).
     tube : float
         Grid points farther than this from every demonstration are not sampled (m).
+    blend : float
+        0: a grid point takes the velocity of its nearest demonstration's DS; > 0: the
+        DSs' unit velocities weighted by a Gaussian of this width (m) of the point's
+        distance to each demonstration (:mod:`a2l.lfd.dataset`).
     step : float
         Movement length of the repertoire (m); the scene moves by it too.
     n_orient, n_dist : int
@@ -44,24 +48,32 @@ class LfDConfig:
 
     resolution: float = 0.01
     tube: float = 0.06
+    blend: float = 0.02
     step: float = 0.05
     n_orient: int = 16
     n_dist: int = 3
     dist_low: float = 0.05
     dist_high: float = 0.20
     smoothing: bool = False
-    n_demos: int = 8
+    n_demos: int = 12
     maps: int = 60
     path_length: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("resolution", "tube", "step", "dist_low", "dist_high", "path_length"):
+        if not (isinstance(self.dist_low, (int, float)) and math.isfinite(self.dist_low)
+                and self.dist_low >= 0):
+            raise ValueError(f"LfDConfig.dist_low: must be a length >= 0, got "
+                             f"{self.dist_low!r}")
+        for name in ("resolution", "tube", "step", "dist_high", "path_length"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"LfDConfig.{name}: must be a positive length, got {v!r}")
         if self.dist_low >= self.dist_high:
             raise ValueError(f"LfDConfig.dist_low, dist_high: need low < high, got "
                              f"{self.dist_low}, {self.dist_high}")
+        if not (isinstance(self.blend, (int, float)) and math.isfinite(self.blend)
+                and self.blend >= 0):
+            raise ValueError(f"LfDConfig.blend: must be a length >= 0, got {self.blend!r}")
         for name in ("n_orient", "n_dist", "n_demos", "maps"):
             v = getattr(self, name)
             if not isinstance(v, int) or isinstance(v, bool) or v < 1:

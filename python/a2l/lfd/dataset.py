@@ -12,7 +12,10 @@ discretization, the learning and the compilation are the babbling path's own
 
 Which DS gives a point its velocity: each demonstration has its own DS
 (:func:`a2l.lfd.skill.fit_fields`); a grid point takes the velocity of the DS of the
-demonstration nearest to it. Points farther than ``tube`` from every demonstration are not
+demonstration nearest to it, or, with ``blend = sigma > 0``, the sum of every DS's unit
+velocity weighted by ``exp(-d_i^2 / (2 sigma^2))`` (``d_i``: the point's distance to
+demonstration i), so that where demonstrations from both sides cross, their sideways parts
+cancel. Points farther than ``tube`` from every demonstration are not
 sampled (the DS far from every demonstration is a straight line to the object, which a push
 cannot follow: these contexts stay unknown, and the skill says so instead of guessing).
 """
@@ -31,7 +34,7 @@ from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.demonstration import Demonstration
 
-__all__ = ["grid_points", "skill_discretizer", "vector_field_rows"]
+__all__ = ["demo_distances", "grid_points", "skill_discretizer", "vector_field_rows"]
 
 
 def skill_discretizer(cfg: LfDConfig = DEFAULT, high_level: Sequence[Any] = (),
@@ -133,6 +136,24 @@ def grid_points(demos: Sequence[Demonstration], resolution: float, tube: float
     return grid[keep], labels[idx[keep]].astype(np.int64)
 
 
+def demo_distances(points: np.ndarray, demos: Sequence[Demonstration],
+                   resolution: float) -> np.ndarray:
+    """Distance (M, n_demos) from each point (M, 3) to each demonstration (up to its sample
+    nearest the object, as :func:`grid_points` samples)."""
+    out = np.empty((len(points), len(demos)))
+    for i, d in enumerate(demos):
+        out[:, i] = cKDTree(_dense(_until_closest(d), resolution / 2)).query(points)[0]
+    return out
+
+
+def _velocity(ds: Any, points: np.ndarray) -> np.ndarray:
+    """DS velocity (M, 3) at `points` (M, 3) (a 2-D DS sees x, y; its z velocity is 0)."""
+    out = np.zeros_like(points)
+    x = points if ds.dim == 3 else points[:, :2]
+    out[:, : ds.dim] = np.asarray(ds.velocity(x), dtype=float).reshape(-1, ds.dim)
+    return out
+
+
 def vector_field_rows(fields: Sequence[Any], demos: Sequence[Demonstration], effect: str,
                       cfg: LfDConfig = DEFAULT, states: dict[str, str] | None = None,
                       episode0: int = 0) -> pd.DataFrame:
@@ -166,12 +187,19 @@ def vector_field_rows(fields: Sequence[Any], demos: Sequence[Demonstration], eff
         raise ValueError(f"{len(fields)} fields for {len(demos)} demonstrations")
     points, nearest = grid_points(demos, cfg.resolution, cfg.tube)
     vel = np.zeros_like(points)
-    for i, ds in enumerate(fields):
-        sel = nearest == i
-        if sel.any():
-            x = points[sel] if ds.dim == 3 else points[sel][:, :2]
-            v = np.asarray(ds.velocity(x), dtype=float).reshape(-1, ds.dim)
-            vel[sel, : ds.dim] = v
+    if cfg.blend > 0:
+        dist = demo_distances(points, demos, cfg.resolution)
+        w = np.exp(-(dist**2 - dist.min(axis=1, keepdims=True) ** 2) / (2 * cfg.blend**2))
+        for i, ds in enumerate(fields):
+            v = _velocity(ds, points)
+            n = np.linalg.norm(v, axis=1, keepdims=True)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                vel += w[:, i : i + 1] * np.where(n > 1e-12, v / n, 0.0)
+    else:
+        for i, ds in enumerate(fields):
+            sel = nearest == i
+            if sel.any():
+                vel[sel] = _velocity(ds, points[sel])
     speed = np.linalg.norm(vel, axis=1, keepdims=True)
     with np.errstate(invalid="ignore", divide="ignore"):
         move = np.where(speed > 1e-12, cfg.step * vel / speed, 0.0)

@@ -36,7 +36,7 @@ from a2l import _core
 from a2l.lfd.demonstrators import PUSH_DIRECTIONS
 
 __all__ = ["EFFECT_TESTS", "Progress", "SkillRun", "SkillStep", "push_test",
-           "register_effect_test", "run_skill", "scene_test"]
+           "light_test", "register_effect_test", "run_skill", "scene_test"]
 
 #: A push skill succeeds when the object moved at least this far (m) the right way.
 PUSH_DISTANCE = 0.05
@@ -117,6 +117,18 @@ def _effect_test(effect: str) -> EffectTest | None:
 
     fn = outcomes.EFFECT_TESTS.get(effect)
     return None if fn is None else scene_test(fn)
+
+
+def light_test(effect_by_light: dict[str, str]) -> EffectTest:
+    """The effect test of a skill whose wanted outcome depends on the light: the test of
+    ``effect_by_light[light]`` for the light the step sees (``"off"`` when none)."""
+    tests = {}
+    for light, effect in effect_by_light.items():
+        test = _effect_test(effect)
+        if test is None:
+            raise ValueError(f"no effect test for effect {effect!r} (light {light!r})")
+        tests[light] = test
+    return lambda pr: tests[pr.states.get("light", "off")](pr)
 
 
 def register_effect_test(effect: str, test: EffectTest) -> None:
@@ -209,7 +221,8 @@ class SkillRun:
 
 
 class _TableStep:
-    """The C++ step of a bundle's compiled table."""
+    """The C++ step of a bundle's compiled table; an action (open, close, stay) is returned
+    as its name, which :meth:`a2l.sim.Scene.execute` carries out."""
 
     def __init__(self, bundle: str) -> None:
         self.skill = _core.load_bundle(bundle)
@@ -230,6 +243,9 @@ class _TableStep:
         status = _core.status_name(out.status)
         if status != "ok":
             return status, "", np.zeros(3), None
+        if out.action != _core.MovementAction.none:  # open / close / stay: no displacement
+            name = _core.movement_action_name(out.action)
+            return "ok", name, np.zeros(3), name
         m = int(out.movement)
         return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), \
             tuple(int(v) for v in self.directions[m])
@@ -263,6 +279,29 @@ class _DSStep:
         self.count += 1
         disp = v3 / speed * min(self.step_len, dist)
         return "ok", "ds", disp, disp
+
+
+class _PhaseStep:
+    """The bundle's DS phases (:mod:`a2l.skills.phases`) through the C++ ``step_ds``
+    (:class:`a2l.skills.CppSkillRunner`, ``mode="ds"``): a DS displacement or the phase's
+    end action (open / close / stay), the phase chosen by the high-level states."""
+
+    def __init__(self, bundle: str) -> None:
+        from a2l.skills import CppSkillRunner
+
+        self.runner = CppSkillRunner(bundle, mode="ds")
+
+    def __call__(self, eef: np.ndarray, obj: np.ndarray, effect: str,
+                 states: dict[str, str]) -> tuple[str, str, np.ndarray, Any]:
+        if not np.all(np.isfinite(obj)):
+            return "unknown_context", "", np.zeros(3), None
+        out = self.runner.step(eef, obj, effect, states)
+        if out.status != "ok":
+            return out.status, "", np.zeros(3), None
+        if out.action is not None:
+            return "ok", out.action, np.zeros(3), out.action
+        disp = np.asarray(out.displacement, dtype=float)
+        return "ok", f"ds:{out.phase}", disp, disp
 
 
 def _observe(scene: Any, source: str | None) -> dict[str, Any]:
@@ -326,7 +365,12 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
         raise ValueError(f"the scene moves by {scene.step_length} m, the skill bundle "
                          f"'{path}' by {table.step_len} m: make the scene with step="
                          f"{table.step_len}")
-    stepper = table if mode == "table" else _DSStep(path, table.step_len, table.cap)
+    if mode == "table":
+        stepper: Any = table
+    elif list(table.skill.ds_phases):  # the DS phases, else the bundle's one DS
+        stepper = _PhaseStep(path)
+    else:
+        stepper = _DSStep(path, table.step_len, table.cap)
     cap = table.cap if max_steps is None else int(max_steps)
     names = scene.object_names
     name = object_name or ("box" if "box" in names else scene.primary_object)
@@ -370,7 +414,7 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
             run.steps.append(SkillStep(k, status, "", np.zeros(3), "", eef, obj, states))
             break
         before = truth()
-        if mode == "table":
+        if mode == "table" or isinstance(command, str):  # a direction or an action
             res = scene.execute(command)
         else:
             res = scene.execute_displacement(command)

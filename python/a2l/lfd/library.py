@@ -27,7 +27,7 @@ from a2l.lfd.demonstrators import PushDemonstrator
 from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
 
 __all__ = ["SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene", "register_skill",
-           "reset_for_trial"]
+           "reset_for_trial", "skill_config"]
 
 _TRIAL_STREAM = 0x7472696C  # seeds trial draws apart from every other stream
 
@@ -62,6 +62,12 @@ class SkillRecipe:
         Instead of :func:`a2l.lfd.dataset.skill_discretizer`.
     description : str
         One line for humans.
+    config : LfDConfig, optional
+        The skill's own configuration, used when the caller gives none (default:
+        :data:`a2l.lfd.config.DEFAULT`): see :func:`skill_config`.
+    context_edges : bool
+        Learn with every context variable a fixed parent of the movement
+        (:func:`a2l.lfd.skill.learn_skill`).
     """
 
     name: str
@@ -77,6 +83,8 @@ class SkillRecipe:
     discretizer: Callable[[LfDConfig], Any] | None = None
     description: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+    config: LfDConfig | None = None
+    context_edges: bool = False
 
 
 #: Skill name -> recipe.
@@ -112,7 +120,15 @@ for _effect in ("right", "left", "close", "far"):
     register_skill(_push_recipe(_effect))
 
 
-def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig = DEFAULT,
+def skill_config(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
+    """The configuration skill `name` is learned and run with: `cfg` if given, else the
+    recipe's own (:attr:`SkillRecipe.config`), else :data:`a2l.lfd.config.DEFAULT`."""
+    if cfg is not None:
+        return cfg
+    return _recipe(name).config or DEFAULT
+
+
+def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
                      scene: str | None = None, **config: Any) -> Any:
     """The scene a skill is tried in, with the movement length of `cfg`.
 
@@ -122,8 +138,8 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig = DEFAULT,
         A skill of :data:`SKILLS`.
     seed : int
         The scene's seed.
-    cfg : LfDConfig
-        Its ``step`` is the scene's movement length.
+    cfg : LfDConfig, optional
+        Its ``step`` is the scene's movement length (default: :func:`skill_config`).
     scene : str, optional
         Another :func:`a2l.sim.make_scene` scene than the recipe's (``"virtual"``, or
         ``"press"`` for a push with a light).
@@ -138,6 +154,7 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig = DEFAULT,
     from a2l.sim import make_scene
 
     recipe = _recipe(name)
+    cfg = skill_config(name, cfg)
     config.setdefault("context_source", "ground_truth")
     config.setdefault("object_jitter", 0.0)
     config.setdefault("step", cfg.step)
@@ -177,12 +194,17 @@ def reset_for_trial(scene: Any, name: str, seed: int) -> dict[str, np.ndarray]:
     return {"object": obj, "eef": obj + start, "start": start}
 
 
-def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig = DEFAULT,
+def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig | None = None,
                  seed: int = 0) -> LearnedSkill:
     """Demonstrate (seeds ``seed ...``), learn and save skill `name` as
-    ``out_dir/<name>.a2lb``."""
+    ``out_dir/<name>.a2lb`` (with :func:`skill_config`)."""
     recipe = _recipe(name)
+    cfg = skill_config(name, cfg)
     disc = recipe.discretizer(cfg) if recipe.discretizer else None
     return learn_skill(name, recipe.behaviours(cfg, seed), Path(out_dir) / f"{name}.a2lb",
                        cfg, high_level=recipe.high_level, planar=recipe.planar,
-                       discretizer=disc)
+                       discretizer=disc, context_edges=recipe.context_edges)
+
+
+# the manipulation skills (grasp, press, grasp_light) register themselves
+import a2l.lfd.manipulation_skills  # noqa: E402, F401, I001

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,11 +40,26 @@ class Behaviour:
         The effect they produce (a value of the skill's effect variable).
     states : dict of str to str
         High-level states they were given under (``{}``: any).
+    rows : callable, optional
+        Builds the behaviour's raw rows instead of
+        :func:`a2l.lfd.dataset.vector_field_rows` (same arguments: fields, demos, effect,
+        cfg, states, first episode id), e.g. with actions (:mod:`a2l.lfd.manipulation_skills`).
+    phase : str
+        Non-empty: the behaviour is also a DS phase of the bundle (:mod:`a2l.skills.phases`:
+        its mean DS, applying under `states`), run by ``run_skill(mode="ds")``.
+    end_action : str or None
+        The phase's action within `tolerance` of its target (``"close"``, ``"stay"``).
+    tolerance : float
+        The phase's target tolerance (m).
     """
 
     demos: list[Demonstration]
     effect: str
     states: dict[str, str] = field(default_factory=dict)
+    rows: Callable[..., pd.DataFrame] | None = None
+    phase: str = ""
+    end_action: str | None = None
+    tolerance: float = 0.01
 
 
 @dataclass
@@ -83,7 +98,7 @@ def fit_fields(demos: Sequence[Demonstration], cfg: LfDConfig = DEFAULT) -> list
 def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathLike[str],
                 cfg: LfDConfig = DEFAULT, high_level: Sequence[Any] = (),
                 planar: bool = True, n_effects: int = 4,
-                discretizer: Any | None = None) -> LearnedSkill:
+                discretizer: Any | None = None, context_edges: bool = False) -> LearnedSkill:
     """Learn a skill from demonstrated behaviours and save its bundle (atomically).
 
     Parameters
@@ -105,6 +120,9 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
     discretizer : a2l.skills.Discretizer, optional
         Use this one instead of :func:`a2l.lfd.dataset.skill_discretizer` (a repertoire
         with actions, an effect variable holding ``grasped``...).
+    context_edges : bool
+        Fix every evidence variable as a parent of the movement (not only the effect):
+        hill-climbing keeps the other edges it finds.
 
     Returns
     -------
@@ -118,6 +136,7 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
     """
     from a2l.skills import compile_policy, learn_network, make_skill_spec
     from a2l.skills.bundle import DSArrays, bundle_bytes
+    from a2l.skills.phases import DSPhase
 
     if not behaviours:
         raise ValueError(f"skill {name!r}: no behaviour to learn from")
@@ -137,7 +156,8 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         fields_ = fit_fields(b.demos, cfg)
         means.append(DiffeoDS.fit(list(b.demos), K=cfg.maps))
         t1 = time.perf_counter()
-        rows = vector_field_rows(fields_, b.demos, b.effect, cfg, b.states, episode)
+        rows = (b.rows or vector_field_rows)(fields_, b.demos, b.effect, cfg, b.states,
+                                             episode)
         # a state the behaviour does not constrain: its rows hold for every value
         for h in disc.high_level:
             if h.name not in b.states:
@@ -154,7 +174,9 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
     timings["dataset"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     network = learn_network(discrete, structure="hc-k2", state_names=disc.state_names(),
-                            fixed_edges=[(disc.effects.name, disc.movements.name)])
+                            fixed_edges=[(v, disc.movements.name) for v in
+                                         (disc.evidence if context_edges
+                                          else [disc.effects.name])])
     timings["learn"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     table = compile_policy(network, target=disc.movements.name, evidence=disc.evidence)
@@ -167,8 +189,10 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
                                        "n_demonstrations": len(b.demos)} for b in behaviours],
                        "rows": len(discrete)}})
     first = means[0]
+    phases = [DSPhase(b.phase, means[k], dict(b.states), b.end_action, b.tolerance)
+              for k, b in enumerate(behaviours) if b.phase]
     data = bundle_bytes(spec, ds=DSArrays(first.target, first.centers, first.vectors,
-                                          first.rhos, first.speed))
+                                          first.rhos, first.speed), ds_phases=phases or None)
     out = atomic_write_bytes(path, data)
     timings["save"] = time.perf_counter() - t0
     return LearnedSkill(name, Path(out), table, means, len(discrete), timings)

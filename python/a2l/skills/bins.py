@@ -1,8 +1,8 @@
 """Context bins: distance, orientation and inclination of the end-effector to the object.
 
-The bins follow ``docs/bundle_format.md`` to the letter, because the C++ runtime
-(``a2l::Discretizer``) bins the live context with the same formulas and must agree bin for
-bin. All vectors are expressed in the robot's base frame (x forward, y left, z up).
+The bins follow ``docs/bundle_format.md`` to the letter: the learning side and the C++
+runtime (``a2l::Discretizer``) must agree bin for bin, so both call the same function. All
+vectors are expressed in the robot's base frame (x forward, y left, z up).
 
 ========================  ================================================================
 variable                  bin
@@ -13,11 +13,12 @@ variable                  bin
 ``inclination``           φ = atan2(√(dx² + dy²), dz) of (eef − object); min(floor(φ/π·n), n−1)
 ========================  ================================================================
 
-A non-finite input (NaN, inf) gives bin ``-1`` (the runtime's *unknown context*).
+A non-finite eef − object (NaN, inf, overflow) gives bin ``-1`` (the runtime's *unknown
+context*).
 
-The angles use the C library's ``atan2`` (through :func:`math.atan2`), the function the C++
-runtime calls: numpy's vectorised ``arctan2`` may differ from it in the last bit, which is
-enough to move a point lying exactly on a bin boundary into the neighbouring bin.
+There is one implementation of these formulas: the C++ ``a2l::Discretizer::context_bin``,
+which the runtime's step calls; the classes here call it for all points at once through
+``a2l._core.context_bins`` (:func:`context_bins`).
 """
 
 from __future__ import annotations
@@ -28,9 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from a2l import _core
 from a2l.skills.spec import VariableSpec
 
-__all__ = ["DistanceBins", "InclinationBins", "OrientationBins"]
+__all__ = ["ContextBins", "DistanceBins", "InclinationBins", "OrientationBins", "context_bins"]
 
 
 def _as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
@@ -43,20 +45,32 @@ def _as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
     return arr
 
 
-_atan2_ufunc = np.frompyfunc(math.atan2, 2, 1)
-
-
-def _atan2(y: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Element-wise C-library atan2 (bit-identical to ``std::atan2`` in the runtime)."""
-    return np.asarray(_atan2_ufunc(y, x), dtype=np.float64).reshape(np.shape(y))
-
-
-def _relative(eef: np.ndarray, obj: np.ndarray) -> np.ndarray:
+def _pair(eef: np.ndarray, obj: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     e = _as_points(eef, "eef")
     o = _as_points(obj, "object")
     if e.shape != o.shape:
         raise ValueError(f"eef and object shapes differ: {e.shape} vs {o.shape}")
-    return e - o
+    return e, o
+
+
+def context_bins(eef: np.ndarray, obj: np.ndarray, variables: Sequence[ContextBins]) -> np.ndarray:
+    """Bins of several context variables at once, by the C++ runtime's bin math.
+
+    Parameters
+    ----------
+    eef, obj : ndarray, shape (n, 3) or (3,)
+        End-effector and object positions (m).
+    variables : sequence of DistanceBins, OrientationBins or InclinationBins
+        The context discretizations.
+
+    Returns
+    -------
+    ndarray of int64, shape (n, len(variables))
+        Bin of each point and variable, -1 where eef − object is not finite.
+    """
+    e, o = _pair(eef, obj)
+    core = [v.core_variable() for v in variables]
+    return _core.context_bins(e, o, core).astype(np.int64)
 
 
 @dataclass(frozen=True)
@@ -95,17 +109,13 @@ class DistanceBins:
         Returns
         -------
         ndarray of int64, shape (n,)
-            Bin in [0, n_bins), or -1 where an input is not finite.
+            Bin in [0, n_bins), or -1 where eef − object is not finite.
         """
-        r = _relative(eef, obj)
-        d = np.sqrt(r[:, 0] * r[:, 0] + r[:, 1] * r[:, 1] + r[:, 2] * r[:, 2])
-        with np.errstate(invalid="ignore"):
-            x = np.floor((d - self.low) / (self.high - self.low) * self.n_bins)
-            b = np.clip(x, 0, self.n_bins - 1)
-        out = np.full(d.shape, -1, dtype=np.int64)
-        ok = np.isfinite(d)
-        out[ok] = b[ok].astype(np.int64)
-        return out
+        return context_bins(eef, obj, [self])[:, 0]
+
+    def core_variable(self) -> tuple[str, int, float, float]:
+        """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
+        return ("distance", self.n_bins, self.low, self.high)
 
     def spec(self) -> VariableSpec:
         """The bundle variable of this discretization."""
@@ -142,18 +152,13 @@ class OrientationBins:
         Returns
         -------
         ndarray of int64, shape (n,)
-            Bin in [0, n_bins), or -1 where an input is not finite.
+            Bin in [0, n_bins), or -1 where eef − object is not finite.
         """
-        r = _relative(eef, obj)
-        w = 2.0 * math.pi / self.n_bins
-        theta = _atan2(r[:, 1], r[:, 0])
-        with np.errstate(invalid="ignore"):
-            # theta + pi + w/2 > 0, so numpy's mod equals C's fmod here.
-            x = np.floor(np.mod(theta + math.pi + w / 2.0, 2.0 * math.pi) / w)
-        ok = np.isfinite(r).all(axis=1)
-        out = np.full(theta.shape, -1, dtype=np.int64)
-        out[ok] = np.mod(x[ok].astype(np.int64), self.n_bins)
-        return out
+        return context_bins(eef, obj, [self])[:, 0]
+
+    def core_variable(self) -> tuple[str, int, float, float]:
+        """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
+        return ("orientation", self.n_bins, 0.0, 0.0)
 
     def spec(self) -> VariableSpec:
         """The bundle variable of this discretization."""
@@ -190,17 +195,18 @@ class InclinationBins:
         Returns
         -------
         ndarray of int64, shape (n,)
-            Bin in [0, n_bins), or -1 where an input is not finite.
+            Bin in [0, n_bins), or -1 where eef − object is not finite.
         """
-        r = _relative(eef, obj)
-        phi = _atan2(np.sqrt(r[:, 0] * r[:, 0] + r[:, 1] * r[:, 1]), r[:, 2])
-        with np.errstate(invalid="ignore"):
-            x = np.minimum(np.floor(phi / math.pi * self.n_bins), self.n_bins - 1)
-        ok = np.isfinite(r).all(axis=1)
-        out = np.full(phi.shape, -1, dtype=np.int64)
-        out[ok] = x[ok].astype(np.int64)
-        return out
+        return context_bins(eef, obj, [self])[:, 0]
+
+    def core_variable(self) -> tuple[str, int, float, float]:
+        """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
+        return ("inclination", self.n_bins, 0.0, 0.0)
 
     def spec(self) -> VariableSpec:
         """The bundle variable of this discretization."""
         return VariableSpec(self.name, "inclination", self.n_bins)
+
+
+#: A context discretization: what :func:`context_bins` and ``Discretizer.context`` hold.
+ContextBins = DistanceBins | OrientationBins | InclinationBins

@@ -33,7 +33,7 @@ from a2l.data.schema import (
     OBJECT_COLUMNS,
     check_columns,
 )
-from a2l.skills.bins import DistanceBins, InclinationBins, OrientationBins
+from a2l.skills.bins import DistanceBins, InclinationBins, OrientationBins, context_bins
 from a2l.skills.effects import AXIS_EFFECTS, DIAGONAL_EFFECTS, EffectDiscretizer
 from a2l.skills.repertoire import MovementRepertoire
 from a2l.skills.spec import VariableSpec
@@ -132,7 +132,8 @@ class Discretizer:
         dict of str to ndarray of int64, shape (n,)
             Bin of each context variable, -1 where an input is not finite.
         """
-        return {b.name: b.bins(eef, obj) for b in self.context}
+        bins = context_bins(eef, obj, self.context)
+        return {b.name: bins[:, i].copy() for i, b in enumerate(self.context)}
 
     def discretize(self, raw: pd.DataFrame) -> pd.DataFrame:
         """The discrete dataset of a raw interaction dataset (:mod:`a2l.data.schema`).

@@ -3,6 +3,11 @@
 The dominant axis decides the effect (``left``, ``right``, ``close``, ``far``); in 8-effect
 mode a displacement whose axes are within ``ratio`` of each other is a diagonal; a planar
 displacement below a threshold is no effect (index -1).
+
+There is one implementation of the classification: the C++ ``a2l::classify_effect``, which
+the scenes, ``a2l-run`` and :func:`a2l.sim.effects.push_effect` call;
+:class:`EffectDiscretizer` calls it for all displacements at once through
+``a2l._core.classify_effects``.
 """
 
 from __future__ import annotations
@@ -11,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from a2l import _core
 from a2l.skills.bins import _as_points
 from a2l.skills.spec import VariableSpec
 
@@ -75,18 +81,9 @@ class EffectDiscretizer:
             Index into :attr:`values`, or -1 for no effect (or a non-finite input).
         """
         d = _as_points(displacement, "displacement")
-        dx, dy = d[:, 0], d[:, 1]
-        ax, ay = np.abs(dx), np.abs(dy)
-        x_axis = np.where(dx > 0, 3, 2)  # far / close
-        y_axis = np.where(dy > 0, 0, 1)  # left / right
-        out = np.where(ax >= ay, x_axis, y_axis)
-        if self.n_effects == 8:
-            diag = 4 + np.where(dx > 0, 2, 0) + np.where(dy > 0, 0, 1)
-            axis_wins = (ax > self.ratio * ay) | (ay > self.ratio * ax)
-            out = np.where(axis_wins, out, diag)
-        with np.errstate(invalid="ignore"):
-            moved = np.hypot(dx, dy) >= self.threshold
-        return np.where(moved & np.isfinite(d[:, :2]).all(axis=1), out, -1).astype(np.int64)
+        return _core.classify_effects(d, self.n_effects, self.threshold, self.ratio).astype(
+            np.int64
+        )
 
     def spec(self) -> VariableSpec:
         """The bundle variable of the wanted effect."""

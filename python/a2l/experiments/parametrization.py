@@ -1,0 +1,274 @@
+"""``a2l experiment parametrization``: the thesis' parametrization study for demonstrated skills.
+
+For each skill studied (push right; grasp when its recipe is registered) and each cell of
+grid resolution x movement step x orientation bins x distance bins x smoothing, the skill is
+learned from its scripted demonstrations with that :class:`~a2l.lfd.config.LfDConfig` and run
+in closed loop from ``trials`` trial set-ups (seeds ``seed ...``, default 500: tuning seeds,
+apart from the held-out 1000+ of ``a2l experiment lfd-skills``). A cell's figures: success
+rate and movements per action (mean movements of the successful runs).
+
+The default it selects: the cell with the highest mean success rate over the skills, then
+the fewest movements per action, then the smallest table (orientation x distance bins), then
+the coarsest grid (fastest learning). That default is :data:`a2l.lfd.config.DEFAULT` (every
+skill uses it); the report says whether they agree.
+
+Output: ``cells.csv``, ``metrics.json``, ``report.md``, ``parametrization.png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import os
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from a2l.experiments.lfd_skills import _package_dir, progress_bar, trial_task
+from a2l.lfd.config import DEFAULT, LfDConfig
+
+__all__ = ["DEFAULT_GRID", "add_parser", "cell_task", "run_parametrization", "select_default"]
+
+#: The full study's values (``--resolutions`` ... override them).
+DEFAULT_GRID: dict[str, tuple[Any, ...]] = {
+    "resolution": (0.005, 0.01, 0.02),
+    "step": (0.02, 0.03, 0.05),
+    "n_orient": (8, 16, 24, 32),
+    "n_dist": (3, 4, 5),
+    "smoothing": (False, True),
+}
+
+
+def cell_task(task: dict[str, Any]) -> dict[str, Any]:
+    """Learn one skill with one cell's configuration and run its trials (in a worker).
+
+    ``task``: ``{"skill", "cell", "cfg", "seeds", "scene", "dir", "package"}``.
+    """
+    from a2l.lfd.library import learn_recipe
+
+    if task["package"] != _package_dir():
+        raise RuntimeError(f"this worker imported a2l from {_package_dir()}, the parent from "
+                           f"{task['package']}: start the experiment with the interpreter of "
+                           "the package under test")
+    cfg = LfDConfig(**task["cfg"])
+    t0 = time.perf_counter()
+    learned = learn_recipe(task["skill"], Path(task["dir"]) / f"cell{task['cell']:03d}", cfg)
+    learn_s = time.perf_counter() - t0
+    runs = [trial_task({"skill": task["skill"], "bundle": str(learned.bundle), "seed": s,
+                        "scene": task["scene"], "mode": "table", "cfg": task["cfg"],
+                        "package": task["package"]}) for s in task["seeds"]]
+    ok = [r for r in runs if r["success"]]
+    stops: dict[str, int] = {}
+    for r in runs:
+        if not r["success"]:
+            stops[r["stop"]] = stops.get(r["stop"], 0) + 1
+    return {"skill": task["skill"], "cell": task["cell"], **task["cfg"],
+            "success_rate": len(ok) / len(runs),
+            "movements_per_action": float(np.mean([r["movements"] for r in ok]))
+            if ok else float("nan"),
+            "rows": learned.rows, "table_cells": int(np.prod(learned.table.shape)),
+            "learn_s": learn_s, "failures": ";".join(f"{k}:{v}" for k, v in stops.items())}
+
+
+def select_default(cells: pd.DataFrame) -> dict[str, Any]:
+    """The selected cell's parameters (see the module docstring for the rule)."""
+    keys = list(DEFAULT_GRID)
+    g = cells.groupby(keys, as_index=False).agg(
+        success_rate=("success_rate", "mean"),
+        movements_per_action=("movements_per_action", "mean"))
+    g["table"] = g.n_orient * g.n_dist
+    g["mpa"] = g.movements_per_action.fillna(np.inf)
+    g = g.sort_values(["success_rate", "mpa", "table", "resolution"],
+                      ascending=[False, True, True, False], kind="mergesort")
+    best = g.iloc[0]
+    out = {k: best[k].item() if hasattr(best[k], "item") else best[k] for k in keys}
+    out["smoothing"] = bool(out["smoothing"])
+    out["success_rate"] = float(best.success_rate)
+    out["movements_per_action"] = float(best.movements_per_action)
+    return out
+
+
+def _plot(cells: pd.DataFrame, chosen: dict[str, Any], path: Path) -> None:
+    """Success rate over orientation x distance bins, one panel per step, at the chosen
+    resolution and smoothing (mean over the skills)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sub = cells[(cells.resolution == chosen["resolution"])
+                & (cells.smoothing == chosen["smoothing"])]
+    steps = sorted(sub.step.unique())
+    fig, axes = plt.subplots(1, len(steps), figsize=(4 * len(steps), 3.4), squeeze=False)
+    for ax, step in zip(axes[0], steps, strict=True):
+        m = sub[sub.step == step].pivot_table(index="n_dist", columns="n_orient",
+                                             values="success_rate", aggfunc="mean")
+        im = ax.imshow(m.to_numpy(), vmin=0, vmax=1, cmap="viridis", origin="lower")
+        ax.set_xticks(range(len(m.columns)), [str(c) for c in m.columns])
+        ax.set_yticks(range(len(m.index)), [str(i) for i in m.index])
+        ax.set_xlabel("orientation bins")
+        ax.set_ylabel("distance bins")
+        ax.set_title(f"step {step * 100:.0f} cm")
+        for (i, j), v in np.ndenumerate(m.to_numpy()):
+            ax.text(j, i, f"{v:.2f}", ha="center", va="center", fontsize=8,
+                    color="white" if v < 0.6 else "black")
+    fig.colorbar(im, ax=axes[0].tolist(), label="success rate")
+    fig.suptitle(f"resolution {chosen['resolution'] * 100:g} cm, smoothing "
+                 f"{'on' if chosen['smoothing'] else 'off'}")
+    import io
+
+    from a2l.atomic import atomic_write_bytes
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    plt.close(fig)
+    atomic_write_bytes(path, buf.getvalue())
+
+
+def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
+                        grid: dict[str, Sequence[Any]] | None = None, trials: int = 20,
+                        seed: int = 500, scene: str = "baxter", workers: int = 1,
+                        base: LfDConfig | None = None, quiet: bool = False) -> dict[str, Any]:
+    """The study (see the module docstring); returns the metrics written to
+    ``metrics.json``. A cell's configuration is the skill's own
+    (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values."""
+    from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+    from a2l.lfd.library import SKILLS, skill_config
+    from a2l.parallel import Executor
+
+    names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
+    unknown = [n for n in names if n not in SKILLS]
+    if unknown:
+        raise ValueError(f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+    values = {**DEFAULT_GRID, **(grid or {})}
+    combos = list(itertools.product(*(values[k] for k in DEFAULT_GRID)))
+    run_dir = make_run_dir("parametrization", out)
+    seeds = list(range(seed, seed + trials))
+    tasks = []
+    for name in names:
+        for i, combo in enumerate(combos):
+            cfg = skill_config(name, base).with_(**dict(zip(DEFAULT_GRID, combo, strict=True)))
+            tasks.append({"skill": name, "cell": i, "cfg": cfg.to_json(), "seeds": seeds,
+                          "scene": scene, "dir": str(run_dir / "skills" / name),
+                          "package": _package_dir()})
+    t0 = time.perf_counter()
+    # long cells first: the small steps take the most movements
+    order = sorted(range(len(tasks)), key=lambda k: tasks[k]["cfg"]["step"])
+    with Executor(workers) as ex, progress_bar("cells", len(tasks), quiet) as bar:
+        done = ex.map(cell_task, [tasks[k] for k in order], on_done=bar)
+    results = [None] * len(tasks)
+    for k, r in zip(order, done, strict=True):
+        results[k] = r
+    cells = pd.DataFrame(results)
+    atomic_write_text(run_dir / "cells.csv", cells.to_csv(index=False))
+    chosen = select_default(cells)
+    default = {k: getattr(DEFAULT, k) for k in DEFAULT_GRID}
+    agrees = all(default[k] == chosen[k] for k in DEFAULT_GRID)
+    metrics = {"skills": names, "scene": scene, "trial_seeds": [seeds[0], seeds[-1]],
+               "grid": {k: list(v) for k, v in values.items()}, "cells": len(combos),
+               "selected": chosen, "config_default": default,
+               "default_is_selected": agrees, "wall_s": time.perf_counter() - t0}
+    write_json(run_dir / "metrics.json", metrics)
+    _plot(cells, chosen, run_dir / "parametrization.png")
+    lines = [f"# Parametrization study ({', '.join(names)}; {scene})", "",
+             f"{len(combos)} cells x {trials} trials (seeds {seeds[0]}-{seeds[-1]}); "
+             f"{metrics['wall_s']:.0f} s.", "",
+             "Selected (highest mean success, then fewest movements per action, then "
+             f"smallest table, then coarsest grid): {chosen}.",
+             f"The configuration default (a2l.lfd.config.DEFAULT) is {default}: "
+             + ("the same." if agrees else "**different**: it was not selected by this run."),
+             "", "![success over bins](parametrization.png)", "",
+             "| skill | resolution (cm) | step (cm) | orient | dist | smoothing | success | "
+             "movements/action | rows | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in cells.sort_values(["skill", "success_rate"], ascending=[True, False]).itertuples():
+        lines.append(f"| {r.skill} | {r.resolution * 100:g} | {r.step * 100:g} | "
+                     f"{r.n_orient} | {r.n_dist} | {'on' if r.smoothing else 'off'} | "
+                     f"{r.success_rate:.2f} | {r.movements_per_action:.1f} | {r.rows} | "
+                     f"{r.failures or '-'} |")
+    atomic_write_text(run_dir / "report.md", "\n".join(lines) + "\n")
+    if not quiet:
+        print("\n".join(lines[:6]))
+        print(f"results in {run_dir}/ (report.md, metrics.json, cells.csv, "
+              "parametrization.png)")
+    return metrics
+
+
+def _floats(text: str, what: str) -> tuple[float, ...]:
+    from a2l.cli import UsageError
+
+    try:
+        vals = tuple(float(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise UsageError(what, f"expected comma-separated numbers, got {text!r}") from None
+    if not vals or any(not v > 0 for v in vals):
+        raise UsageError(what, f"expected positive numbers, got {text!r}")
+    return vals
+
+
+def _ints(text: str, what: str) -> tuple[int, ...]:
+    from a2l.cli import UsageError
+
+    vals = _floats(text, what)
+    if any(v != int(v) for v in vals):
+        raise UsageError(what, f"expected integers, got {text!r}")
+    return tuple(int(v) for v in vals)
+
+
+def _cmd(args: argparse.Namespace) -> int:
+    from a2l.cli import UsageError
+
+    grid: dict[str, Sequence[Any]] = {}
+    if args.resolutions:
+        grid["resolution"] = _floats(args.resolutions, "--resolutions")
+    if args.steps:
+        grid["step"] = _floats(args.steps, "--steps")
+    if args.orients:
+        grid["n_orient"] = _ints(args.orients, "--orients")
+    if args.dists:
+        grid["n_dist"] = _ints(args.dists, "--dists")
+    if args.smoothing:
+        sm = [s.strip() for s in args.smoothing.split(",") if s.strip()]
+        if not sm or any(s not in ("on", "off") for s in sm):
+            raise UsageError("--smoothing", f"expected on and/or off, got {args.smoothing!r}")
+        grid["smoothing"] = tuple(s == "on" for s in sm)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
+        if v < 1:
+            raise UsageError(opt, f"must be >= 1, got {v}")
+    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
+    try:
+        run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
+                            args.workers, quiet=args.quiet)
+    except ValueError as exc:
+        raise UsageError("--skills", str(exc)) from None
+    return 0
+
+
+def add_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment parametrization``."""
+    p = exps.add_parser(
+        "parametrization", help="grid x step x bins x smoothing study of demonstrated skills",
+        description="For each cell of grid resolution x movement step x orientation bins x "
+        "distance bins x smoothing, learn the skill from its demonstrations and run it from "
+        "tuning seeds; write the table, the selected default, report.md and a plot. Values "
+        "are comma-separated lists (defaults: the full study).")
+    p.add_argument("--out", required=True, help="run directory")
+    p.add_argument("--skills", default=None,
+                   help="comma-separated skills (default: push_right, and grasp if registered)")
+    p.add_argument("--resolutions", default=None, help="grid spacings in m (0.005,0.01,0.02)")
+    p.add_argument("--steps", default=None, help="movement steps in m (0.02,0.03,0.05)")
+    p.add_argument("--orients", default=None, help="orientation bins (8,16,24,32)")
+    p.add_argument("--dists", default=None, help="distance bins (3,4,5)")
+    p.add_argument("--smoothing", default=None, help="off,on (default both)")
+    p.add_argument("--trials", type=int, default=20, help="trials per cell (default 20)")
+    p.add_argument("--seed", type=int, default=500, help="first trial seed (default 500)")
+    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd)

@@ -1,0 +1,269 @@
+"""``a2l experiment perturbations``: demonstrated skills under perturbations (issue 11, part 5).
+
+Every skill of :data:`a2l.lfd.library.SKILLS` is demonstrated (demonstration seeds
+``0 .. n_demos - 1``), learned (:func:`a2l.lfd.library.learn_recipe`) and run in closed loop
+on Baxter in PyBullet from held-out trial seeds (default ``5000 .. 5049``: no demonstration,
+no tuning and no other experiment used them), under four conditions:
+
+- ``none``: no perturbation;
+- ``move_object``: mid-action, the object is teleported 3-5 cm in a random direction on the
+  table;
+- ``hold``: mid-action, the end-effector is held for 1-2 s: the skill goes on commanding
+  movements, the arm does not move (:meth:`a2l.sim.Scene.perturb` ``"hold"``, one movement's
+  time per commanded movement);
+- ``toggle_light``: mid-action, the light is switched. A skill that does not depend on the
+  light must do exactly what it did without the toggle; the light-dependent grasp must do
+  what its demonstration under the new state did (grasp with the light off, move away and
+  wait with it on).
+
+Each condition runs twice: the context skill (the compiled table, ``mode="table"``) and the
+DS alone (``mode="ds"``). A trial task is one (skill, mode, seed): it runs ``none`` first;
+the perturbed runs replay it (same seed, same start: the runs are identical up to the
+perturbation, which the task checks) and perturb after movement ``m``, ``m`` drawn from the
+trial's seed between one and two thirds of the unperturbed run's movements. Every
+perturbation draw comes from ``(seed, condition)`` only, so results do not depend on the
+workers (one, two or a Dask cluster give the same metrics). The trial itself:
+:mod:`a2l.experiments.perturbation_trials`.
+
+Scenes: a skill runs in its recipe's scene if that scene has a light, else in the scene
+with the same object and a lamp (``push`` -> ``press``: the box and a button with its lamp;
+``grasp`` -> ``grasp_light``), so the toggle really switches a light; every condition of a
+skill uses the same scene. Context from the ground truth (as :func:`make_skill_scene`).
+
+Effect tests: the recipe's, except ``pressed`` (counted from the button's presses, since the
+toggle itself switches the light) and the light-dependent skill (the test of the effect its
+demonstrations produced under the light state now seen).
+
+Output: ``skills/*.a2lb``, ``config.json``, ``trials.csv`` (one row per run),
+``trajectories.npz``, ``metrics.json`` (``skills -> skill -> condition -> {context, ds,
+mean_steps, ...}``), ``report.md`` and one plot per skill and condition
+(:mod:`a2l.experiments.perturbation_report`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import os
+import shlex
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from a2l.experiments.perturbation_trials import (
+    CONDITIONS,
+    HOLD_RANGE,
+    MODES,
+    MOVE_RANGE,
+    WINDOW,
+    Perturbation,
+    draw_perturbation,
+    skill_scene,
+    trial_task,
+)
+from a2l.lfd.config import LfDConfig
+
+__all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
+           "add_parser", "demonstration_seeds", "draw_perturbation", "run_perturbations",
+           "skill_cfg", "trial_task"]
+
+#: First trial seed by default (held out: demonstrations use 0 .. n_demos - 1,
+#: ``a2l experiment lfd-skills`` 1000 ...).
+DEFAULT_SEED = 5000
+
+
+def _learn(job: tuple[str, str, dict[str, Any]]) -> dict[str, Any]:
+    from a2l.lfd.library import learn_recipe
+
+    name, out_dir, cfg = job
+    t0 = time.perf_counter()
+    learned = learn_recipe(name, out_dir, LfDConfig(**cfg))
+    return {"skill": name, "bundle": str(learned.bundle), "rows": int(learned.rows),
+            "seconds": time.perf_counter() - t0}
+
+
+def skill_cfg(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
+    """The configuration skill `name` is learned and run with: `cfg`, else the recipe's
+    own (``SkillRecipe.config``), else :data:`a2l.lfd.config.DEFAULT`."""
+    from a2l.lfd.library import skill_config
+
+    return skill_config(name, cfg)
+
+
+def demonstration_seeds(cfgs: dict[str, LfDConfig]) -> list[int]:
+    """``[0, last]``: the seeds the demonstrations may use (a skill with two behaviours
+    demonstrates each ``n_demos`` times: ``2 n_demos`` seeds, counted for every skill)."""
+    return [0, 2 * max(c.n_demos for c in cfgs.values()) - 1]
+
+
+def _check(skills: Sequence[str], conditions: Sequence[str], trials: int, seed: int,
+           workers: int, cfg: LfDConfig | None) -> None:
+    """Raise ValueError naming the first bad argument."""
+    from a2l.lfd.library import SKILLS
+
+    unknown = [s for s in skills if s not in SKILLS]
+    if unknown or not skills:
+        raise ValueError(f"--skills: unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+    bad = [c for c in conditions if c not in CONDITIONS]
+    if bad or not conditions:
+        raise ValueError(f"--conditions: unknown condition(s) {bad}; known: {list(CONDITIONS)}")
+    if trials < 1:
+        raise ValueError(f"--trials: must be >= 1, got {trials}")
+    if workers < 1:
+        raise ValueError(f"--workers: must be >= 1, got {workers}")
+    last = demonstration_seeds({n: skill_cfg(n, cfg) for n in skills})[1]
+    if seed <= last:
+        raise ValueError(f"--seed: trial seeds {seed}.. overlap the demonstration seeds "
+                         f"0..{last}; use a seed > {last} (default {DEFAULT_SEED})")
+
+
+def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
+                      trials: int = 50, seed: int = DEFAULT_SEED, workers: int = 1,
+                      cluster: str | None = None, conditions: Sequence[str] = CONDITIONS,
+                      cfg: LfDConfig | None = None, bundles: dict[str, str] | None = None,
+                      quiet: bool = False, plots: bool = True,
+                      command: str | None = None) -> dict[str, Any]:
+    """Learn the skills, run every trial under every condition and write the run directory.
+
+    Parameters
+    ----------
+    out : path
+        Run directory.
+    skills : sequence of str, optional
+        Default: every skill of :data:`a2l.lfd.library.SKILLS`.
+    trials : int
+        Trials (seeds ``seed .. seed + trials - 1``) per skill, condition and mode.
+    seed : int
+        First trial seed (above the demonstration seeds, :func:`demonstration_seeds`).
+    workers, cluster
+        Where trials run (:class:`a2l.parallel.Executor`).
+    conditions : sequence of str
+        Subset of :data:`CONDITIONS`.
+    cfg : LfDConfig, optional
+        The pipeline's configuration for every skill (default: each skill's own,
+        :func:`skill_cfg`).
+    bundles : dict of str to path, optional
+        Already learned bundles (skill -> path): not learned again.
+    quiet, plots : bool
+        No progress bar / no figures.
+    command : str, optional
+        The command line recorded in the report.
+
+    Returns
+    -------
+    dict
+        The content of ``metrics.json``.
+    """
+    from a2l.experiments.lfd_skills import progress_bar
+    from a2l.experiments.perturbation_report import summarise, write_report
+    from a2l.experiments.rundir import (
+        atomic_write_bytes,
+        atomic_write_text,
+        make_run_dir,
+        write_json,
+    )
+    from a2l.lfd.library import SKILLS
+    from a2l.parallel import Executor
+
+    names = list(skills) if skills else list(SKILLS)
+    conds = [c for c in CONDITIONS if c in conditions] if conditions else []
+    _check(names, list(conditions), trials, seed, workers, cfg)
+    cfgs = {n: skill_cfg(n, cfg) for n in names}
+    out_path = Path(out)
+    if out_path.exists() and not out_path.is_dir():
+        raise ValueError(f"--out: '{out_path}' exists and is not a directory")
+    run_dir = make_run_dir("perturbations", out_path)
+    seeds = list(range(seed, seed + trials))
+    scenes = {n: skill_scene(SKILLS[n]) for n in names}
+    command = command or shlex.join(
+        ["a2l", "experiment", "perturbations", "--out", str(run_dir), "--skills",
+         ",".join(names), "--trials", str(trials), "--seed", str(seed), "--workers",
+         str(workers)] + (["--cluster", cluster] if cluster else [])
+        + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)]))
+    config = {"experiment": "perturbations", "skills": names, "conditions": conds,
+              "modes": list(MODES), "trial_seeds": [seeds[0], seeds[-1]],
+              "demonstration_seeds": demonstration_seeds(cfgs), "scenes": scenes,
+              "window": list(WINDOW), "move_m": list(MOVE_RANGE), "hold_s": list(HOLD_RANGE),
+              "lfd": {n: c.to_json() for n, c in cfgs.items()}, "workers": workers,
+              "cluster": cluster, "command": command}
+    write_json(run_dir / "config.json", config)
+    t0 = time.perf_counter()
+    with Executor(workers, cluster) as ex:
+        todo = [n for n in names if not bundles or n not in bundles]
+        learned = ex.map(_learn, [(n, str(run_dir / "skills"), cfgs[n].to_json())
+                                for n in todo])
+        learning = {r["skill"]: r for r in learned}
+        paths = {**{n: str(b) for n, b in (bundles or {}).items() if n in names},
+                 **{r["skill"]: r["bundle"] for r in learned}}
+        tasks = [{"skill": n, "bundle": paths[n], "mode": m, "seed": s, "scene": scenes[n],
+                  "conditions": conds, "cfg": cfgs[n].to_json()}
+                 for n in names for m in MODES for s in seeds]
+        with progress_bar("perturbation trials", len(tasks), quiet) as bar:
+            results = ex.map(trial_task, tasks, on_done=bar)
+    rows = [r for chunk in results for r in chunk]
+    wall = time.perf_counter() - t0
+    trajectories = {f"{r['skill']}/{r['condition']}/{r['mode']}/{r['seed']}/{k}": r.pop(k)
+                    for r in rows for k in ("eef", "obj")}
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **trajectories)
+    atomic_write_bytes(run_dir / "trajectories.npz", buf.getvalue())
+    frame = pd.DataFrame(rows)
+    atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
+    metrics = {"experiment": "perturbations", "trial_seeds": config["trial_seeds"],
+               "demonstration_seeds": config["demonstration_seeds"], "scenes": scenes,
+               "skills": summarise(frame), "learning": learning, "wall_s": wall,
+               "workers": workers}
+    write_json(run_dir / "metrics.json", metrics)
+    text = write_report(run_dir, metrics, config, frame, trajectories, plots=plots)
+    if not quiet:
+        print(text)
+        print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, plots)")
+    return metrics
+
+
+def _cmd(args: argparse.Namespace) -> int:
+    from a2l.cli import UsageError
+
+    def split(s: str | None) -> list[str] | None:
+        return [x.strip() for x in s.split(",") if x.strip()] if s else None
+
+    try:
+        run_perturbations(args.out, split(args.skills), args.trials, args.seed, args.workers,
+                          args.cluster, split(args.conditions) or CONDITIONS,
+                          quiet=args.quiet, plots=not args.no_plots)
+    except ValueError as exc:
+        arg, _, msg = str(exc).partition(": ")
+        if not arg.startswith("--"):
+            raise
+        raise UsageError(arg, msg) from None
+    return 0
+
+
+def add_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment perturbations``."""
+    p = exps.add_parser(
+        "perturbations", help="demonstrated skills under perturbations: context skill vs DS",
+        description="Learn each demonstrated skill, then run it on held-out trial seeds "
+        "without perturbation and with the object moved 3-5 cm, the end-effector held 1-2 s "
+        "and the light switched mid-action, each as the context skill (table) and as the DS "
+        "alone; write metrics.json, trials.csv, report.md and trajectory plots.")
+    p.add_argument("--out", required=True, help="run directory")
+    p.add_argument("--skills", default=None,
+                   help="comma-separated skill names (default: every registered skill)")
+    p.add_argument("--conditions", default=None,
+                   help=f"comma-separated subset of {','.join(CONDITIONS)} (default: all)")
+    p.add_argument("--trials", type=int, default=50,
+                   help="trials per skill, condition and mode (default 50)")
+    p.add_argument("--seed", type=int, default=DEFAULT_SEED,
+                   help=f"first trial seed (default {DEFAULT_SEED}; held out from the "
+                   "demonstration seeds 0..n_demos-1)")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--cluster", default=None,
+                   help="address of a Dask scheduler (tcp://host:8786); overrides --workers")
+    p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
+    p.set_defaults(func=_cmd)
