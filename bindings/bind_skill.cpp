@@ -63,6 +63,7 @@ py::dict trace_dict(const TraceRecord& r) {
   d["movement"] = r.movement;
   d["probability"] = r.probability;
   d["status"] = r.status;
+  d["phase"] = r.phase;
   return d;
 }
 
@@ -365,6 +366,7 @@ effect_produced : bool
       .def_readonly("movement", &TraceRecord::movement)
       .def_readonly("probability", &TraceRecord::probability)
       .def_readonly("status", &TraceRecord::status)
+      .def_readonly("phase", &TraceRecord::phase)
       .def("to_dict", &trace_dict);
 
   py::class_<StepOutput>(m, "StepOutput", "What step() returns.")

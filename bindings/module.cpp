@@ -10,6 +10,7 @@ void bind_skill(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_transit(py::module_& m);
 void bind_diffeo(py::module_& m);
+void bind_skill_ds(py::module_& m);
 void bind_bins(py::module_& m);
 // New areas: declare bind_<area> here and call it below (one line each).
 }  // namespace a2l::bindings
@@ -23,5 +24,6 @@ PYBIND11_MODULE(_core, m) {
   a2l::bindings::bind_scene(m);
   a2l::bindings::bind_transit(m);
   a2l::bindings::bind_diffeo(m);
+  a2l::bindings::bind_skill_ds(m);
   a2l::bindings::bind_bins(m);
 }

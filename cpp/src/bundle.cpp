@@ -34,156 +34,13 @@ namespace {
 
 using namespace bundle_detail;  // NOLINT: the loader's own helpers
 
-bool parse_robot(const json& m, RobotInfo& robot, Errors& e) {
-  const json* r = nullptr;
-  if (!get_member(m, "", "robot", r, e)) return false;
-  robot = RobotInfo{};
-  if (r->is_null()) return true;
-  if (!r->is_object())
-    return e.parse(std::string("robot: must be an object or null, got ") + type_name(*r));
-  robot.present = true;
-  return get_string(*r, "robot.", "name", robot.name, e) &&
-         get_string(*r, "robot.", "urdf_sha256", robot.urdf_sha256, e) &&
-         get_string(*r, "robot.", "base_link", robot.base_link, e) &&
-         get_string(*r, "robot.", "tip_link", robot.tip_link, e);
-}
-
-bool parse_variables(const json& m, std::vector<Variable>& vars, Errors& e) {
-  const json* arr = nullptr;
-  if (!get_array(m, "", "variables", arr, e)) return false;
-  if (arr->size() > static_cast<size_t>(kMaxVariables)) {
-    return e.parse("variables: " + std::to_string(arr->size()) + " variables, at most " +
-                   std::to_string(kMaxVariables) + " are supported");
-  }
-  for (size_t i = 0; i < arr->size(); ++i) {
-    const json& jv = (*arr)[i];
-    const std::string where = "variables[" + std::to_string(i) + "].";
-    if (!jv.is_object()) return e.parse(where.substr(0, where.size() - 1) + ": must be an object");
-    Variable v;
-    std::string kind;
-    if (!get_string(jv, where, "name", v.name, e) || !get_string(jv, where, "kind", kind, e)) {
-      return false;
-    }
-    if (!parse_variable_kind(kind, v.kind)) {
-      return e.parse(where + "kind: unknown kind '" + kind +
-                     "' (effect, distance, orientation, inclination, high_level)");
-    }
-    if (v.kind == VariableKind::effect || v.kind == VariableKind::high_level) {
-      const json* values = nullptr;
-      if (!get_array(jv, where, "values", values, e)) return false;
-      if (values->empty() || values->size() > static_cast<size_t>(kMaxBins)) {
-        return e.parse(where + "values: needs 1 to " + std::to_string(kMaxBins) + " values, got " +
-                       std::to_string(values->size()));
-      }
-      for (size_t k = 0; k < values->size(); ++k) {
-        std::string s;
-        if (!as_string((*values)[k], where + "values[" + std::to_string(k) + "]", s, e)) {
-          return false;
-        }
-        v.values.push_back(std::move(s));
-      }
-      v.n_bins = static_cast<int>(v.values.size());
-    } else {
-      std::int64_t n = 0;
-      if (!get_int(jv, where, "n_bins", 1, kMaxBins, n, e)) return false;
-      v.n_bins = static_cast<int>(n);
-    }
-    if (v.kind == VariableKind::distance) {
-      if (!get_number(jv, where, "low", v.low, e) || !get_number(jv, where, "high", v.high, e)) {
-        return false;
-      }
-      if (!(v.low < v.high)) return e.parse(where + "low/high: requires low < high");
-    }
-    vars.push_back(std::move(v));
-  }
-  return true;
-}
-
-bool parse_movements(const json& m, double& step, std::vector<Eigen::Vector3i>& dirs,
-                     std::vector<std::string>& labels, std::vector<MovementAction>& actions,
-                     Errors& e) {
-  const json* mv = nullptr;
-  if (!get_object(m, "", "movements", mv, e)) return false;
-  if (!get_number(*mv, "movements.", "step", step, e)) return false;
-  if (!(step > 0.0)) return e.parse("movements.step: must be > 0");
-  const json* d = nullptr;
-  if (!get_array(*mv, "movements.", "directions", d, e)) return false;
-  if (d->empty() || d->size() > static_cast<size_t>(kMaxMoves)) {
-    return e.parse("movements.directions: needs 1 to " + std::to_string(kMaxMoves) +
-                   " movements, got " + std::to_string(d->size()));
-  }
-  for (size_t i = 0; i < d->size(); ++i) {
-    const json& row = (*d)[i];
-    const std::string field = "movements.directions[" + std::to_string(i) + "]";
-    if (!row.is_array() || row.size() != 3) return e.parse(field + ": must be an array of 3 signs");
-    Eigen::Vector3i v;
-    for (int k = 0; k < 3; ++k) {
-      std::int64_t x = 0;
-      if (!as_int(row[static_cast<size_t>(k)], field + "[" + std::to_string(k) + "]", -1, 1, x,
-                  e)) {
-        return false;
-      }
-      v[k] = static_cast<int>(x);
-    }
-    if (v.isZero()) return e.parse(field + ": all zero (not a movement)");
-    dirs.push_back(v);
-  }
-  const json* l = nullptr;
-  if (!get_array(*mv, "movements.", "labels", l, e)) return false;
-  if (l->size() != d->size()) {
-    return e.parse("movements.labels: " + std::to_string(l->size()) + " labels for " +
-                   std::to_string(d->size()) + " directions");
-  }
-  for (size_t i = 0; i < l->size(); ++i) {
-    std::string s;
-    if (!as_string((*l)[i], "movements.labels[" + std::to_string(i) + "]", s, e)) return false;
-    labels.push_back(std::move(s));
-  }
-  const json* a = nullptr;
-  if (!get_array(*mv, "movements.", "actions", a, e)) return false;
-  if (a->size() + d->size() > static_cast<size_t>(kMaxMoves)) {
-    return e.parse("movements.actions: " + std::to_string(a->size()) + " actions and " +
-                   std::to_string(d->size()) + " directions, at most " + std::to_string(kMaxMoves) +
-                   " movements");
-  }
-  for (size_t i = 0; i < a->size(); ++i) {
-    const std::string field = "movements.actions[" + std::to_string(i) + "]";
-    std::string s;
-    if (!as_string((*a)[i], field, s, e)) return false;
-    MovementAction act = MovementAction::none;
-    if (!parse_movement_action(s, act)) {
-      return e.parse(field + ": unknown action '" + s + "' (open, close, stay)");
-    }
-    for (size_t k = 0; k < actions.size(); ++k) {
-      if (actions[k] == act) {
-        return e.parse(field + ": '" + s + "' repeats movements.actions[" + std::to_string(k) +
-                       "]");
-      }
-    }
-    actions.push_back(act);
-  }
-  return true;
-}
-
-bool parse_execution(const json& m, SkillSettings& s, Errors& e) {
-  const json* x = nullptr;
-  if (!get_object(m, "", "execution", x, e)) return false;
-  std::int64_t cap = 0;
-  if (!get_int(*x, "execution.", "step_cap", 1, 1000000, cap, e)) return false;
-  s.step_cap = static_cast<int>(cap);
-  if (!get_bool(*x, "execution.", "smoothing", s.smoothing, e)) return false;
-  if (!get_number(*x, "execution.", "uniform_tolerance", s.uniform_tolerance, e)) return false;
-  if (s.uniform_tolerance < 0.0) return e.parse("execution.uniform_tolerance: must be >= 0");
-  return true;
-}
-
 // The skill of a validated bundle's arrays, checked for consistency (into `out` if not null).
 Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const ArrayEntry& amax,
                    std::string name, std::vector<Variable> vars,
                    const std::vector<std::int64_t>& shape, double step,
                    std::vector<Eigen::Vector3i> dirs, std::vector<std::string> labels,
                    std::vector<MovementAction> actions, const SkillSettings& settings,
-                   RobotInfo robot, Skill* out) {
+                   RobotInfo robot, DSPhaseSet phases, Skill* out) {
   std::vector<double> posterior(post.nbytes / 8);
   std::vector<std::int32_t> argmax(amax.nbytes / 4);
   if (!posterior.empty()) std::memcpy(posterior.data(), blob + post.offset, post.nbytes);
@@ -234,7 +91,7 @@ Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const Array
   if (!r.ok()) return Result::failure(Status::parse_error, r.message);
   Skill skill;
   r = Skill::create(std::move(name), std::move(disc), std::move(table), std::move(moves), settings,
-                    std::move(robot), skill);
+                    std::move(robot), skill, std::move(phases));
   if (!r.ok()) return Result::failure(Status::parse_error, r.message);
   if (out != nullptr) *out = std::move(skill);
   return Result::success();
@@ -350,6 +207,12 @@ Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::st
     return fail(Status::parse_error, "ds: missing (this bundle holds no DS)");
   }
   if (has_ds && !parse_ds_section(m, *arrays, room, maps, entries, e)) return err();
+  DSPhaseSet phases;
+  std::vector<DiffeoMaps> phase_maps;
+  const bool has_phases = m.contains("ds_phases");
+  if (has_phases && !parse_ds_phases(m, *arrays, room, phases, phase_maps, entries, e)) {
+    return err();
+  }
   for (const ArrayEntry& a : entries) {
     if (a.offset > room || a.nbytes > room - a.offset) {
       return fail(Status::parse_error, "arrays." + a.name + ": bytes [" + std::to_string(a.offset) +
@@ -383,10 +246,11 @@ Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::st
     }
   }
   if (has_ds && !read_ds_arrays(data + blob, entries, maps, e)) return err();
+  if (has_phases && !read_ds_phases(data + blob, entries, phase_maps, phases, e)) return err();
   if (is_skill) {
     Result r = build_skill(data + blob, entries[0], entries[1], std::move(name), std::move(vars),
                            shape, step, std::move(dirs), std::move(labels), std::move(actions),
-                           settings, std::move(robot), skill);
+                           settings, std::move(robot), std::move(phases), skill);
     if (!r.ok()) return fail(Status::parse_error, r.message);
   }
   if (ds != nullptr) *ds = std::move(maps);

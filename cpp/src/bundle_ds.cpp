@@ -7,40 +7,42 @@
 
 namespace a2l {
 
-bool bundle_detail::parse_ds_section(const json& m, const json& arrays, std::uint64_t room,
-                                     DiffeoMaps& maps, std::vector<ArrayEntry>& entries,
-                                     Errors& e) {
-  const json* ds = nullptr;
-  if (!get_object(m, "", "ds", ds, e)) return false;
+bool bundle_detail::parse_ds_object(const json& ds, const std::string& where, const json& arrays,
+                                    const std::string& prefix, std::uint64_t room, DiffeoMaps& maps,
+                                    std::vector<ArrayEntry>& entries, Errors& e) {
   std::int64_t dim = 0, k = 0;
-  if (!get_int(*ds, "ds.", "dim", 2, 3, dim, e) ||
-      !get_int(*ds, "ds.", "n_maps", 0, kDiffeoMaxMaps, k, e)) {
+  if (!get_int(ds, where, "dim", 2, 3, dim, e) ||
+      !get_int(ds, where, "n_maps", 0, kDiffeoMaxMaps, k, e)) {
     return false;
   }
   maps = DiffeoMaps{};
   maps.dim = static_cast<int>(dim);
-  if (!get_number(*ds, "ds.", "speed", maps.speed, e)) return false;
-  if (!(maps.speed > 0.0)) return e.parse("ds.speed: must be > 0");
+  if (!get_number(ds, where, "speed", maps.speed, e)) return false;
+  if (!(maps.speed > 0.0)) return e.parse(where + "speed: must be > 0");
   const json* target = nullptr;
-  if (!get_array(*ds, "ds.", "target", target, e)) return false;
+  if (!get_array(ds, where, "target", target, e)) return false;
   if (target->size() != static_cast<std::size_t>(dim)) {
-    return e.parse("ds.target: has " + std::to_string(target->size()) + " coordinates, ds.dim is " +
-                   std::to_string(dim));
+    return e.parse(where + "target: has " + std::to_string(target->size()) + " coordinates, " +
+                   where + "dim is " + std::to_string(dim));
   }
   for (std::size_t j = 0; j < target->size(); ++j) {
     const json& t = (*target)[j];
-    const std::string field = "ds.target[" + std::to_string(j) + "]";
+    const std::string field = where + "target[" + std::to_string(j) + "]";
     if (!t.is_number()) return e.parse(field + ": must be a number, got " + type_name(t));
     const double x = t.get<double>();
     if (!std::isfinite(x)) return e.parse(field + ": must be finite");
     maps.target.push_back(x);
   }
-  const char* given_by = "ds.n_maps and ds.dim";
+  const std::string given_by = where + "n_maps and " + where + "dim";
   const std::vector<std::int64_t> kd = {k, dim}, kk = {k};
+  const std::string nc = prefix + "centers", nv = prefix + "vectors", nr = prefix + "rhos";
   ArrayEntry c, v, r;
-  if (!parse_array(arrays, "ds_centers", "float64", 8, kd, room, c, e, given_by, kDiffeoMaxMaps) ||
-      !parse_array(arrays, "ds_vectors", "float64", 8, kd, room, v, e, given_by, kDiffeoMaxMaps) ||
-      !parse_array(arrays, "ds_rhos", "float64", 8, kk, room, r, e, given_by, kDiffeoMaxMaps)) {
+  if (!parse_array(arrays, nc.c_str(), "float64", 8, kd, room, c, e, given_by.c_str(),
+                   kDiffeoMaxMaps) ||
+      !parse_array(arrays, nv.c_str(), "float64", 8, kd, room, v, e, given_by.c_str(),
+                   kDiffeoMaxMaps) ||
+      !parse_array(arrays, nr.c_str(), "float64", 8, kk, room, r, e, given_by.c_str(),
+                   kDiffeoMaxMaps)) {
     return false;
   }
   entries.push_back(c);
@@ -49,21 +51,35 @@ bool bundle_detail::parse_ds_section(const json& m, const json& arrays, std::uin
   return true;
 }
 
-bool bundle_detail::read_ds_arrays(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries,
-                                   DiffeoMaps& maps, Errors& e) {
+bool bundle_detail::parse_ds_section(const json& m, const json& arrays, std::uint64_t room,
+                                     DiffeoMaps& maps, std::vector<ArrayEntry>& entries,
+                                     Errors& e) {
+  const json* ds = nullptr;
+  if (!get_object(m, "", "ds", ds, e)) return false;
+  return parse_ds_object(*ds, "ds.", arrays, "ds_", room, maps, entries, e);
+}
+
+bool bundle_detail::read_ds_maps(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries,
+                                 const std::string& prefix, const std::string& where,
+                                 DiffeoMaps& maps, Errors& e) {
   for (const ArrayEntry& a : entries) {
-    std::vector<double>* dst = a.name == "ds_centers"   ? &maps.centers
-                               : a.name == "ds_vectors" ? &maps.vectors
-                               : a.name == "ds_rhos"    ? &maps.rhos
-                                                        : nullptr;
+    std::vector<double>* dst = a.name == prefix + "centers"   ? &maps.centers
+                               : a.name == prefix + "vectors" ? &maps.vectors
+                               : a.name == prefix + "rhos"    ? &maps.rhos
+                                                              : nullptr;
     if (dst == nullptr) continue;
     dst->resize(a.nbytes / 8);
     if (a.nbytes > 0) std::memcpy(dst->data(), blob + a.offset, a.nbytes);
   }
   // the validator names the first bad map ("map 7: rho * ||v|| = ... >= sqrt(e/2)")
   const Result r = validate_diffeo_maps(maps);
-  if (!r.ok()) return e.parse("ds: " + r.message);
+  if (!r.ok()) return e.parse(where + r.message);
   return true;
+}
+
+bool bundle_detail::read_ds_arrays(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries,
+                                   DiffeoMaps& maps, Errors& e) {
+  return read_ds_maps(blob, entries, "ds_", "ds: ", maps, e);
 }
 
 Result load_ds_bundle_from_memory(const std::uint8_t* data, std::size_t size, DiffeoMaps& out,

@@ -185,6 +185,40 @@ inline bool parse_array(const json& arrays, const char* name, const char* dtype,
   return true;
 }
 
+//! The robot entry of manifest `m` (bundle_skill.cpp; every message names the field).
+bool parse_robot(const json& m, RobotInfo& robot, Errors& e);
+//! The evidence variables of manifest `m`, in axis order.
+bool parse_variables(const json& m, std::vector<Variable>& vars, Errors& e);
+//! The movement repertoire of manifest `m`: step, directions, labels and actions.
+bool parse_movements(const json& m, double& step, std::vector<Eigen::Vector3i>& dirs,
+                     std::vector<std::string>& labels, std::vector<MovementAction>& actions,
+                     Errors& e);
+//! The execution settings of manifest `m`.
+bool parse_execution(const json& m, SkillSettings& s, Errors& e);
+
+//! Parse a DS description object `ds` (dim, n_maps, speed, target; messages start with `where`,
+//! e.g. "ds.") and check its arrays `<prefix>centers`, `<prefix>vectors`, `<prefix>rhos`
+//! (appended to `entries`). `maps` gets dim, target and speed (bundle_ds.cpp).
+bool parse_ds_object(const json& ds, const std::string& where, const json& arrays,
+                     const std::string& prefix, std::uint64_t room, DiffeoMaps& maps,
+                     std::vector<ArrayEntry>& entries, Errors& e);
+
+//! Copy the arrays `<prefix>centers|vectors|rhos` of `entries` from the blob into `maps` and
+//! validate the maps (the message, after `where`, names the bad map's index).
+bool read_ds_maps(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries,
+                  const std::string& prefix, const std::string& where, DiffeoMaps& maps, Errors& e);
+
+//! Parse the optional "ds_phases" section of manifest `m` (bundle_phases.cpp): the states and
+//! the phases (name, when, end_action, tolerance, ds), each phase's DS arrays
+//! `ds_phase<i>_centers|vectors|rhos` appended to `entries`. Messages name the phase's index
+//! and field ("ds_phases.phases[1].tolerance: ...").
+bool parse_ds_phases(const json& m, const json& arrays, std::uint64_t room, DSPhaseSet& set,
+                     std::vector<DiffeoMaps>& maps, std::vector<ArrayEntry>& entries, Errors& e);
+
+//! Read the phases' DS arrays from the blob, validate them and build each phase's DiffeoDS<3>.
+bool read_ds_phases(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries,
+                    std::vector<DiffeoMaps>& maps, DSPhaseSet& set, Errors& e);
+
 //! Parse the optional "ds" section of manifest `m` (bundle_ds.cpp): ds.dim, ds.n_maps,
 //! ds.target, ds.speed and the arrays ds_centers, ds_vectors, ds_rhos (appended to `entries`;
 //! their bytes are read later by read_ds_arrays). `maps` gets dim, target and speed.

@@ -7,9 +7,44 @@
 
 namespace a2l {
 
+namespace {
+
+// The phases' checks of Skill::create (see there).
+Result check_ds_phases(const DSPhaseSet& set) {
+  if (set.states.size() > static_cast<std::size_t>(kMaxVariables)) {
+    return Result::failure(Status::invalid_argument,
+                           "ds_phases.states: at most " + std::to_string(kMaxVariables) +
+                               " states, got " + std::to_string(set.states.size()));
+  }
+  if (set.phases.size() > static_cast<std::size_t>(kMaxDSPhases)) {
+    return Result::failure(Status::invalid_argument,
+                           "ds_phases.phases: at most " + std::to_string(kMaxDSPhases) +
+                               " phases, got " + std::to_string(set.phases.size()));
+  }
+  for (std::size_t p = 0; p < set.phases.size(); ++p) {
+    const DSPhase& ph = set.phases[p];
+    const std::string where = "ds_phases.phases[" + std::to_string(p) + "]";
+    if (!std::isfinite(ph.tolerance) || !(ph.tolerance > 0.0)) {
+      return Result::failure(Status::invalid_argument,
+                             where + ".tolerance: must be finite and > 0");
+    }
+    for (const DSCondition& c : ph.when) {
+      if (c.state < 0 || static_cast<std::size_t>(c.state) >= set.states.size() || c.value < 0 ||
+          static_cast<std::size_t>(c.value) >=
+              set.states[static_cast<std::size_t>(c.state)].values.size()) {
+        return Result::failure(Status::invalid_argument,
+                               where + ".when: a condition names an undeclared state or value");
+      }
+    }
+  }
+  return Result::success();
+}
+
+}  // namespace
+
 Result Skill::create(std::string name, Discretizer discretizer, PolicyTable table,
                      MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
-                     Skill& out) {
+                     Skill& out, DSPhaseSet ds_phases) {
   if (table.n_axes() != discretizer.n_variables()) {
     return Result::failure(Status::size_mismatch,
                            "skill: the table has " + std::to_string(table.n_axes()) +
@@ -39,12 +74,14 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
     return Result::failure(Status::invalid_argument,
                            "execution.uniform_tolerance: must be finite and >= 0");
   }
+  if (Result r = check_ds_phases(ds_phases); !r.ok()) return r;
   out.name_ = std::move(name);
   out.discretizer_ = std::move(discretizer);
   out.table_ = std::move(table);
   out.movements_ = std::move(movements);
   out.settings_ = settings;
   out.robot_ = std::move(robot);
+  out.ds_phases_ = std::move(ds_phases);
   return Result::success();
 }
 
@@ -98,6 +135,7 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   rec.movement = -1;
   rec.probability = 0.0;
   rec.n_variables = 0;
+  rec.phase = -1;
 
   auto finish = [&](Status s) noexcept {
     out.status = s;

@@ -136,4 +136,58 @@ inline std::vector<std::uint8_t> build(const BundleParts& p, const json& arrays_
   return out;
 }
 
+//! One array of a bundle before serialisation.
+struct Array {
+  std::string name, dtype;
+  std::vector<std::int64_t> shape;
+  std::vector<std::uint8_t> bytes;
+};
+
+//! An Array holding the bytes of `v`.
+template <typename T>
+inline Array array_of(const std::string& name, const char* dtype, std::vector<std::int64_t> shape,
+                      const std::vector<T>& v) {
+  Array a{name, dtype, std::move(shape), std::vector<std::uint8_t>(v.size() * sizeof(T))};
+  if (!v.empty()) std::memcpy(a.bytes.data(), v.data(), a.bytes.size());
+  return a;
+}
+
+// Serialise a manifest and arrays (offsets, nbytes and CRCs computed, then `patch` merged into
+// "arrays" so that tests can corrupt it).
+inline std::vector<std::uint8_t> serialise(json m, const std::vector<Array>& arrays,
+                                           const json& patch = json()) {
+  std::size_t off = 0;
+  m["arrays"] = json::object();
+  for (const Array& a : arrays) {
+    off = (off + 7) / 8 * 8;
+    m["arrays"][a.name] = {{"dtype", a.dtype},
+                           {"shape", a.shape},
+                           {"offset", off},
+                           {"nbytes", a.bytes.size()},
+                           {"crc32", bundle_crc32(a.bytes.data(), a.bytes.size())}};
+    off += a.bytes.size();
+  }
+  if (!patch.is_null()) m["arrays"].merge_patch(patch);
+  const std::string text = m.dump();
+  std::vector<std::uint8_t> out(24, 0);
+  std::memcpy(out.data(), kBundleMagic, 8);
+  auto put = [&](std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
+  };
+  put(8, kBundleSchemaVersion);
+  put(12, static_cast<std::uint32_t>(text.size()));
+  put(16, bundle_crc32(text.data(), text.size()));
+  out.insert(out.end(), text.begin(), text.end());
+  out.resize((out.size() + 7) / 8 * 8, 0);
+  const std::size_t blob = out.size();
+  off = 0;
+  for (const Array& a : arrays) {
+    off = (off + 7) / 8 * 8;
+    out.resize(blob + off, 0);
+    out.insert(out.end(), a.bytes.begin(), a.bytes.end());
+    off += a.bytes.size();
+  }
+  return out;
+}
+
 }  // namespace a2l::testing

@@ -19,7 +19,10 @@ namespace {
 
 using a2l::DiffeoMaps;
 using a2l::Status;
+using a2l::testing::Array;
+using a2l::testing::array_of;
 using a2l::testing::json;
+using a2l::testing::serialise;
 
 // The DS part of a bundle before serialisation.
 struct DsParts {
@@ -47,58 +50,6 @@ DsParts sample_ds(int d = 2, int k = 12, std::uint64_t seed = 5) {
   p.kd = {k, d};
   p.k = {k};
   return p;
-}
-
-struct Array {
-  std::string name, dtype;
-  std::vector<std::int64_t> shape;
-  std::vector<std::uint8_t> bytes;
-};
-
-template <typename T>
-Array array_of(const std::string& name, const char* dtype, std::vector<std::int64_t> shape,
-               const std::vector<T>& v) {
-  Array a{name, dtype, std::move(shape), std::vector<std::uint8_t>(v.size() * sizeof(T))};
-  if (!v.empty()) std::memcpy(a.bytes.data(), v.data(), a.bytes.size());
-  return a;
-}
-
-// Serialise a manifest and arrays (offsets, nbytes and CRCs computed, then `patch` merged into
-// "arrays" so that tests can corrupt it).
-std::vector<std::uint8_t> serialise(json m, const std::vector<Array>& arrays,
-                                    const json& patch = json()) {
-  std::size_t off = 0;
-  m["arrays"] = json::object();
-  for (const Array& a : arrays) {
-    off = (off + 7) / 8 * 8;
-    m["arrays"][a.name] = {{"dtype", a.dtype},
-                           {"shape", a.shape},
-                           {"offset", off},
-                           {"nbytes", a.bytes.size()},
-                           {"crc32", a2l::bundle_crc32(a.bytes.data(), a.bytes.size())}};
-    off += a.bytes.size();
-  }
-  if (!patch.is_null()) m["arrays"].merge_patch(patch);
-  const std::string text = m.dump();
-  std::vector<std::uint8_t> out(24, 0);
-  std::memcpy(out.data(), a2l::kBundleMagic, 8);
-  auto put = [&](std::size_t at, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) out[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
-  };
-  put(8, a2l::kBundleSchemaVersion);
-  put(12, static_cast<std::uint32_t>(text.size()));
-  put(16, a2l::bundle_crc32(text.data(), text.size()));
-  out.insert(out.end(), text.begin(), text.end());
-  out.resize((out.size() + 7) / 8 * 8, 0);
-  const std::size_t blob = out.size();
-  off = 0;
-  for (const Array& a : arrays) {
-    off = (off + 7) / 8 * 8;
-    out.resize(blob + off, 0);
-    out.insert(out.end(), a.bytes.begin(), a.bytes.end());
-    off += a.bytes.size();
-  }
-  return out;
 }
 
 std::vector<Array> ds_arrays(const DsParts& p) {

@@ -6,7 +6,7 @@
 // the bytes do load, the skill must be consistent: step() on contexts derived from the input
 // stays in bounds, and an action (open, close, stay) displaces nothing. The DS section is
 // loaded too (load_ds_bundle_from_memory): loaded maps must build a DiffeoDS, whose evaluation
-// on points derived from the input returns a status.
+// on points derived from the input returns a status; DS phases step within one movement.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -92,6 +92,16 @@ void exercise(const std::uint8_t* data, std::size_t size) {
     const a2l::Status s = a2l::step(skill, state, c, out);
     if (s == a2l::Status::ok && (out.movement < 0 || out.movement >= skill.n_moves())) {
       __builtin_trap();
+    }
+    if (!skill.ds_phases().empty()) {  // the DS phases: bounded steps, never a crash
+      a2l::DSStateValues values{};
+      for (std::size_t i = 0; i < values.size(); ++i) values[i] = (k + static_cast<int>(i)) % 3;
+      a2l::StepOutput o;
+      const a2l::Status sd = a2l::step_ds(skill, state, c.eef, c.object, values, o);
+      if (sd == a2l::Status::ok &&
+          !(o.displacement.norm() <= skill.movements().step() * 1.000001)) {
+        __builtin_trap();
+      }
     }
     // an action displaces nothing; a displacement is no action
     if (s == a2l::Status::ok &&

@@ -1,7 +1,7 @@
 """Write a few small valid bundles as the seed corpus of tests/fuzz/fuzz_bundle.cpp.
 
-Skill bundles (one with movement actions), DS-only bundles (d = 2 and d = 3) and a skill with a
-DS (the ``ds`` section).
+Skill bundles (one with movement actions, one with DS phases), DS-only bundles (d = 2 and
+d = 3) and a skill with a DS (the ``ds`` section).
 
 Usage: ``python tests/fuzz/make_seeds.py DIR``
 """
@@ -16,6 +16,7 @@ import numpy as np
 from a2l.atomic import atomic_write_bytes
 from a2l.skills import SkillSpec, VariableSpec, save_bundle
 from a2l.skills.bundle import DSArrays, bundle_bytes, save_ds_bundle
+from a2l.skills.phases import DSPhase
 
 _BOUND = float(np.sqrt(np.e / 2.0))
 
@@ -89,6 +90,12 @@ def main() -> None:
     gripper = VariableSpec("gripper", "high_level", 2, values=("open", "closed"))
     actions = ("open", "close", "stay")
     save_bundle(spec(8, [eff, dist, light, gripper], 6, False, actions), out / "seed8.a2lb")
+    phases = [
+        DSPhase("approach", ds(9, 3, 3), {"light": "off", "gripper": "open"}, "close", 0.01),
+        DSPhase("lift", ds(10, 3, 0), {"gripper": "closed"}, None, 0.02),
+        DSPhase("any", ds(11, 3, 2)),
+    ]
+    save_bundle(spec(9, [eff, light], 6, True, actions), out / "seed9.a2lb", ds_phases=phases)
 
 
 if __name__ == "__main__":

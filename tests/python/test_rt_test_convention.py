@@ -15,6 +15,7 @@ GUARD_PATTERN = "NoAlloc|AllocationCounter"
 #: Real-time entry points (their C++ spelling at a call site) -> what they are.
 REAL_TIME_CALLS = {
     "a2l::step(": "skill step (with and without smoothing)",
+    "a2l::step_ds(": "skill step of the DS phases",
     ".tick()": "executor control tick",
     ".set_target(": "executor target (each new movement of a control tick)",
     "scene.move(": "virtual scene move",

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "a2l/discretizer.hpp"
+#include "a2l/ds_phases.hpp"
 #include "a2l/movement_repertoire.hpp"
 #include "a2l/policy_table.hpp"
 #include "a2l/status.hpp"
@@ -37,19 +38,21 @@ struct SkillSettings {
   double uniform_tolerance = 1e-9;  //!< a row within this of uniform carries no information
 };
 
-//! A skill: discretizer, policy table and movement repertoire, loaded from a bundle.
-//! Immutable: every method is const and may be called from several threads at once.
+//! A skill: discretizer, policy table and movement repertoire, loaded from a bundle, and
+//! optionally its DS phases (run by step_ds()). Immutable: every method is const and may be
+//! called from several threads at once.
 class Skill {
  public:
   //! An empty skill; load one with load_bundle().
   Skill() = default;
 
   //! Assemble a skill from its parts, checking that they agree (table axes = variables'
-  //! bins, table movements = repertoire size).
+  //! bins, table movements = repertoire size; phase conditions name declared states and
+  //! values, at most kMaxDSPhases phases, tolerances finite and > 0).
   //! \return `size_mismatch` or `invalid_argument` naming the check, else `ok`.
   static Result create(std::string name, Discretizer discretizer, PolicyTable table,
                        MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
-                       Skill& out);
+                       Skill& out, DSPhaseSet ds_phases = {});
 
   //! True once loaded.
   bool loaded() const noexcept { return table_.n_moves() > 0; }
@@ -69,6 +72,8 @@ class Skill {
   int n_variables() const noexcept { return discretizer_.n_variables(); }
   //! Number of movements.
   int n_moves() const noexcept { return table_.n_moves(); }
+  //! The DS phases (empty if the bundle has none).
+  const DSPhaseSet& ds_phases() const noexcept { return ds_phases_; }
 
  private:
   std::string name_;
@@ -77,6 +82,7 @@ class Skill {
   MovementRepertoire movements_;
   SkillSettings settings_;
   RobotInfo robot_;
+  DSPhaseSet ds_phases_;
 };
 
 //! One step of a skill as the trace records it (METHOD.md: context bins, movement,
@@ -88,6 +94,7 @@ struct TraceRecord {
   int movement = -1;                               //!< chosen movement, -1 if none
   double probability = 0.0;                        //!< its (smoothed) probability, 0 if none
   Status status = Status::not_initialized;         //!< what the step returned
+  int phase = -1;  //!< the DS phase of a step_ds() call, -1 for a table step or none
 };
 
 //! What one step() returns.
@@ -119,10 +126,12 @@ class SkillState {
   //! (at least 1).
   explicit SkillState(const Skill& skill, std::size_t trace_capacity = 1024);
 
-  //! Start a new run: step counter to 0. Keeps the trace (see clear_trace()). No allocation.
+  //! Start a new run: step counter to 0, no DS end action emitted yet. Keeps the trace (see
+  //! clear_trace()). No allocation.
   void reset() noexcept {
     steps_ = 0;
     calls_ = 0;
+    ds_emitted_ = 0;
   }
   //! Movements taken since the last reset.
   int steps() const noexcept { return steps_; }
@@ -147,12 +156,15 @@ class SkillState {
 
  private:
   friend Status step(const Skill&, SkillState&, const Context&, StepOutput&) noexcept;
+  friend Status step_ds(const Skill&, SkillState&, const Eigen::Vector3d&, const Eigen::Vector3d&,
+                        const DSStateValues&, StepOutput&) noexcept;
   void push(const TraceRecord& r) noexcept;
 
   int n_variables_ = -1;
   int n_moves_ = 0;
   int steps_ = 0;
   std::int64_t calls_ = 0;
+  std::uint64_t ds_emitted_ = 0;  // bit p: phase p emitted its end action in this run
   std::array<int, kMaxVariables> bins_{};
   std::vector<double> average_;  // n_moves: smoothing's averaged posterior
   std::vector<int> votes_;       // n_moves: smoothing's argmax counts
@@ -178,5 +190,22 @@ class SkillState {
 //! \return the status, also in `out.status`. Allocates nothing, throws nothing.
 Status step(const Skill& skill, SkillState& state, const Context& context,
             StepOutput& out) noexcept;
+
+//! One step of the skill's DS phases (docs/bundle_format.md, `ds_phases`): the first phase
+//! whose conditions hold for `states` (value index per DS state variable, in
+//! `skill.ds_phases().states` order) applies; with x = eef - object and v its DS velocity at
+//! x, the displacement is step * v / |v|, capped at the distance |x - target| to the phase's
+//! target (`out.movement` -1, `out.record.phase` / `out.record.movement` -1). Within the
+//! phase's tolerance of its target it emits the phase's end action, once per run (status ok,
+//! `out.action` set, `out.movement` its index in the repertoire or -1, no displacement);
+//! then, or without an end action, it returns `converged`.
+//!
+//! Stops (no displacement) with `not_initialized` (no phase, or the state was not made for
+//! the skill), `step_cap` (the skill's step cap), `unknown_context` (a non-finite position,
+//! no phase matching `states`, or a DS evaluation failing), `converged`. Every call pushes
+//! one TraceRecord (its `phase` set, no bins). Allocates nothing, throws nothing.
+Status step_ds(const Skill& skill, SkillState& state, const Eigen::Vector3d& eef,
+               const Eigen::Vector3d& object, const DSStateValues& states,
+               StepOutput& out) noexcept;
 
 }  // namespace a2l

@@ -43,10 +43,11 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
     counts, Fisher's exact p-value between the two modes and whether it is below
     :data:`SIGNIFICANCE` (``differ``), stop statuses and failed seeds per mode, trials in
     which the perturbation was applied, and what was measured of the perturbation itself:
-    displacement span (m), hold span (s) and the arm's largest drift while held (m), light
-    flips; for ``toggle_light`` the fraction of runs identical to the unperturbed one
-    (``unchanged``) and, for a light-dependent skill, the fraction that did what the new
-    state's demonstration did (``state_behaviour``).
+    displacement span (m), hold span (s, drawn; ``held_s``: carried out, shorter when the
+    run ended during the hold), the arm's largest drift while held (m), light flips; for
+    ``toggle_light`` the fraction of runs on the unperturbed one's path (``unchanged``)
+    and, for a light-dependent skill, the fraction that did what the new state's
+    demonstration did (``state_behaviour``).
     """
     out: dict[str, dict[str, dict[str, Any]]] = {}
     for (skill, cond), g in trials.groupby(["skill", "condition"], sort=False):
@@ -73,8 +74,10 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
         if cond == "move_object":
             e["displacement_m"] = _span(applied.displacement_m)
         elif cond == "hold":
-            e["hold_s"] = _span(applied.hold_s)
+            e["hold_s"] = _span(applied.hold_planned_s)
+            e["held_s"] = _span(applied.hold_s)
             e["hold_drift_m"] = float(applied.hold_drift_m.max()) if len(applied) else None
+            e["ended_during_hold"] = int((applied.hold_s < applied.hold_planned_s - 1e-9).sum())
         elif cond == "toggle_light":
             e["light_flipped"] = int((applied.light_before != applied.light_after).sum())
             e["unchanged"] = {k: float(v.same_as_none.mean()) if len(v) else float("nan")
@@ -127,6 +130,8 @@ def _measured(cond: str, e: dict[str, Any]) -> str:
     if cond == "hold" and e.get("hold_s"):
         lo, hi = e["hold_s"]
         txt += f"; held {lo:.1f}-{hi:.1f} s, drift ≤ {e['hold_drift_m'] * 1000:.1f} mm"
+        if e["ended_during_hold"]:
+            txt += f" ({e['ended_during_hold']} runs done during the hold)"
     if cond == "toggle_light":
         txt += f"; flipped {e['light_flipped']}"
         if "state_behaviour" in e:

@@ -65,10 +65,11 @@ from a2l.experiments.perturbation_trials import (
     skill_scene,
     trial_task,
 )
-from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.lfd.config import LfDConfig
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
-           "add_parser", "draw_perturbation", "run_perturbations", "trial_task"]
+           "add_parser", "demonstration_seeds", "draw_perturbation", "run_perturbations",
+           "skill_cfg", "trial_task"]
 
 #: First trial seed by default (held out: demonstrations use 0 .. n_demos - 1,
 #: ``a2l experiment lfd-skills`` 1000 ...).
@@ -85,8 +86,22 @@ def _learn(job: tuple[str, str, dict[str, Any]]) -> dict[str, Any]:
             "seconds": time.perf_counter() - t0}
 
 
+def skill_cfg(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
+    """The configuration skill `name` is learned and run with: `cfg`, else the recipe's
+    own (``SkillRecipe.config``), else :data:`a2l.lfd.config.DEFAULT`."""
+    from a2l.lfd.library import skill_config
+
+    return skill_config(name, cfg)
+
+
+def demonstration_seeds(cfgs: dict[str, LfDConfig]) -> list[int]:
+    """``[0, last]``: the seeds the demonstrations may use (a skill with two behaviours
+    demonstrates each ``n_demos`` times: ``2 n_demos`` seeds, counted for every skill)."""
+    return [0, 2 * max(c.n_demos for c in cfgs.values()) - 1]
+
+
 def _check(skills: Sequence[str], conditions: Sequence[str], trials: int, seed: int,
-           workers: int, cfg: LfDConfig) -> None:
+           workers: int, cfg: LfDConfig | None) -> None:
     """Raise ValueError naming the first bad argument."""
     from a2l.lfd.library import SKILLS
 
@@ -100,10 +115,10 @@ def _check(skills: Sequence[str], conditions: Sequence[str], trials: int, seed: 
         raise ValueError(f"--trials: must be >= 1, got {trials}")
     if workers < 1:
         raise ValueError(f"--workers: must be >= 1, got {workers}")
-    if seed < cfg.n_demos:
+    last = demonstration_seeds({n: skill_cfg(n, cfg) for n in skills})[1]
+    if seed <= last:
         raise ValueError(f"--seed: trial seeds {seed}.. overlap the demonstration seeds "
-                         f"0..{cfg.n_demos - 1}; use a seed >= {cfg.n_demos} "
-                         f"(default {DEFAULT_SEED})")
+                         f"0..{last}; use a seed > {last} (default {DEFAULT_SEED})")
 
 
 def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
@@ -123,14 +138,14 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     trials : int
         Trials (seeds ``seed .. seed + trials - 1``) per skill, condition and mode.
     seed : int
-        First trial seed (>= ``cfg.n_demos``).
+        First trial seed (above the demonstration seeds, :func:`demonstration_seeds`).
     workers, cluster
         Where trials run (:class:`a2l.parallel.Executor`).
     conditions : sequence of str
         Subset of :data:`CONDITIONS`.
     cfg : LfDConfig, optional
-        The pipeline's configuration (default: each skill's own,
-        :func:`a2l.lfd.library.skill_config`).
+        The pipeline's configuration for every skill (default: each skill's own,
+        :func:`skill_cfg`).
     bundles : dict of str to path, optional
         Already learned bundles (skill -> path): not learned again.
     quiet, plots : bool
@@ -151,15 +166,13 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         make_run_dir,
         write_json,
     )
-    from a2l.lfd.library import SKILLS, skill_config
+    from a2l.lfd.library import SKILLS
     from a2l.parallel import Executor
 
     names = list(skills) if skills else list(SKILLS)
     conds = [c for c in CONDITIONS if c in conditions] if conditions else []
-    _check(names, list(conditions), trials, seed, workers, DEFAULT)  # names first
-    cfgs = {n: skill_config(n, cfg) for n in names}
-    cfg = max(cfgs.values(), key=lambda c: c.n_demos)  # the seeds every skill's demos use
     _check(names, list(conditions), trials, seed, workers, cfg)
+    cfgs = {n: skill_cfg(n, cfg) for n in names}
     out_path = Path(out)
     if out_path.exists() and not out_path.is_dir():
         raise ValueError(f"--out: '{out_path}' exists and is not a directory")
@@ -173,18 +186,16 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)]))
     config = {"experiment": "perturbations", "skills": names, "conditions": conds,
               "modes": list(MODES), "trial_seeds": [seeds[0], seeds[-1]],
-              "demonstration_seeds": [0, cfg.n_demos - 1], "scenes": scenes,
+              "demonstration_seeds": demonstration_seeds(cfgs), "scenes": scenes,
               "window": list(WINDOW), "move_m": list(MOVE_RANGE), "hold_s": list(HOLD_RANGE),
-              "lfd": cfgs[names[0]].to_json(),
-              "lfd_by_skill": {n: c.to_json() for n, c in cfgs.items()},
-              "workers": workers, "cluster": cluster,
-              "command": command}
+              "lfd": {n: c.to_json() for n, c in cfgs.items()}, "workers": workers,
+              "cluster": cluster, "command": command}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     with Executor(workers, cluster) as ex:
         todo = [n for n in names if not bundles or n not in bundles]
         learned = ex.map(_learn, [(n, str(run_dir / "skills"), cfgs[n].to_json())
-                                  for n in todo])
+                                for n in todo])
         learning = {r["skill"]: r for r in learned}
         paths = {**{n: str(b) for n, b in (bundles or {}).items() if n in names},
                  **{r["skill"]: r["bundle"] for r in learned}}

@@ -24,15 +24,26 @@ from a2l.skills.learning import (
     learn_network,
     learn_structure,
 )
+from a2l.skills.phases import DSPhase, load_ds_phases
 from a2l.skills.repertoire import MovementRepertoire
-from a2l.skills.spec import BUNDLE_SCHEMA_VERSION, VARIABLE_KINDS, SkillSpec, VariableSpec
+from a2l.skills.runner import CppSkillRunner, StepResult
+from a2l.skills.spec import (
+    ACTIONS,
+    BUNDLE_SCHEMA_VERSION,
+    VARIABLE_KINDS,
+    SkillSpec,
+    VariableSpec,
+)
 from a2l.skills.states import HighLevelState
 from a2l.skills.synthetic import KnownStructure, known_structure_dataset, push_dataset
 
 __all__ = [
+    "ACTIONS",
     "AXIS_EFFECTS",
     "BUNDLE_SCHEMA_VERSION",
+    "CppSkillRunner",
     "DIAGONAL_EFFECTS",
+    "DSPhase",
     "Discretizer",
     "DistanceBins",
     "EffectDiscretizer",
@@ -45,6 +56,7 @@ __all__ = [
     "PolicyTable",
     "STRUCTURES",
     "SkillSpec",
+    "StepResult",
     "VARIABLE_KINDS",
     "VariableSpec",
     "compile_policy",
@@ -54,6 +66,7 @@ __all__ = [
     "learn_network",
     "learn_structure",
     "load_bundle",
+    "load_ds_phases",
     "make_skill_spec",
     "push_dataset",
     "relevant_evidence",

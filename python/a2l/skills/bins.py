@@ -1,8 +1,8 @@
 """Context bins: distance, orientation and inclination of the end-effector to the object.
 
-The bins follow ``docs/bundle_format.md`` to the letter, because the C++ runtime
-(``a2l::Discretizer``) bins the live context with the same formulas and must agree bin for
-bin. All vectors are expressed in the robot's base frame (x forward, y left, z up).
+The bins follow ``docs/bundle_format.md`` to the letter: the learning side and the C++
+runtime (``a2l::Discretizer``) must agree bin for bin, so both call the same function. All
+vectors are expressed in the robot's base frame (x forward, y left, z up).
 
 ========================  ================================================================
 variable                  bin

@@ -9,6 +9,7 @@ then decodes the manifest and the arrays into a :class:`~a2l.skills.spec.SkillSp
 A bundle may also hold a diffeomorphic DS (section ``ds``): alone (kind ``"ds"``,
 :func:`save_ds_bundle`) or beside a skill table (``bundle_bytes(spec, ds=...)``). Its maps are
 validated by the same C++ loader (:func:`a2l._core.load_ds`), which names a bad map's index.
+A skill bundle may hold DS phases (section ``ds_phases``, :mod:`a2l.skills.phases`).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import json
 import os
 import struct
 import zlib
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,6 +28,7 @@ import numpy as np
 from a2l import _core
 from a2l.atomic import atomic_write_bytes
 from a2l.errors import A2LFileNotFoundError, BundleError
+from a2l.skills.phases import DSPhase, ds_phases_section
 from a2l.skills.spec import BUNDLE_SCHEMA_VERSION, VARIABLE_KINDS, SkillSpec, VariableSpec
 
 __all__ = [
@@ -146,7 +149,12 @@ def _variable_json(v: VariableSpec, i: int) -> dict[str, Any]:
     return v.to_json()
 
 
-def bundle_bytes(spec: SkillSpec, ds: DSArrays | None = None) -> bytes:
+def bundle_bytes(
+    spec: SkillSpec,
+    ds: DSArrays | None = None,
+    ds_phases: Sequence[DSPhase] | None = None,
+    ds_states: Mapping[str, Sequence[str]] | None = None,
+) -> bytes:
     """The bytes of the bundle of `spec` (validated by the C++ loader).
 
     Parameters
@@ -156,6 +164,11 @@ def bundle_bytes(spec: SkillSpec, ds: DSArrays | None = None) -> bytes:
         axis order of ``spec.variables``.
     ds : DSArrays, optional
         A diffeomorphic DS stored beside the table (section ``ds``).
+    ds_phases : sequence of a2l.skills.phases.DSPhase, optional
+        The DS phases (section ``ds_phases``), run by the C++ ``step_ds``.
+    ds_states : mapping of str to sequence of str, optional
+        Values of states the phases name that are not high-level variables of the table
+        (``gripper`` defaults to ``("open", "closed")``).
 
     Returns
     -------
@@ -202,6 +215,9 @@ def bundle_bytes(spec: SkillSpec, ds: DSArrays | None = None) -> bytes:
     if ds is not None:
         manifest["ds"], ds_arrays = ds.section()
         arrays += ds_arrays
+    if ds_phases:
+        manifest["ds_phases"], phase_arrays = ds_phases_section(ds_phases, spec, ds_states)
+        arrays += phase_arrays
     data = _pack(manifest, arrays)
     _core.load_bundle_from_memory(data, f"<bundle of skill '{spec.name}'>")  # the validator
     return data
@@ -313,7 +329,13 @@ def load_ds_bundle(path: str | os.PathLike[str]) -> tuple[Any, dict[str, Any]]:
     return ds, dict(extra) if isinstance(extra, dict) else {}
 
 
-def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
+def save_bundle(
+    spec: SkillSpec,
+    path: str | os.PathLike[str],
+    ds_phases: Sequence[DSPhase] | None = None,
+    ds_states: Mapping[str, Sequence[str]] | None = None,
+    ds: DSArrays | None = None,
+) -> Path:
     """Write a skill bundle atomically.
 
     Parameters
@@ -322,6 +344,12 @@ def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
         The skill (see :class:`~a2l.skills.spec.SkillSpec` for the array shapes).
     path : str or PathLike
         Destination file (missing parent directories are created).
+    ds_phases : sequence of a2l.skills.phases.DSPhase, optional
+        DS phases (section ``ds_phases``): what ``CppSkillRunner(path, mode="ds")`` runs.
+    ds_states : mapping of str to sequence of str, optional
+        Values of states the phases name that the table does not hold.
+    ds : DSArrays, optional
+        A single DS stored beside the table (section ``ds``).
 
     Returns
     -------
@@ -333,7 +361,7 @@ def save_bundle(spec: SkillSpec, path: str | os.PathLike[str]) -> Path:
     a2l.BundleError
         The spec does not make a valid bundle; nothing is written.
     """
-    data = bundle_bytes(spec)
+    data = bundle_bytes(spec, ds=ds, ds_phases=ds_phases, ds_states=ds_states)
     return atomic_write_bytes(path, data)
 
 
