@@ -71,6 +71,9 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
         }
         e["differ"] = bool(e["fisher_p"] < SIGNIFICANCE)
         applied = g[g.applied]
+        if cond != "none":  # [successes, trials] among the trials actually perturbed
+            e["applied_success"] = {k: [int(v.success[v.applied].sum()), int(v.applied.sum())]
+                                    for k, v in by.items()}
         if cond == "move_object":
             e["displacement_m"] = _span(applied.displacement_m)
         elif cond == "hold":
@@ -83,7 +86,12 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
             e["unchanged"] = {k: float(v.same_as_none.mean()) if len(v) else float("nan")
                               for k, v in by.items()}
             if bool(g.light_dependent.any()):
-                e["state_behaviour"] = {k: e[k] for k in by}
+                e["state_behaviour"] = {k: n / d if d else float("nan")
+                                        for k, (n, d) in e["applied_success"].items()}
+                e["state_behaviour_by_light"] = {
+                    f"{k}:{light}": [int(x.success.sum()), len(x)]
+                    for k, v in by.items()
+                    for light, x in v[v.applied].groupby("light_after")}
                 e["expected"] = sorted(set(map(str, applied.expected_effect)))
                 e["target"] = 0.90
         out.setdefault(str(skill), {})[str(cond)] = e
@@ -124,6 +132,9 @@ def _measured(cond: str, e: dict[str, Any]) -> str:
     if cond == "none":
         return "-"
     txt = f"applied {ap['context']}+{ap['ds']}"
+    if ap["context"] < e["trials"] or ap["ds"] < e["trials"]:
+        (kc, nc), (kd, nd) = e["applied_success"]["context"], e["applied_success"]["ds"]
+        txt += f" (success among them {kc}/{nc}, {kd}/{nd})"
     if cond == "move_object" and e.get("displacement_m"):
         lo, hi = e["displacement_m"]
         txt += f"; moved {lo * 100:.1f}-{hi * 100:.1f} cm"
@@ -135,7 +146,9 @@ def _measured(cond: str, e: dict[str, Any]) -> str:
     if cond == "toggle_light":
         txt += f"; flipped {e['light_flipped']}"
         if "state_behaviour" in e:
-            txt += f"; did the new state's behaviour ({'/'.join(e['expected'])})"
+            (kc, nc), (kd, nd) = e["applied_success"]["context"], e["applied_success"]["ds"]
+            txt += (f"; did the new state's behaviour ({'/'.join(e['expected'])}): "
+                    f"{kc}/{nc} / {kd}/{nd}")
         else:
             u = e["unchanged"]
             txt += f"; runs unchanged {u['context']:.0%} / {u['ds']:.0%}"
