@@ -19,7 +19,7 @@ from a2l.lfd.demonstrators import PUSH_DIRECTIONS, PushDemonstrator
 from a2l.lfd.execute import EFFECT_TESTS, run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial
 from a2l.lfd.skill import fit_fields
-from a2l.skills import load_bundle
+from a2l.skills import load_bundle, load_ds_phases
 from a2l.skills.bundle import load_ds_bundle
 
 HELD_OUT = range(1000, 1020)
@@ -118,6 +118,9 @@ def test_bundle_holds_the_table_and_the_ds(bundles):
     assert spec.step == DEFAULT.step and spec.step_cap == DEFAULT.step_cap
     assert spec.extra["lfd"]["behaviours"][0]["effect"] == "right"
     assert spec.extra["lfd"]["behaviours"][0]["n_demonstrations"] == DEFAULT.n_demos
+    phases = load_ds_phases(path)
+    assert [p.name for p in phases] == ["push_right"] and phases[0].when == {}
+    assert phases[0].end_action is None
     ds, meta = load_ds_bundle(path)
     assert ds.dim == 3 and meta["lfd"]["rows"] > 100
     # the target sits beyond the object along the push (-y for right)
@@ -186,12 +189,12 @@ def test_run_skill_stops_on_the_cpp_status_and_checks_its_inputs(bundles, tmp_pa
     assert set(EFFECT_TESTS) >= set(PUSH_DIRECTIONS)
 
 
-def test_ds_mode_runs_the_bundle_ds(bundles):
+def test_ds_mode_runs_the_bundle_ds_phase_through_the_cpp_step(bundles):
     with make_skill_scene("push_far", 0, scene="virtual") as scene:
         reset_for_trial(scene, "push_far", 1001)
         run = run_skill(scene, bundles["push_far"], "far", mode="ds")
     assert run.mode == "ds" and run.movements >= 1
-    assert all(s.label == "ds" for s in run.steps if s.status == "ok")
+    assert all(s.label == "ds:push_far" for s in run.steps if s.status == "ok")
     steps = np.linalg.norm(np.diff(run.eef, axis=0), axis=1)
     assert np.all(steps <= DEFAULT.step + 1e-9)
 
