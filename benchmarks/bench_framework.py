@@ -33,10 +33,10 @@ class _Instrument:
     them, and the movements and time of each framework phase."""
 
     PHASES = ("acquire", "extend", "generate_skill", "validate", "validate_heldout")
-    TASKS = ("babble_task", "directed_task", "validate_task", "heldout_task")
+    TASKS = ("babble_task", "directed_outcome_task", "validate_task", "heldout_task")
     #: The module whose global each phase and task is looked up in when the loop runs.
     HOME = {"acquire": loop, "extend": loop, "generate_skill": loop, "validate": loop,
-            "validate_heldout": loop, "babble_task": loop, "directed_task": loop,
+            "validate_heldout": loop, "babble_task": loop, "directed_outcome_task": loop,
             "validate_task": validation, "heldout_task": validation}
 
     def __init__(self) -> None:

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from a2l.acquisition.protocol import drive
-from a2l.acquisition.waypoints import EffectDirected, directed_task
+from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task, directed_task
 from a2l.framework import FrameworkConfig, make_env, run_framework
 from a2l.framework.loop import _drive_together, _seed
 from a2l.framework.validation import heldout_task
@@ -127,13 +127,29 @@ def test_directed_pairs_driven_together_find_what_they_find_one_by_one() -> None
     n_alone = len(calls)
     calls.clear()
     together = strategies()
-    _drive_together(together, evaluate, batch=8)
+    _drive_together(together, lambda pairs: evaluate([t for t, _ in pairs]), batch=8)
     for a, t in zip(alone, together, strict=True):
         assert a.tried == t.tried
         assert [r.moves for r in a.found] == [r.moves for r in t.found]
         assert [r.effect for r in t.found] == [t.effect] * len(t.found)
     assert len(calls) < n_alone
     assert len(calls) == max(-(-s.tried // 8) for s in alone)
+    # the light outcomes (an effect index for every trajectory not kept) keep the same
+    light = strategies()
+    sent: list = []
+
+    def evaluate_light(pairs: list) -> list:
+        out = [directed_outcome_task(p) for p in pairs]
+        sent.extend(out)
+        return out
+
+    _drive_together(light, evaluate_light, batch=8)
+    for a, t in zip(alone, light, strict=True):
+        assert a.tried == t.tried
+        assert [r.moves for r in a.found] == [r.moves for r in t.found]
+    kept = sum(len(t.found) for t in light)
+    assert sum(not isinstance(o, int) for o in sent) >= kept
+    assert sum(isinstance(o, int) for o in sent) > kept     # most come back as an index
 
 
 def test_make_env_sets_the_scene_to_the_source_it_reads() -> None:

@@ -126,3 +126,23 @@ def test_the_light_decides_what_the_grasp_does_even_mid_action(bundles) -> None:
         run = run_skill(scene, bundles[name], "grasped", object_name="block")
         assert run.success and "close" in [s.label for s in run.steps]
         assert scene.observe_effect(since="episode", source="ground_truth") == "grasped"
+
+
+@pytest.mark.parametrize("name", ["grasp", "grasp_light"])
+def test_ds_phases_grasp_and_turn_away_without_the_table(name: str, bundles) -> None:
+    recipe = SKILLS[name]
+    by_light = recipe.extra.get("effect_by_light")
+    with make_skill_scene(name, 0) as scene:
+        for seed in HELD_OUT[:2]:
+            reset_for_trial(scene, name, seed)
+            light = scene.ground_truth()["states"].get("light", "off")
+            run = run_skill(scene, bundles[name], recipe.effect, mode="ds",
+                            object_name=recipe.object_name,
+                            effect_test=light_test(by_light) if by_light else None)
+            assert run.success, (name, seed, light, run.stop, [s.label for s in run.steps])
+            labels = [s.label for s in run.steps if s.label]
+            phases = {lab.split(":")[1] for lab in labels if lab.startswith("ds:")}
+            if light == "off":
+                assert labels.count("close") == 1 and phases == {"reach", "lift"}
+            else:
+                assert "close" not in labels and phases == {"retreat"}

@@ -25,6 +25,7 @@ from a2l.acquisition.rollout import Rollout, effect_of, erase_loops, play, rollo
 from a2l.acquisition.trajectory import WaypointEncoding, follow_waypoints
 from a2l.acquisition.waypoints import (
     EffectDirected,
+    directed_outcome_task,
     directed_task,
     heading_chooser,
     random_waypoints,
@@ -42,6 +43,7 @@ __all__ = [
     "Strategy",
     "WaypointEncoding",
     "babble_task",
+    "directed_outcome_task",
     "directed_task",
     "drive",
     "effect_of",

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout, erase_loops, play
-from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.env import scene_env
 
 __all__ = ["BabbleTask", "RandomBabbling", "babble_task", "random_walk"]
@@ -32,7 +32,7 @@ def babble_task(task: BabbleTask) -> Rollout:
     the object moves.
     """
     cfg_d, start, prefix, seed, steps = task
-    return random_walk(FrameworkConfig(**cfg_d), start, prefix, seed, steps)
+    return random_walk(task_config(cfg_d), start, prefix, seed, steps)
 
 
 def random_walk(cfg: FrameworkConfig, start: int, prefix: Sequence[int], seed: int,

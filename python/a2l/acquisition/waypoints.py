@@ -14,7 +14,7 @@ import numpy as np
 
 from a2l.acquisition.random_babbling import random_walk
 from a2l.acquisition.rollout import Rollout, erase_loops, play
-from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.env import scene_env
 
 __all__ = ["DirectedTask", "EffectDirected", "directed_task", "heading_chooser",
@@ -93,7 +93,7 @@ def directed_task(task: DirectedTask) -> Rollout:
     moves.
     """
     cfg_d, start, seed, steps = task
-    cfg = FrameworkConfig(**cfg_d)
+    cfg = task_config(cfg_d)
     if cfg.directed_mode == "random":
         return random_walk(cfg, start, [], seed, steps)
     disc = discretizers(cfg)
@@ -104,6 +104,18 @@ def directed_task(task: DirectedTask) -> Rollout:
     choose = heading_chooser(points, disc, env.home + offset)
     r = play(env, disc, start, offset, [], choose, steps)
     return erase_loops(r) if cfg.erase_loops else r
+
+
+def directed_outcome_task(task: tuple[DirectedTask, int]) -> Rollout | int:
+    """:func:`directed_task` for a wanted effect: ``(directed task, wanted effect)``.
+
+    Returns the rollout only when it produced the wanted effect, else just its effect index
+    (-1: nothing moved): all :meth:`EffectDirected.tell` needs, so a worker does not send
+    back the many trajectories that are thrown away.
+    """
+    t, wanted = task
+    r = directed_task(t)
+    return r if r.effect == wanted else r.effect
 
 
 class EffectDirected:
@@ -150,9 +162,17 @@ class EffectDirected:
         return [(self._cfg_d, self.start, self.seed_of(self.tried + i), self.cfg.directed_steps)
                 for i in range(n)]
 
-    def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout]) -> None:
-        """Keep, in order, the trajectories that produced the effect (up to `want`)."""
+    def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout | int]) -> None:
+        """Keep, in order, the trajectories that produced the effect (up to `want`).
+
+        An outcome is a :class:`Rollout` (:func:`directed_task`), or the effect index of a
+        trajectory that did not produce the wanted effect (:func:`directed_outcome_task`).
+        """
         for r in outcomes:
             self.tried += 1
-            if r.effect == self.effect and len(self.found) < self.want:
+            effect = r if isinstance(r, int) else r.effect
+            if effect == self.effect and len(self.found) < self.want:
+                if isinstance(r, int):
+                    raise ValueError(f"the outcome of a trajectory with effect {effect} must "
+                                     "be its Rollout")
                 self.found.append(r)

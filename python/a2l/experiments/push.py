@@ -8,6 +8,7 @@ effects and writes a run directory (DESIGN.md): ``config.json``, ``metrics.json`
 
 from __future__ import annotations
 
+import contextlib
 import json
 import shutil
 import time
@@ -228,7 +229,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                         workers: int = 1, cluster: str | None = None,
                         resume: str | Path | None = None, quiet: bool = False,
                         plots: bool = True, acquisition: str = "random",
-                        noveb_evaluations: int = 200) -> dict[str, Any]:
+                        noveb_evaluations: int = 200,
+                        executor: Executor | None = None) -> dict[str, Any]:
     """Run (or resume) the push experiment and write its run directory.
 
     Parameters
@@ -253,6 +255,10 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         (:mod:`a2l.acquisition.noveb_rollouts`); ignored when resuming.
     noveb_evaluations : int
         NovEB's trajectories, with ``acquisition="noveb"``.
+    executor : a2l.parallel.Executor, optional
+        Where rollouts run, shared by several runs (a sweep): its worker processes are
+        started once, not per run, and it stays open. When given, `workers` and `cluster`
+        are ignored (the metrics record the executor's).
 
     Returns
     -------
@@ -290,9 +296,12 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         })
     t0 = time.perf_counter()
     noveb_log: dict[str, Any] = {}
-    with Executor(workers=workers, cluster=cluster) as executor, _Progress(quiet) as bar:
+    if executor is not None:
+        workers, cluster = executor.workers, executor.cluster
+    own = Executor(workers=workers, cluster=cluster) if executor is None else None
+    with own or contextlib.nullcontext(), _Progress(quiet) as bar:
         first = _noveb_first(noveb_evaluations, noveb_log) if acquisition == "noveb" else None
-        result = run_framework(cfg, run_dir, executor, progress=bar.update,
+        result = run_framework(cfg, run_dir, executor or own, progress=bar.update,
                                on_iteration=bar.iteration, robot=_robot_entry(cfg),
                                first_acquisition=first)
     final = run_dir / "skills" / "push.a2lb"

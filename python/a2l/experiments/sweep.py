@@ -22,6 +22,7 @@ import numpy as np
 from a2l.experiments.push import run_push_experiment
 from a2l.experiments.rundir import atomic_write_text, make_run_dir, read_json, write_json
 from a2l.framework import FrameworkConfig
+from a2l.parallel import Executor
 
 __all__ = ["iterations_to_full_score", "parse_overrides", "parse_seeds", "run_seed_sweep",
            "summarize_sweep"]
@@ -191,24 +192,27 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     else:
         write_json(run_dir / "config.json", config)
     rows = []
-    for seed in seeds:
-        sub = run_dir / f"seed_{seed:03d}"
-        if (sub / "metrics.json").is_file():
-            m = read_json(sub / "metrics.json")
-        elif (sub / "config.json").is_file():
-            m = run_push_experiment(resume=sub, workers=workers, quiet=True, plots=False)
-        else:
-            m = run_push_experiment(dataclasses.replace(cfg0, seed=seed), out=sub,
-                                    workers=workers, quiet=True, plots=False)
-        row = {"seed": seed, "iterations_to_100": iterations_to_full_score(m["iterations"]),
-               "final_score": float(m["final_score"]), "iterations_run": len(m["iterations"]),
-               "wall_s": float(m["wall_s"])}
-        rows.append(row)
-        if not quiet:
-            n = row["iterations_to_100"]
-            print(f"seed {seed:3d}: score {row['final_score']:.1f} after "
-                  f"{row['iterations_run']} iteration(s); "
-                  f"{'not 100' if n is None else f'100 at iteration {n - 1}'}", flush=True)
+    with Executor(workers=workers) as executor:  # one worker pool for every seed
+        for seed in seeds:
+            sub = run_dir / f"seed_{seed:03d}"
+            if (sub / "metrics.json").is_file():
+                m = read_json(sub / "metrics.json")
+            elif (sub / "config.json").is_file():
+                m = run_push_experiment(resume=sub, quiet=True, plots=False, executor=executor)
+            else:
+                m = run_push_experiment(dataclasses.replace(cfg0, seed=seed), out=sub,
+                                        quiet=True, plots=False, executor=executor)
+            row = {"seed": seed,
+                   "iterations_to_100": iterations_to_full_score(m["iterations"]),
+                   "final_score": float(m["final_score"]),
+                   "iterations_run": len(m["iterations"]), "wall_s": float(m["wall_s"])}
+            rows.append(row)
+            if not quiet:
+                n = row["iterations_to_100"]
+                print(f"seed {seed:3d}: score {row['final_score']:.1f} after "
+                      f"{row['iterations_run']} iteration(s); "
+                      f"{'not 100' if n is None else f'100 at iteration {n - 1}'}",
+                      flush=True)
     summary = summarize_sweep(rows)
     table = _table(rows, summary)
     write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary})

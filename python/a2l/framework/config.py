@@ -10,7 +10,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DIRECTED_TRY_CAP", "HELDOUT_STREAM", "FrameworkConfig", "discretizers"]
+__all__ = ["DIRECTED_TRY_CAP", "HELDOUT_STREAM", "FrameworkConfig", "discretizers",
+           "task_config"]
 
 #: Default ``directed_try_cap`` of each scene.
 DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
@@ -218,6 +219,28 @@ def _heldout_offsets(seed: int, n: int, r_low: float, r_high: float) -> np.ndarr
     a = rng.uniform(0.0, 2 * np.pi, n)
     r = rng.uniform(r_low, r_high, n)
     return np.stack([r * np.cos(a), r * np.sin(a), np.zeros(n)], axis=1)
+
+
+#: The last config dict :func:`task_config` built a config from, and that config.
+_TASK_CONFIG: tuple[Any, Any] = (None, None)
+
+
+def task_config(cfg: FrameworkConfig | dict[str, Any]) -> FrameworkConfig:
+    """The :class:`FrameworkConfig` of a rollout task, which carries it as a dict.
+
+    The tasks of one batch share one dict object (pickled once per batch, and the same
+    object after unpickling): the config is built once for it, not once per task. The
+    cache holds that one dict, compared by identity; a config passed as such is returned.
+    """
+    global _TASK_CONFIG
+    if isinstance(cfg, FrameworkConfig):
+        return cfg
+    last, built = _TASK_CONFIG
+    if cfg is last:
+        return built
+    built = FrameworkConfig(**cfg)
+    _TASK_CONFIG = (cfg, built)
+    return built
 
 
 def discretizers(cfg: FrameworkConfig) -> Any:

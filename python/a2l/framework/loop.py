@@ -20,7 +20,7 @@ import pandas as pd
 from a2l.acquisition.protocol import drive
 from a2l.acquisition.random_babbling import RandomBabbling, babble_task
 from a2l.acquisition.rollout import Rollout, rollouts_to_frame
-from a2l.acquisition.waypoints import EffectDirected, directed_task
+from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task
 from a2l.experiments.rundir import latest_checkpoint, save_checkpoint
 from a2l.framework.config import FrameworkConfig, discretizers
 from a2l.framework.scoring import (
@@ -99,7 +99,8 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
                                        lambda i, j=j: _seed(cfg, iteration, 2 + j, i),
                                        want=cfg.directed_per_pair * grow,
                                        cap=cfg.directed_try_cap * grow))
-    _drive_together(directed, lambda tasks: executor.map(directed_task, tasks), batch=32)
+    _drive_together(directed, lambda tasks: executor.map(directed_outcome_task, tasks),
+                    batch=32)
     for d in directed:
         out.extend(d.found)
     return out
@@ -110,7 +111,9 @@ def _drive_together(strategies: Sequence[EffectDirected],
     """:func:`a2l.acquisition.protocol.drive` for several strategies at once: each round
     asks every strategy not yet done for `batch` candidates and evaluates them all in one
     call (one ``Executor.map`` instead of one per strategy: a map costs milliseconds
-    whatever its size).
+    whatever its size). `evaluate` receives ``(candidate, strategy.effect)`` pairs (e.g.
+    :func:`a2l.acquisition.waypoints.directed_outcome_task`), so that what comes back can
+    be reduced to what the strategy keeps.
 
     Each strategy is asked and told exactly what :func:`drive` would ask and tell it, in the
     same batches: the outcome is the same as driving them one after the other.
@@ -124,7 +127,7 @@ def _drive_together(strategies: Sequence[EffectDirected],
         for s, asked in asks:
             if not asked:
                 raise RuntimeError(f"{type(s).__name__} is not done but asked for nothing")
-        outcomes = evaluate([c for _, asked in asks for c in asked])
+        outcomes = evaluate([(c, s.effect) for s, asked in asks for c in asked])
         n = sum(len(asked) for _, asked in asks)
         if len(outcomes) != n:
             raise ValueError(f"evaluate returned {len(outcomes)} outcomes for {n} candidates")

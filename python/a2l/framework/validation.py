@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout, play
-from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.env import scene_env
 from a2l.framework.runner import CppSkillRunner
 from a2l.framework.scoring import FAIL, FALSE_POSITIVE, SUCCESS
@@ -33,7 +33,7 @@ def validate_task(task: ValidationTask) -> Rollout:
     cap, unknown context: fail).
     """
     cfg_d, bundle, start, wanted = task
-    cfg = FrameworkConfig(**cfg_d)
+    cfg = task_config(cfg_d)
     return _closed_loop(cfg, bundle, start, cfg.start_offsets()[start], wanted)
 
 
@@ -41,7 +41,7 @@ def heldout_task(task: ValidationTask) -> Rollout:
     """As :func:`validate_task`, from the held-out start ``start``
     (:meth:`FrameworkConfig.heldout_offsets`; ``Rollout.start`` is its index there)."""
     cfg_d, bundle, start, wanted = task
-    cfg = FrameworkConfig(**cfg_d)
+    cfg = task_config(cfg_d)
     offsets = cfg.heldout_offsets()
     if not 0 <= start < len(offsets):
         raise ValueError(f"held-out start {start} out of range: the config has "

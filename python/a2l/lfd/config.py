@@ -49,9 +49,9 @@ class LfDConfig:
     resolution: float = 0.01
     tube: float = 0.06
     blend: float = 0.02
-    step: float = 0.05
+    step: float = 0.02
     n_orient: int = 16
-    n_dist: int = 3
+    n_dist: int = 4
     dist_low: float = 0.05
     dist_high: float = 0.20
     smoothing: bool = False

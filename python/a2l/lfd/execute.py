@@ -281,6 +281,29 @@ class _DSStep:
         return "ok", "ds", disp, disp
 
 
+class _PhaseStep:
+    """The bundle's DS phases (:mod:`a2l.skills.phases`) through the C++ ``step_ds``
+    (:class:`a2l.skills.CppSkillRunner`, ``mode="ds"``): a DS displacement or the phase's
+    end action (open / close / stay), the phase chosen by the high-level states."""
+
+    def __init__(self, bundle: str) -> None:
+        from a2l.skills import CppSkillRunner
+
+        self.runner = CppSkillRunner(bundle, mode="ds")
+
+    def __call__(self, eef: np.ndarray, obj: np.ndarray, effect: str,
+                 states: dict[str, str]) -> tuple[str, str, np.ndarray, Any]:
+        if not np.all(np.isfinite(obj)):
+            return "unknown_context", "", np.zeros(3), None
+        out = self.runner.step(eef, obj, effect, states)
+        if out.status != "ok":
+            return out.status, "", np.zeros(3), None
+        if out.action is not None:
+            return "ok", out.action, np.zeros(3), out.action
+        disp = np.asarray(out.displacement, dtype=float)
+        return "ok", f"ds:{out.phase}", disp, disp
+
+
 def _observe(scene: Any, source: str | None) -> dict[str, Any]:
     src = source or getattr(scene.config, "context_source", "ground_truth")
     return scene.perceive() if src == "perceived" else scene.ground_truth()
@@ -342,7 +365,12 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
         raise ValueError(f"the scene moves by {scene.step_length} m, the skill bundle "
                          f"'{path}' by {table.step_len} m: make the scene with step="
                          f"{table.step_len}")
-    stepper = table if mode == "table" else _DSStep(path, table.step_len, table.cap)
+    if mode == "table":
+        stepper: Any = table
+    elif list(table.skill.ds_phases):  # the DS phases, else the bundle's one DS
+        stepper = _PhaseStep(path)
+    else:
+        stepper = _DSStep(path, table.step_len, table.cap)
     cap = table.cap if max_steps is None else int(max_steps)
     names = scene.object_names
     name = object_name or ("box" if "box" in names else scene.primary_object)
@@ -386,7 +414,7 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
             run.steps.append(SkillStep(k, status, "", np.zeros(3), "", eef, obj, states))
             break
         before = truth()
-        if mode == "table":
+        if mode == "table" or isinstance(command, str):  # a direction or an action
             res = scene.execute(command)
         else:
             res = scene.execute_displacement(command)

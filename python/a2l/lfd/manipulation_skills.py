@@ -15,6 +15,10 @@ grasp_light: reach, lift  light off, gripper as above as grasp                gr
 grasp_light: retreat      light on                    ``stay`` (wait)         retreat pose
 ========================  ==========================  ======================  ===========
 
+Each phase is also a **DS phase** of the bundle (:mod:`a2l.skills.phases`): the mean DS of
+its segments, applying under its states, with its end action (tolerance
+:data:`PHASE_TOLERANCE`); ``run_skill(mode="ds")`` runs them through the C++ ``step_ds``.
+
 Why not the push skills' dataset and configuration (measured: README, "Manipulation skills"):
 a grasp must end within about 1 cm of the grasp point (the block is 3 cm wide, the open
 fingers 4.8 cm apart). With the push default (5 cm movements, 3 distance bins over
@@ -68,6 +72,10 @@ N_INCLINATION = 16
 FINE_RESOLUTION = 0.003
 #: Radius (m) of the fine grid around that place.
 FINE_RADIUS = 0.04
+#: Tolerance (m) of each DS phase's target (:mod:`a2l.skills.phases`): the reach closes
+#: within 5 mm of the grasp point; the lift's target moves with the block in the hand, it is
+#: never reached (the effect test ends the run).
+PHASE_TOLERANCE = {"reach": 0.005, "lift": 0.01, "press": 0.005, "retreat": 0.01}
 #: Grid points this close (m) to the end of a phase take its end action.
 ACTION_RADIUS = {"close": 0.015, "stay": 0.02}
 
@@ -281,7 +289,8 @@ def _behaviours(skill: str) -> Any:
                 return phase_rows(phase, fields, effect, c, episode0)
 
             out.append(Behaviour(list(phase.segments), _EFFECTS[skill], dict(phase.when),
-                                 rows=rows))
+                                 rows=rows, phase=phase.name, end_action=phase.end_action,
+                                 tolerance=PHASE_TOLERANCE[phase.name]))
         return out
 
     return behaviours

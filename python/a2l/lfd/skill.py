@@ -44,12 +44,22 @@ class Behaviour:
         Builds the behaviour's raw rows instead of
         :func:`a2l.lfd.dataset.vector_field_rows` (same arguments: fields, demos, effect,
         cfg, states, first episode id), e.g. with actions (:mod:`a2l.lfd.manipulation_skills`).
+    phase : str
+        Non-empty: the behaviour is also a DS phase of the bundle (:mod:`a2l.skills.phases`:
+        its mean DS, applying under `states`), run by ``run_skill(mode="ds")``.
+    end_action : str or None
+        The phase's action within `tolerance` of its target (``"close"``, ``"stay"``).
+    tolerance : float
+        The phase's target tolerance (m).
     """
 
     demos: list[Demonstration]
     effect: str
     states: dict[str, str] = field(default_factory=dict)
     rows: Callable[..., pd.DataFrame] | None = None
+    phase: str = ""
+    end_action: str | None = None
+    tolerance: float = 0.01
 
 
 @dataclass
@@ -126,6 +136,7 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
     """
     from a2l.skills import compile_policy, learn_network, make_skill_spec
     from a2l.skills.bundle import DSArrays, bundle_bytes
+    from a2l.skills.phases import DSPhase
 
     if not behaviours:
         raise ValueError(f"skill {name!r}: no behaviour to learn from")
@@ -178,8 +189,10 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
                                        "n_demonstrations": len(b.demos)} for b in behaviours],
                        "rows": len(discrete)}})
     first = means[0]
+    phases = [DSPhase(b.phase, means[k], dict(b.states), b.end_action, b.tolerance)
+              for k, b in enumerate(behaviours) if b.phase]
     data = bundle_bytes(spec, ds=DSArrays(first.target, first.centers, first.vectors,
-                                          first.rhos, first.speed))
+                                          first.rhos, first.speed), ds_phases=phases or None)
     out = atomic_write_bytes(path, data)
     timings["save"] = time.perf_counter() - t0
     return LearnedSkill(name, Path(out), table, means, len(discrete), timings)
