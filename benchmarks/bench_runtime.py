@@ -99,22 +99,11 @@ def _run(bundle: Path, *args: str, episodes: int = EPISODES, circle: bool = True
 
 
 def _manipulation_bundles(tmp: Path) -> dict[str, Path]:
-    """grasp and press learned from scripted demonstrations (a2l.lfd), each also saved with
-    its behaviours' DSs as DS phases (the phases' states, end actions, 1 cm tolerance)."""
-    from a2l.lfd.library import learn_recipe, skill_config
-    from a2l.lfd.manipulation import demonstrate
-    from a2l.lfd.manipulation_skills import skill_phases
-    from a2l.skills import DSPhase, load_bundle
+    """grasp and press learned from scripted demonstrations (a2l.lfd: the compiled table and
+    one DS phase per behaviour)."""
+    from a2l.lfd.library import learn_recipe
 
-    out = {}
-    for name in ("grasp", "press"):
-        learned = learn_recipe(name, tmp)
-        phases = skill_phases(name, demonstrate(name, skill_config(name).n_demos, 0))
-        ds = [DSPhase(p.name, d, dict(p.when), p.end_action, 0.01)
-              for p, d in zip(phases, learned.ds, strict=True)]
-        out[name] = save_bundle(load_bundle(learned.bundle), tmp / f"{name}_ds.a2lb",
-                                ds_phases=ds)
-    return out
+    return {name: learn_recipe(name, tmp).bundle for name in ("grasp", "press")}
 
 
 def skill_kinds(episodes: int = 64) -> str:
@@ -139,8 +128,8 @@ def skill_kinds(episodes: int = 64) -> str:
         f"`--mode ds`: the DS phases' `step_ds()`), virtual scene (push; grasp and press "
         f"semantics, docs/virtual_scene.md), as fast as possible, {episodes} episodes per "
         "effect; push: the planar skill above from its data's circle; grasp and press: learned "
-        "from scripted demonstrations (`a2l.lfd.library.learn_recipe`, seed 0), the DS phases "
-        "are their behaviours' DSs, random starts 0.02-0.10 m beside and 0.15 m above the "
+        "from scripted demonstrations (`a2l.lfd.library.learn_recipe`, seed 0: the table and "
+        "one DS phase per behaviour), random starts 0.02-0.10 m beside and 0.15 m above the "
         "object (seed 0). Steps/s include the scene and, with the robot, every control tick "
         "of differential IK.",
         "",

@@ -18,7 +18,14 @@ from a2l import _core
 from a2l.lfd.ds import DiffeoDS
 from a2l.lfd.library import learn_recipe
 from a2l.robot import robots_dir
-from a2l.skills import DSPhase, MovementRepertoire, SkillSpec, VariableSpec, save_bundle
+from a2l.skills import (
+    DSPhase,
+    MovementRepertoire,
+    SkillSpec,
+    VariableSpec,
+    load_bundle,
+    save_bundle,
+)
 
 A2L_RUN = Path(sys.executable).parent / "a2l-run"
 AXES = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]]
@@ -102,10 +109,15 @@ def test_learned_skills_reproduce_their_effect_in_the_virtual_scene(
     assert s["effects"]["pressed"]["success"] >= 7
     r, s = run(learned["grasp"], "--episodes", "16", "--no-robot")
     assert s["task"] == "grasp" and s["effects"]["grasped"]["success"] >= 12  # measured 14
+    # their DS phases (a2l.lfd writes one per behaviour), through Baxter's IK
+    for name, effect in (("grasp", "grasped"), ("press", "pressed")):
+        r, s = run(learned[name], "--episodes", "16", "--mode", "ds")
+        assert s["mode"] == "ds" and s["effects"][effect]["success"] >= 14  # measured 16
 
 
-def test_bad_modes_and_tasks(learned: dict[str, Path], ds_grasp: Path) -> None:
-    r, _ = run(learned["press"], "--mode", "ds", "--no-robot")
+def test_bad_modes_and_tasks(learned: dict[str, Path], ds_grasp: Path, tmp_path: Path) -> None:
+    plain = save_bundle(load_bundle(learned["press"]), tmp_path / "plain.a2lb")  # no phases
+    r, _ = run(plain, "--mode", "ds", "--no-robot")
     assert r.returncode == 2 and "has no DS phases" in r.stderr
     r, _ = run(ds_grasp, "--scene", "bullet", "--no-robot")
     assert r.returncode == 2 and "--scene virtual" in r.stderr
