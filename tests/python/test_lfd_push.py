@@ -206,3 +206,46 @@ def test_push_on_baxter(bundles):
         run = run_skill(scene, bundles["push_far"], "far")
     assert run.success, run.statuses
     assert run.produced[0] >= 0.05
+
+
+def test_parametrization_selects_by_success_then_movements_then_table():
+    import pandas as pd
+
+    from a2l.experiments.parametrization import select_default
+
+    base = {"resolution": 0.01, "step": 0.05, "n_orient": 16, "n_dist": 3, "smoothing": False}
+    cells = pd.DataFrame([
+        {**base, "success_rate": 0.9, "movements_per_action": 3.0},
+        {**base, "n_orient": 8, "success_rate": 0.9, "movements_per_action": 3.0},
+        {**base, "step": 0.02, "success_rate": 0.9, "movements_per_action": 7.0},
+        {**base, "n_dist": 5, "success_rate": 0.8, "movements_per_action": 2.0},
+    ])
+    chosen = select_default(cells)
+    assert chosen["n_orient"] == 8 and chosen["step"] == 0.05  # tie on success: smaller table
+    assert chosen["success_rate"] == 0.9
+
+
+def test_parametrization_runs_cells_and_writes_its_report(tmp_path):
+    """A 2-cell study in the virtual scene, through the worker task (1 process)."""
+    import json
+
+    from a2l.experiments.parametrization import run_parametrization
+
+    m = run_parametrization(tmp_path / "p", ["push_far"],
+                            {"resolution": (0.02,), "step": (0.05,), "n_orient": (8, 16),
+                             "n_dist": (3,), "smoothing": (False,)},
+                            trials=3, scene="virtual", quiet=True)
+    assert m["cells"] == 2 and m["selected"]["n_orient"] in (8, 16)
+    saved = json.loads((tmp_path / "p" / "metrics.json").read_text())
+    assert saved["selected"] == m["selected"]
+    report = (tmp_path / "p" / "report.md").read_text()
+    assert report.count("| push_far |") == 2
+    assert (tmp_path / "p" / "parametrization.png").stat().st_size > 1000
+
+
+def test_a_worker_with_another_package_refuses_to_run():
+    from a2l.experiments.lfd_skills import trial_task
+
+    with pytest.raises(RuntimeError, match="imported a2l from"):
+        trial_task({"skill": "push_far", "bundle": "x", "seed": 0, "scene": "virtual",
+                    "mode": "table", "cfg": DEFAULT.to_json(), "package": "/elsewhere/a2l"})
