@@ -249,3 +249,20 @@ def test_a_worker_with_another_package_refuses_to_run():
     with pytest.raises(RuntimeError, match="imported a2l from"):
         trial_task({"skill": "push_far", "bundle": "x", "seed": 0, "scene": "virtual",
                     "mode": "table", "cfg": DEFAULT.to_json(), "package": "/elsewhere/a2l"})
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["lfd-skills", "--trials", "0"], "--trials: must be >= 1"),
+    (["lfd-skills", "--skills", "nope"], "unknown skill(s) ['nope']"),
+    (["parametrization", "--workers", "0"], "--workers: must be >= 1"),
+    (["parametrization", "--steps", "0.02,x"], "--steps: expected comma-separated numbers"),
+    (["parametrization", "--smoothing", "maybe"], "--smoothing: expected on and/or off"),
+])
+def test_experiment_commands_name_a_bad_option(tmp_path, capsys, argv, message):
+    from a2l.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["experiment", *argv, "--out", str(tmp_path / "run")])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from a2l.experiments.lfd_skills import _package_dir, progress_bar, trial_task
+from a2l.experiments.lfd_skills import _package_dir, progress_bar, run_args, trial_task
 from a2l.lfd.config import LfDConfig
 
 __all__ = ["DEFAULT_GRID", "add_parser", "cell_task", "run_parametrization", "select_default"]
@@ -237,13 +237,7 @@ def _cmd(args: argparse.Namespace) -> int:
         if not sm or any(s not in ("on", "off") for s in sm):
             raise UsageError("--smoothing", f"expected on and/or off, got {args.smoothing!r}")
         grid["smoothing"] = tuple(s == "on" for s in sm)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise UsageError("--out", f"'{out}' exists and is not a directory")
-    for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
-        if v < 1:
-            raise UsageError(opt, f"must be >= 1, got {v}")
-    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
+    out, skills = run_args(args)
     try:
         run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
                             args.workers, quiet=args.quiet)
