@@ -20,8 +20,14 @@ right (-y), close (-x), far (+x), then close_left, close_right, far_left, far_ri
 effects; -1 below `threshold` (m) or when not finite.
 )doc");
 
+  py::enum_<ObjectKind>(m, "ObjectKind", "What the virtual scene's object is.")
+      .value("box", ObjectKind::box)
+      .value("graspable", ObjectKind::graspable)
+      .value("button", ObjectKind::button);
+
   py::class_<VirtualScene>(m, "VirtualScene", R"doc(
-METHOD.md's kinematic push model (docs/virtual_scene.md): an end-effector point and a box.
+METHOD.md's kinematic model (docs/virtual_scene.md): an end-effector point and a box (pushed),
+a graspable block or a button toggling a light.
 
 Parameters
 ----------
@@ -34,6 +40,12 @@ eef_radius : float
 tie_tolerance : float
     |dx| and |dy| closer than this (m) are a tie, pushed along x (so a diagonal movement
     executed by a controller pushes like the exact diagonal).
+object_kind : ObjectKind
+    box (pushed), graspable (also held by a closed gripper that reached it), button (fixed;
+    going down on it toggles the light).
+grasp_margin : float
+    A closing gripper holds a graspable object when the end-effector lies within its box grown
+    by this (m).
 
 Notes
 -----
@@ -42,23 +54,27 @@ by ``eef_radius``, the box is pushed along the dominant planar axis of ``d`` unt
 touches the end-effector; a purely vertical ``d`` never moves the box. Deterministic.
 )doc")
       .def(py::init([](const Eigen::Vector3d& half_size, double table_z, double eef_radius,
-                       double tie_tolerance) {
+                       double tie_tolerance, ObjectKind kind, double grasp_margin) {
              if (!half_size.allFinite() || (half_size.array() <= 0.0).any() ||
                  !std::isfinite(table_z) || !(eef_radius >= 0.0) || !std::isfinite(eef_radius) ||
-                 !(tie_tolerance >= 0.0) || !std::isfinite(tie_tolerance)) {
+                 !(tie_tolerance >= 0.0) || !std::isfinite(tie_tolerance) ||
+                 !(grasp_margin >= 0.0) || !std::isfinite(grasp_margin)) {
                raise(Status::invalid_argument,
-                     "VirtualScene: half_size must be positive, table_z finite, eef_radius and "
-                     "tie_tolerance finite and >= 0");
+                     "VirtualScene: half_size must be positive, table_z finite, eef_radius, "
+                     "tie_tolerance and grasp_margin finite and >= 0");
              }
              VirtualSceneOptions o;
              o.half_size = half_size;
              o.table_z = table_z;
              o.eef_radius = eef_radius;
              o.tie_tolerance = tie_tolerance;
+             o.object_kind = kind;
+             o.grasp_margin = grasp_margin;
              return VirtualScene(o);
            }),
            py::arg("half_size") = Eigen::Vector3d(0.035, 0.0425, 0.04), py::arg("table_z") = 0.0,
-           py::arg("eef_radius") = 0.01, py::arg("tie_tolerance") = 1e-5)
+           py::arg("eef_radius") = 0.01, py::arg("tie_tolerance") = 1e-5,
+           py::arg("object_kind") = ObjectKind::box, py::arg("grasp_margin") = 0.01)
       .def("reset", &VirtualScene::reset, py::arg("eef"), py::arg("object"),
            "Put the end-effector at `eef` (3,) and the box centre at `object` (3,).")
       .def("move", &VirtualScene::move, py::arg("displacement"),
@@ -72,7 +88,15 @@ touches the end-effector; a purely vertical ``d`` never moves the box. Determini
       .def_property_readonly("eef_radius", &VirtualScene::eef_radius)
       .def_property_readonly("tie_tolerance", &VirtualScene::tie_tolerance)
       .def("in_contact", &VirtualScene::in_contact, py::arg("p"),
-           "True if point p (3,) lies strictly inside the box grown by eef_radius.");
+           "True if point p (3,) lies strictly inside the box grown by eef_radius.")
+      .def("set_gripper", &VirtualScene::set_gripper, py::arg("closed"),
+           "Close (hold a graspable object within reach) or open (drop it); True if held.")
+      .def_property_readonly("gripper_closed", &VirtualScene::gripper_closed)
+      .def_property_readonly("holding", &VirtualScene::holding)
+      .def_property_readonly("object_kind", &VirtualScene::object_kind)
+      .def_property("light_on", &VirtualScene::light_on, &VirtualScene::set_light,
+                    "The light (a button press toggles it).")
+      .def_property_readonly("presses", &VirtualScene::presses, "Button presses so far.");
 
   m.def("bullet_scene_available", &bullet_scene_available,
         "True if this build has BulletScene (Debian Bullet found at build time).");

@@ -65,6 +65,61 @@ TEST(VirtualScene, Options) {
 }
 
 #if A2L_HAVE_BULLET
+TEST(VirtualScene, GraspHoldsWhatTheClosedGripperReachedAndDropsItOnOpening) {
+  a2l::VirtualSceneOptions o;
+  o.half_size = V(0.015, 0.015, 0.03);
+  o.table_z = -0.03;
+  o.object_kind = a2l::ObjectKind::graspable;
+  a2l::VirtualScene s(o);
+  s.reset(V(0.0, 0.0, 0.15), V(0, 0, 0));
+  EXPECT_FALSE(s.set_gripper(true));  // closed in the air: nothing held
+  EXPECT_TRUE(s.gripper_closed());
+  s.set_gripper(false);
+  // going down (and a little sideways) with the open gripper passes around the block
+  EXPECT_FALSE(s.move(V(0.0, 0.0, -0.08)));
+  EXPECT_FALSE(s.move(V(0.01, 0.0, -0.05)));
+  EXPECT_TRUE(s.object_position().isZero());
+  EXPECT_FALSE(s.holding());
+  EXPECT_TRUE(s.set_gripper(true));  // within the block grown by grasp_margin
+  EXPECT_TRUE(s.move(V(0.0, 0.0, 0.07)));
+  EXPECT_TRUE(s.object_position().isApprox(V(0.0, 0.0, 0.07)));
+  EXPECT_FALSE(s.set_gripper(false));  // dropped back onto the table
+  EXPECT_NEAR(s.object_position().z(), 0.0, 1e-15);
+  EXPECT_FALSE(s.move(V(0.0, 0.0, 0.05)));
+  // a sideways move with the open gripper still pushes it
+  s.reset(V(-0.05, 0.0, 0.0), V(0, 0, 0));
+  EXPECT_TRUE(s.move(V(0.04, 0.0, 0.0)));
+  EXPECT_NEAR(s.object_position().x(), -0.01 + 0.025, 1e-15);
+}
+
+TEST(VirtualScene, GoingDownOnTheButtonTogglesTheLightOncePerPress) {
+  a2l::VirtualSceneOptions o;
+  o.half_size = V(0.03, 0.03, 0.01);
+  o.object_kind = a2l::ObjectKind::button;
+  a2l::VirtualScene s(o);
+  s.reset(V(0.0, 0.0, 0.10), V(0, 0, 0));
+  EXPECT_FALSE(s.light_on());
+  EXPECT_FALSE(s.move(V(0.0, 0.0, -0.05)));  // z 0.05: above top + radius (0.02)
+  EXPECT_FALSE(s.light_on());
+  EXPECT_FALSE(s.move(V(0.0, 0.0, -0.04)));  // z 0.01: pressed, the button never moves
+  EXPECT_TRUE(s.light_on());
+  EXPECT_EQ(s.presses(), 1);
+  EXPECT_FALSE(s.move(V(0.0, 0.0, -0.005)));  // still down: no second toggle
+  EXPECT_EQ(s.presses(), 1);
+  EXPECT_TRUE(s.object_position().isZero());
+  s.move(V(0.0, 0.0, 0.05));   // released
+  s.move(V(0.0, 0.0, -0.05));  // pressed again
+  EXPECT_FALSE(s.light_on());
+  EXPECT_EQ(s.presses(), 2);
+  // beside the button, or coming sideways: nothing
+  s.reset(V(0.05, 0.0, 0.05), V(0, 0, 0));
+  s.move(V(0.0, 0.0, -0.05));
+  EXPECT_EQ(s.presses(), 2);
+  s.set_light(true);
+  s.reset(V(0.0, 0.0, 0.0), V(0, 0, 0));  // reset keeps the light
+  EXPECT_TRUE(s.light_on());
+}
+
 TEST(BulletScene, PushMovesTheBoxAlongThePushAndKeepsItOnTheTable) {
   a2l::BulletScene s;
   const V box(0.0, 0.0, 0.04);

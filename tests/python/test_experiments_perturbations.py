@@ -167,3 +167,27 @@ def test_cli_names_the_bad_argument(tmp_path: Path, capsys: pytest.CaptureFixtur
             main(args)
         assert exc.value.code == 2
         assert expect in capsys.readouterr().err
+
+
+def test_light_dependent_skill_is_judged_by_the_new_light_state(tmp_path: Path) -> None:
+    from a2l.experiments.perturbation_trials import light_effects, skill_scene
+    from a2l.experiments.perturbations import skill_cfg
+    from a2l.lfd.library import SKILLS
+
+    cfg = skill_cfg("grasp_light")
+    recipe = SKILLS["grasp_light"]
+    assert light_effects(recipe, cfg) == {"off": "grasped", "on": "away"}
+    assert light_effects(SKILLS["grasp"], skill_cfg("grasp")) is None
+    assert skill_scene(SKILLS["grasp"]) == "grasp_light"  # a lamp to switch
+    assert skill_scene(SKILLS[SKILL]) == "press"
+    bundle = learn_recipe("grasp_light", tmp_path, cfg).bundle
+    rows = trial_task({"skill": "grasp_light", "bundle": str(bundle), "mode": "table",
+                       "seed": SEEDS[0], "scene": "grasp_light",
+                       "conditions": ["none", "toggle_light"], "cfg": cfg.to_json()})
+    none, toggled = rows
+    assert none["light_dependent"] and toggled["applied"]
+    start = toggled["light_before"]
+    assert toggled["light_after"] == {"off": "on", "on": "off"}[start]
+    assert none["expected_effect"] == {"off": "grasped", "on": "away"}[start]
+    assert toggled["expected_effect"] == {"off": "away", "on": "grasped"}[start]
+    assert not toggled["same_as_none"]  # the behaviour switched

@@ -19,7 +19,7 @@ from a2l.lfd.demonstrators import PUSH_DIRECTIONS, PushDemonstrator
 from a2l.lfd.execute import EFFECT_TESTS, run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial
 from a2l.lfd.skill import fit_fields
-from a2l.skills import load_bundle
+from a2l.skills import load_bundle, load_ds_phases
 from a2l.skills.bundle import load_ds_bundle
 
 HELD_OUT = range(1000, 1020)
@@ -118,6 +118,9 @@ def test_bundle_holds_the_table_and_the_ds(bundles):
     assert spec.step == DEFAULT.step and spec.step_cap == DEFAULT.step_cap
     assert spec.extra["lfd"]["behaviours"][0]["effect"] == "right"
     assert spec.extra["lfd"]["behaviours"][0]["n_demonstrations"] == DEFAULT.n_demos
+    phases = load_ds_phases(path)
+    assert [p.name for p in phases] == ["push_right"] and phases[0].when == {}
+    assert phases[0].end_action is None
     ds, meta = load_ds_bundle(path)
     assert ds.dim == 3 and meta["lfd"]["rows"] > 100
     # the target sits beyond the object along the push (-y for right)
@@ -186,12 +189,12 @@ def test_run_skill_stops_on_the_cpp_status_and_checks_its_inputs(bundles, tmp_pa
     assert set(EFFECT_TESTS) >= set(PUSH_DIRECTIONS)
 
 
-def test_ds_mode_runs_the_bundle_ds(bundles):
+def test_ds_mode_runs_the_bundle_ds_phase_through_the_cpp_step(bundles):
     with make_skill_scene("push_far", 0, scene="virtual") as scene:
         reset_for_trial(scene, "push_far", 1001)
         run = run_skill(scene, bundles["push_far"], "far", mode="ds")
     assert run.mode == "ds" and run.movements >= 1
-    assert all(s.label == "ds" for s in run.steps if s.status == "ok")
+    assert all(s.label == "ds:push_far" for s in run.steps if s.status == "ok")
     steps = np.linalg.norm(np.diff(run.eef, axis=0), axis=1)
     assert np.all(steps <= DEFAULT.step + 1e-9)
 
@@ -203,3 +206,63 @@ def test_push_on_baxter(bundles):
         run = run_skill(scene, bundles["push_far"], "far")
     assert run.success, run.statuses
     assert run.produced[0] >= 0.05
+
+
+def test_parametrization_selects_by_success_then_movements_then_table():
+    import pandas as pd
+
+    from a2l.experiments.parametrization import select_default
+
+    base = {"resolution": 0.01, "step": 0.05, "n_orient": 16, "n_dist": 3, "smoothing": False}
+    cells = pd.DataFrame([
+        {**base, "success_rate": 0.9, "movements_per_action": 3.0},
+        {**base, "n_orient": 8, "success_rate": 0.9, "movements_per_action": 3.0},
+        {**base, "step": 0.02, "success_rate": 0.9, "movements_per_action": 7.0},
+        {**base, "n_dist": 5, "success_rate": 0.8, "movements_per_action": 2.0},
+    ])
+    chosen = select_default(cells)
+    assert chosen["n_orient"] == 8 and chosen["step"] == 0.05  # tie on success: smaller table
+    assert chosen["success_rate"] == 0.9
+
+
+def test_parametrization_runs_cells_and_writes_its_report(tmp_path):
+    """A 2-cell study in the virtual scene, through the worker task (1 process)."""
+    import json
+
+    from a2l.experiments.parametrization import run_parametrization
+
+    m = run_parametrization(tmp_path / "p", ["push_far"],
+                            {"resolution": (0.02,), "step": (0.05,), "n_orient": (8, 16),
+                             "n_dist": (3,), "smoothing": (False,)},
+                            trials=3, scene="virtual", quiet=True)
+    assert m["cells"] == 2 and m["selected"]["n_orient"] in (8, 16)
+    saved = json.loads((tmp_path / "p" / "metrics.json").read_text())
+    assert saved["selected"] == m["selected"]
+    report = (tmp_path / "p" / "report.md").read_text()
+    assert report.count("| push_far |") == 2
+    assert (tmp_path / "p" / "parametrization.png").stat().st_size > 1000
+
+
+def test_a_worker_with_another_package_refuses_to_run():
+    from a2l.experiments.lfd_skills import trial_task
+
+    with pytest.raises(RuntimeError, match="imported a2l from"):
+        trial_task({"skill": "push_far", "bundle": "x", "seed": 0, "scene": "virtual",
+                    "mode": "table", "cfg": DEFAULT.to_json(), "package": "/elsewhere/a2l"})
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["lfd-skills", "--trials", "0"], "--trials: must be >= 1"),
+    (["lfd-skills", "--skills", "nope"], "unknown skill(s) ['nope']"),
+    (["parametrization", "--workers", "0"], "--workers: must be >= 1"),
+    (["parametrization", "--steps", "0.02,x"], "--steps: expected comma-separated numbers"),
+    (["parametrization", "--smoothing", "maybe"], "--smoothing: expected on and/or off"),
+])
+def test_experiment_commands_name_a_bad_option(tmp_path, capsys, argv, message):
+    from a2l.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["experiment", *argv, "--out", str(tmp_path / "run")])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()

@@ -23,7 +23,7 @@ import pandas as pd
 
 from a2l.lfd.config import LfDConfig
 
-__all__ = ["add_parser", "evaluate", "run_lfd_skills", "trial_task"]
+__all__ = ["add_parser", "evaluate", "run_args", "run_lfd_skills", "trial_task"]
 
 #: Scenes per worker process, keyed by (skill, scene, config overrides).
 _SCENES: dict[str, Any] = {}
@@ -192,17 +192,25 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     return metrics
 
 
-def _cmd(args: argparse.Namespace) -> int:
+def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
+    """The run directory and the skills of an experiment's command line, checked
+    (``--out`` not a file, ``--trials`` and ``--workers`` >= 1)."""
     from a2l.cli import UsageError
 
-    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
-    if args.trials < 1:
-        raise UsageError("--trials", f"must be >= 1, got {args.trials}")
-    if args.workers < 1:
-        raise UsageError("--workers", f"must be >= 1, got {args.workers}")
+    for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
+        if v < 1:
+            raise UsageError(opt, f"must be >= 1, got {v}")
+    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
+    return out, skills
+
+
+def _cmd(args: argparse.Namespace) -> int:
+    from a2l.cli import UsageError
+
+    out, skills = run_args(args)
     try:
         run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
                        args.workers, quiet=args.quiet)

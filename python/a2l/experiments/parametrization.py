@@ -9,8 +9,9 @@ rate and movements per action (mean movements of the successful runs).
 
 The default it selects: the cell with the highest mean success rate over the skills, then
 the fewest movements per action, then the smallest table (orientation x distance bins), then
-the coarsest grid (fastest learning). That default is :data:`a2l.lfd.config.DEFAULT` (every
-skill uses it); the report says whether they agree.
+the coarsest grid (fastest learning). That default is :data:`a2l.lfd.config.DEFAULT`, which
+every skill without a configuration of its own uses; the report says whether each studied
+skill's configuration (:func:`a2l.lfd.library.skill_config`) is the selected one.
 
 Output: ``cells.csv``, ``metrics.json``, ``report.md``, ``parametrization.png``.
 """
@@ -28,8 +29,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from a2l.experiments.lfd_skills import _package_dir, progress_bar, trial_task
-from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.experiments.lfd_skills import _package_dir, progress_bar, run_args, trial_task
+from a2l.lfd.config import LfDConfig
 
 __all__ = ["DEFAULT_GRID", "add_parser", "cell_task", "run_parametrization", "select_default"]
 
@@ -166,11 +167,11 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     cells = pd.DataFrame(results)
     atomic_write_text(run_dir / "cells.csv", cells.to_csv(index=False))
     chosen = select_default(cells)
-    default = {k: getattr(DEFAULT, k) for k in DEFAULT_GRID}
-    agrees = all(default[k] == chosen[k] for k in DEFAULT_GRID)
+    own = {n: {k: getattr(skill_config(n, base), k) for k in DEFAULT_GRID} for n in names}
+    agrees = all(all(c[k] == chosen[k] for k in DEFAULT_GRID) for c in own.values())
     metrics = {"skills": names, "scene": scene, "trial_seeds": [seeds[0], seeds[-1]],
                "grid": {k: list(v) for k, v in values.items()}, "cells": len(combos),
-               "selected": chosen, "config_default": default,
+               "selected": chosen, "skill_configs": own,
                "default_is_selected": agrees, "wall_s": time.perf_counter() - t0}
     write_json(run_dir / "metrics.json", metrics)
     _plot(cells, chosen, run_dir / "parametrization.png")
@@ -179,8 +180,9 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
              f"{metrics['wall_s']:.0f} s.", "",
              "Selected (highest mean success, then fewest movements per action, then "
              f"smallest table, then coarsest grid): {chosen}.",
-             f"The configuration default (a2l.lfd.config.DEFAULT) is {default}: "
-             + ("the same." if agrees else "**different**: it was not selected by this run."),
+             f"The skills' configurations (a2l.lfd.library.skill_config: DEFAULT unless a "
+             f"recipe has its own) are {own}: "
+             + ("the same." if agrees else "**different**: not what this run selects."),
              "", "![success over bins](parametrization.png)", "",
              "| skill | resolution (cm) | step (cm) | orient | dist | smoothing | success | "
              "movements/action | rows | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
@@ -235,13 +237,7 @@ def _cmd(args: argparse.Namespace) -> int:
         if not sm or any(s not in ("on", "off") for s in sm):
             raise UsageError("--smoothing", f"expected on and/or off, got {args.smoothing!r}")
         grid["smoothing"] = tuple(s == "on" for s in sm)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise UsageError("--out", f"'{out}' exists and is not a directory")
-    for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
-        if v < 1:
-            raise UsageError(opt, f"must be >= 1, got {v}")
-    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
+    out, skills = run_args(args)
     try:
         run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
                             args.workers, quiet=args.quiet)

@@ -71,6 +71,9 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
         }
         e["differ"] = bool(e["fisher_p"] < SIGNIFICANCE)
         applied = g[g.applied]
+        if cond != "none":  # [successes, trials] among the trials actually perturbed
+            e["applied_success"] = {k: [int(v.success[v.applied].sum()), int(v.applied.sum())]
+                                    for k, v in by.items()}
         if cond == "move_object":
             e["displacement_m"] = _span(applied.displacement_m)
         elif cond == "hold":
@@ -83,7 +86,12 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
             e["unchanged"] = {k: float(v.same_as_none.mean()) if len(v) else float("nan")
                               for k, v in by.items()}
             if bool(g.light_dependent.any()):
-                e["state_behaviour"] = {k: e[k] for k in by}
+                e["state_behaviour"] = {k: n / d if d else float("nan")
+                                        for k, (n, d) in e["applied_success"].items()}
+                e["state_behaviour_by_light"] = {
+                    f"{k}:{light}": [int(x.success.sum()), len(x)]
+                    for k, v in by.items()
+                    for light, x in v[v.applied].groupby("light_after")}
                 e["expected"] = sorted(set(map(str, applied.expected_effect)))
                 e["target"] = 0.90
         out.setdefault(str(skill), {})[str(cond)] = e
@@ -124,6 +132,9 @@ def _measured(cond: str, e: dict[str, Any]) -> str:
     if cond == "none":
         return "-"
     txt = f"applied {ap['context']}+{ap['ds']}"
+    if ap["context"] < e["trials"] or ap["ds"] < e["trials"]:
+        (kc, nc), (kd, nd) = e["applied_success"]["context"], e["applied_success"]["ds"]
+        txt += f" (success among them {kc}/{nc}, {kd}/{nd})"
     if cond == "move_object" and e.get("displacement_m"):
         lo, hi = e["displacement_m"]
         txt += f"; moved {lo * 100:.1f}-{hi * 100:.1f} cm"
@@ -135,7 +146,9 @@ def _measured(cond: str, e: dict[str, Any]) -> str:
     if cond == "toggle_light":
         txt += f"; flipped {e['light_flipped']}"
         if "state_behaviour" in e:
-            txt += f"; did the new state's behaviour ({'/'.join(e['expected'])})"
+            (kc, nc), (kd, nd) = e["applied_success"]["context"], e["applied_success"]["ds"]
+            txt += (f"; did the new state's behaviour ({'/'.join(e['expected'])}): "
+                    f"{kc}/{nc} / {kd}/{nd}")
         else:
             u = e["unchanged"]
             txt += f"; runs unchanged {u['context']:.0%} / {u['ds']:.0%}"
@@ -177,13 +190,14 @@ def _representative(frame: pd.DataFrame, skill: str, cond: str) -> int | None:
 
 def plot_trial(path: Path, frame: pd.DataFrame, trajectories: dict[str, np.ndarray],
                skill: str, cond: str, seed: int) -> None:
-    """Top view and height of both modes' runs of one trial, the perturbation marked."""
+    """Top view, distance to the object and height of both modes' runs of one trial, the
+    perturbation's instant marked (★, dotted)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (top, side) = plt.subplots(1, 2, figsize=(9, 3.8))
+    fig, (top, dist, side) = plt.subplots(1, 3, figsize=(13, 3.8))
     title = []
     for mode, colour in (("table", "tab:blue"), ("ds", "tab:orange")):
         key = f"{skill}/{cond}/{mode}/{seed}"
@@ -193,20 +207,27 @@ def plot_trial(path: Path, frame: pd.DataFrame, trajectories: dict[str, np.ndarr
         row = frame[(frame.skill == skill) & (frame.condition == cond)
                     & (frame["mode"] == mode) & (frame.seed == seed)].iloc[0]
         label = "context" if mode == "table" else "DS"
+        steps = np.arange(len(eef))
+        gap = np.linalg.norm(eef - obj, axis=1)
         top.plot(eef[:, 0], eef[:, 1], "-o", ms=2.5, color=colour, label=f"{label} eef")
         top.plot(obj[:, 0], obj[:, 1], "s--", ms=2.5, color=colour, alpha=0.45,
                  label=f"{label} object")
-        side.plot(np.arange(len(eef)), eef[:, 2], "-o", ms=2.5, color=colour, label=label)
-        side.plot(np.arange(len(obj)), obj[:, 2], "s--", ms=2.5, color=colour, alpha=0.45)
+        dist.plot(steps, gap, "-o", ms=2.5, color=colour, label=label)
+        side.plot(steps, eef[:, 2], "-o", ms=2.5, color=colour, label=f"{label} eef")
+        side.plot(steps, obj[:, 2], "s--", ms=2.5, color=colour, alpha=0.45,
+                  label=f"{label} object")
         if cond != "none" and row.applied:
             a = int(row.after)
             top.plot(eef[a, 0], eef[a, 1], "r*", ms=13)
-            side.axvline(a, color=colour, ls=":", lw=1.2)
-            side.plot(a, eef[a, 2], "r*", ms=13)
+            for ax, y in ((dist, gap[a]), (side, eef[a, 2])):
+                ax.axvline(a, color=colour, ls=":", lw=1.2)
+                ax.plot(a, y, "r*", ms=13)
         title.append(f"{label}: {'success' if row.success else 'FAIL'} ({row.stop})")
-    top.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title="top view")
-    side.set(xlabel="step", ylabel="z (m)", title="height (★ / dotted: perturbation)")
+    top.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title="top view (★ perturbation)")
+    dist.set(xlabel="step", ylabel="|eef - object| (m)", title="distance to the object")
+    side.set(xlabel="step", ylabel="z (m)", title="height")
     top.legend(fontsize=6, loc="best")
+    side.legend(fontsize=6, loc="best")
     fig.suptitle(f"{skill}, {cond}, seed {seed} — " + "; ".join(title), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=100)

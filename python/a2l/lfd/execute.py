@@ -3,11 +3,12 @@
 Every step reads the context (end-effector, object, high-level states), asks the skill for
 the next movement and carries it out in the scene:
 
-- ``mode="table"``: the context skill, through the C++ step (:mod:`a2l._core`: bins ->
-  compiled table -> movement; the same step ``a2l-run`` executes);
-- ``mode="ds"``: the bundle's DS alone, evaluated by the C++ ``DiffeoDS`` at
-  ``eef - object`` (the attractor follows the perceived object): a displacement of one
-  movement's length along the DS velocity, capped at the distance to the target.
+- ``mode="table"``: the context skill, through the C++ step (:class:`a2l.skills.CppSkillRunner`:
+  bins -> compiled table -> movement; the same step ``a2l-run`` executes);
+- ``mode="ds"``: the bundle's DS phases alone (:mod:`a2l.skills.phases`), through the C++
+  ``step_ds``: at ``eef - object`` (the attractor follows the perceived object), a
+  displacement of one movement's length along the DS velocity, capped at the distance to
+  the target, or the phase's end action.
 
 The run ends when the effect test says the effect is produced (or went wrong), when the
 step returns a stop status (``step_cap``, ``unknown_context``...), when a movement cannot be
@@ -32,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from a2l import _core
+from a2l.errors import A2LValueError
 from a2l.lfd.demonstrators import PUSH_DIRECTIONS
 
 __all__ = ["EFFECT_TESTS", "Progress", "SkillRun", "SkillStep", "push_test",
@@ -221,64 +222,31 @@ class SkillRun:
 
 
 class _TableStep:
-    """The C++ step of a bundle's compiled table; an action (open, close, stay) is returned
-    as its name, which :meth:`a2l.sim.Scene.execute` carries out."""
+    """The C++ step of a bundle's compiled table (:class:`a2l.skills.CppSkillRunner`,
+    ``mode="table"``); an action (open, close, stay) is returned as its name, which
+    :meth:`a2l.sim.Scene.execute` carries out."""
 
     def __init__(self, bundle: str) -> None:
-        self.skill = _core.load_bundle(bundle)
-        self.state = _core.SkillState(self.skill)
-        self.step_len = float(self.skill.movements.step)
-        self.cap = int(self.skill.step_cap)
-        self.labels = list(self.skill.movements.labels)
+        from a2l.skills import CppSkillRunner
+
+        self.runner = CppSkillRunner(bundle, mode="table")
+        self.skill = self.runner.skill
+        self.step_len = self.runner.step_length
+        self.cap = self.runner.step_cap
         self.directions = np.asarray(self.skill.movements.directions, dtype=int)
 
     def __call__(self, eef: np.ndarray, obj: np.ndarray, effect: str,
                  states: dict[str, str]) -> tuple[str, str, np.ndarray, Any]:
-        hl = {k: v for k, v in states.items()}
         try:
-            ctx = self.skill.context(eef, obj, effect, hl)
-        except Exception:  # noqa: BLE001 - a state value the table does not know
+            out = self.runner.step(eef, obj, effect, states)
+        except A2LValueError:  # a state value the table does not know
             return "unknown_context", "", np.zeros(3), None
-        out = _core.step(self.skill, self.state, ctx)
-        status = _core.status_name(out.status)
-        if status != "ok":
-            return status, "", np.zeros(3), None
-        if out.action != _core.MovementAction.none:  # open / close / stay: no displacement
-            name = _core.movement_action_name(out.action)
-            return "ok", name, np.zeros(3), name
-        m = int(out.movement)
-        return "ok", self.labels[m], np.asarray(out.displacement, dtype=float), \
-            tuple(int(v) for v in self.directions[m])
-
-
-class _DSStep:
-    """The bundle's DS alone (C++ DiffeoDS velocity), one movement's length per step."""
-
-    def __init__(self, bundle: str, step_len: float, cap: int,
-                 tolerance: float = 0.005) -> None:
-        self.ds = _core.load_ds(bundle)
-        self.step_len, self.cap, self.tolerance = step_len, cap, tolerance
-        self.count = 0
-
-    def __call__(self, eef: np.ndarray, obj: np.ndarray, effect: str,
-                 states: dict[str, str]) -> tuple[str, str, np.ndarray, Any]:
-        x = np.asarray(eef, float) - np.asarray(obj, float)
-        if not np.all(np.isfinite(x)):
-            return "unknown_context", "", np.zeros(3), None
-        if self.count >= self.cap:
-            return "step_cap", "", np.zeros(3), None
-        dist = float(np.linalg.norm(x))
-        if dist <= self.tolerance:
-            return "converged", "", np.zeros(3), None
-        v = np.asarray(self.ds.velocity(x[: int(self.ds.dim)]), dtype=float)
-        v3 = np.zeros(3)
-        v3[: v.shape[0]] = v
-        speed = float(np.linalg.norm(v3))
-        if not np.isfinite(speed) or speed < 1e-12:
-            return "converged", "", np.zeros(3), None
-        self.count += 1
-        disp = v3 / speed * min(self.step_len, dist)
-        return "ok", "ds", disp, disp
+        if out.status != "ok":
+            return out.status, "", np.zeros(3), None
+        if out.action is not None:  # open / close / stay: no displacement
+            return "ok", out.action, np.zeros(3), out.action
+        return "ok", out.label, np.asarray(out.displacement, dtype=float), \
+            tuple(int(v) for v in self.directions[out.movement])
 
 
 class _PhaseStep:
@@ -365,12 +333,7 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
         raise ValueError(f"the scene moves by {scene.step_length} m, the skill bundle "
                          f"'{path}' by {table.step_len} m: make the scene with step="
                          f"{table.step_len}")
-    if mode == "table":
-        stepper: Any = table
-    elif list(table.skill.ds_phases):  # the DS phases, else the bundle's one DS
-        stepper = _PhaseStep(path)
-    else:
-        stepper = _DSStep(path, table.step_len, table.cap)
+    stepper: Any = table if mode == "table" else _PhaseStep(path)
     cap = table.cap if max_steps is None else int(max_steps)
     names = scene.object_names
     name = object_name or ("box" if "box" in names else scene.primary_object)

@@ -106,7 +106,8 @@ def _push_recipe(effect: str) -> SkillRecipe:
     demonstrator = PushDemonstrator(effect)
 
     def behaviours(cfg: LfDConfig, seed: int) -> list[Behaviour]:
-        return [Behaviour(demonstrator.demonstrations(cfg.n_demos, seed), effect)]
+        return [Behaviour(demonstrator.demonstrations(cfg.n_demos, seed), effect,
+                          phase=f"push_{effect}")]
 
     return SkillRecipe(
         name=f"push_{effect}", scene="push", effect=effect, object_name="box",
