@@ -83,3 +83,20 @@ def test_impossible_goal_ends_in_a_clear_failure_report(world, tmp_path: Path) -
     assert res.last_skill is None and res.replans == 0
     assert "unsolvable" in res.message
     assert "(at block far-left)" in res.report()
+
+
+def test_a_world_that_keeps_undoing_the_press_ends_in_a_failure_report(world,
+                                                                       tmp_path: Path) -> None:
+    scene, skills, bundles = world
+    _start(scene)
+
+    def undo(_k: int, step, scn) -> None:
+        if step.name == "press-light-off":
+            scn.perturb("toggle", state="light")
+
+    res = execute_task(scene, skills, bundles, GOAL, tmp_path, max_replans=1, after_step=undo)
+    assert not res.success
+    assert res.unmet == ["(light-off)", "(holding block)"]
+    assert res.last_skill == "(press-light-off button)" and res.replans == 1
+    assert [s.stop for s in res.steps] == ["effect_produced"] * 2
+    assert "gave up" in res.message and "(light-off)" in res.report()

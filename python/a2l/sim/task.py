@@ -10,30 +10,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from a2l.sim.bullet import PressScene
-from a2l.sim.config import _RGBA, PressConfig, _err
+from a2l.sim.config import GraspConfig, PressConfig
 
 __all__ = ["TaskConfig", "TaskScene"]
 
 
 @dataclass
-class TaskConfig(PressConfig):
-    """The ``task`` scene: :class:`a2l.sim.PressConfig` plus the grasp block
-    (:class:`a2l.sim.GraspConfig`'s fields, same meaning)."""
+class TaskConfig(PressConfig, GraspConfig):
+    """The ``task`` scene: :class:`a2l.sim.PressConfig` (button, lamp, box) plus the block
+    of :class:`a2l.sim.GraspConfig` (same fields); the box stands out of the way."""
 
-    lift_threshold: float = 0.05
-    block_size: tuple[float, float, float] = (0.03, 0.03, 0.06)
-    block_mass: float = 0.05
-    block_friction: float = 1.0
+    lift_threshold: float = 0.05  # the grasp scene's (PressConfig's base default is 0.03)
     block_position: tuple[float, float] = (0.62, -0.3)
-    block_color: _RGBA = (0.1, 0.7, 0.15, 1.0)
     box_position: tuple[float, float] = (0.95, -0.6)
 
     def _validate_objects(self) -> None:
-        super()._validate_objects()
-        self._check_object("block")
-        if not 0.008 <= self.block_size[1] <= 0.045:
-            raise _err("block_size", f"y extent must be in [0.008, 0.045] m to fit the "
-                       f"gripper, got {self.block_size[1]}")
+        PressConfig._validate_objects(self)
+        GraspConfig._validate_objects(self)
 
 
 class TaskScene(PressScene):
