@@ -115,14 +115,30 @@ def _training(m: dict[str, Any]) -> list[dict[str, Any]]:
             for it in m["iterations"]]
 
 
-def _seeds_run(workers: int, root: Path) -> tuple[list[dict[str, Any]], float]:
+def _seeds_run(workers: int, root: Path, tag: str) -> tuple[list[dict[str, Any]], float]:
     """The virtual push experiment for every seed of :data:`SCALING_SEEDS`, one after the
-    other: (metrics of each, total wall time)."""
+    other on one worker pool, without plots (as ``a2l experiment sweep`` runs them):
+    (metrics of each, total wall time, the pool's start included)."""
     t = time.perf_counter()
-    out = [run_push_experiment(FrameworkConfig(scene="virtual", n_effects=4, seed=s),
-                               root / f"seeds-w{workers}-{s}", workers=workers, quiet=True)
-           for s in SCALING_SEEDS]
+    with Executor(workers=workers) as executor:
+        out = [run_push_experiment(FrameworkConfig(scene="virtual", n_effects=4, seed=s),
+                                   root / f"seeds-{tag}-{s}", quiet=True, plots=False,
+                                   executor=executor)
+               for s in SCALING_SEEDS]
     return out, time.perf_counter() - t
+
+
+def _scaling() -> tuple[list[float], list[float], bool]:
+    """:func:`_seeds_run` with 1, 2, 2 and 1 workers (interleaved: a load that changes during
+    the benchmark weighs on both): (walls with 1 worker, walls with 2, same metrics)."""
+    walls: dict[int, list[float]] = {1: [], 2: []}
+    metrics: list[list[list[dict[str, Any]]]] = []
+    with tempfile.TemporaryDirectory(prefix="a2l-bench-fw-seeds-") as tmp:
+        for k, workers in enumerate((1, 2, 2, 1)):
+            ms, wall = _seeds_run(workers, Path(tmp), f"{k}w{workers}")
+            walls[workers].append(wall)
+            metrics.append([_training(m) for m in ms])
+    return walls[1], walls[2], all(m == metrics[0] for m in metrics)
 
 
 def _iterations(m: dict[str, Any]) -> str:
@@ -171,9 +187,8 @@ def run() -> str:
             m1, wall1 = _run(cfg, 1, root, "w1")
         m2, wall2 = _run(cfg, 2, root, "w2")
         same = _training(m1) == _training(m2)
-        seeds1, wall_s1 = _seeds_run(1, root)
-        seeds2, wall_s2 = _seeds_run(2, root)
-        same_s = [_training(m) for m in seeds1] == [_training(m) for m in seeds2]
+        walls1, walls2, same_s = _scaling()
+        wall_s1, wall_s2 = sum(walls1), sum(walls2)
         for workers, m, wall in ((1, m1, wall1), (2, m2, wall2)):
             rows.append(f"| virtual, 4 effects, seed 0 | {workers} | {wall:.1f} | "
                         f"{len(m['iterations'])} | {m['final_score']:.1f} | "
@@ -204,10 +219,14 @@ def run() -> str:
         f"faster). Same metrics (but wall times) with 1 and 2 workers: {same}.",
         "",
         f"A run of over a minute: the same experiment for seeds {SCALING_SEEDS[0]}-"
-        f"{SCALING_SEEDS[-1]} one after the other (each its own run directory and worker "
-        f"pool), {sum(len(m['iterations']) for m in seeds1)} iterations in all: "
-        f"**{wall_s1:.1f} s** with 1 worker, **{wall_s2:.1f} s** with 2; ratio 1 worker / 2 "
-        f"workers **{wall_s1 / wall_s2:.2f}**. Same metrics (but wall times): {same_s}.",
+        f"{SCALING_SEEDS[-1]} one after the other, each its own run directory, all on one "
+        "worker pool (`run_push_experiment(executor=...)`) and without plots, as `a2l "
+        "experiment sweep` runs them (the pool's start is in the time), run 4 times in the "
+        "order 1, 2, 2, 1 "
+        f"workers: {', '.join(f'{w:.1f}' for w in walls1)} s with 1 worker, "
+        f"{', '.join(f'{w:.1f}' for w in walls2)} s with 2; ratio of the sums, 1 worker / "
+        f"2 workers **{wall_s1 / wall_s2:.2f}**. Same metrics (but wall times) in all 4: "
+        f"{same_s}.",
         "",
         "Where the 1-worker run spends its time (the framework's phases, all iterations; "
         "`extend` holds the effect-directed babbling):",

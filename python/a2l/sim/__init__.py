@@ -56,7 +56,7 @@ __all__ = [
 ]
 
 #: Names of the scenes :func:`make_scene` builds.
-SCENES: tuple[str, ...] = ("push", "grasp", "grasp_light", "press", "virtual")
+SCENES: tuple[str, ...] = ("push", "grasp", "grasp_light", "press", "task", "virtual")
 
 
 def make_scene(name: str, seed: int = 0, **config: Any) -> Scene:
@@ -64,7 +64,7 @@ def make_scene(name: str, seed: int = 0, **config: Any) -> Scene:
 
     Parameters
     ----------
-    name : {"push", "grasp", "grasp_light", "press", "virtual"}
+    name : {"push", "grasp", "grasp_light", "press", "task", "virtual"}
         The scene.
     seed : int
         Seeds every random draw of the scene (object jitter on reset).
@@ -91,7 +91,8 @@ def make_scene(name: str, seed: int = 0, **config: Any) -> Scene:
         return VirtualScene(cfg, seed)
     from a2l.sim.bullet import GraspScene, PressScene, PushScene
     from a2l.sim.grasp_light import GraspLightScene
+    from a2l.sim.task import TaskScene
 
     cls = {"push": PushScene, "grasp": GraspScene, "grasp_light": GraspLightScene,
-           "press": PressScene}[name]
+           "press": PressScene, "task": TaskScene}[name]
     return cls(cfg, seed)

@@ -467,10 +467,19 @@ _CONFIGS: dict[str, type] = {
 }
 
 
+def _task_config() -> type:
+    from a2l.sim.task import TaskConfig
+
+    return TaskConfig
+
+
 def config_class(scene: str) -> type:
     """The config dataclass of a scene name; ``ValueError`` naming an unknown scene."""
+    if scene == "task":
+        return _task_config()
     if scene not in _CONFIGS:
-        raise A2LValueError(f"unknown scene '{scene}'; choose one of {sorted(_CONFIGS)}")
+        raise A2LValueError(f"unknown scene '{scene}'; choose one of "
+                            f"{sorted([*_CONFIGS, 'task'])}")
     return _CONFIGS[scene]
 
 

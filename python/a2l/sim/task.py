@@ -1,0 +1,43 @@
+"""The ``task`` scene: the press scene's button and lamp with the grasp block, for tasks that
+chain skills (press the light off, then grasp the block: issue 13's executor).
+
+The box of the press scene stands out of the way (far right corner); the block is the grasp
+scene's, between it and the button.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from a2l.sim.bullet import PressScene
+from a2l.sim.config import GraspConfig, PressConfig
+
+__all__ = ["TaskConfig", "TaskScene"]
+
+
+@dataclass
+class TaskConfig(PressConfig, GraspConfig):
+    """The ``task`` scene: :class:`a2l.sim.PressConfig` (button, lamp, box) plus the block
+    of :class:`a2l.sim.GraspConfig` (same fields); the box stands out of the way."""
+
+    lift_threshold: float = 0.05  # the grasp scene's (PressConfig's base default is 0.03)
+    block_position: tuple[float, float] = (0.62, -0.3)
+    box_position: tuple[float, float] = (0.95, -0.6)
+
+    def _validate_objects(self) -> None:
+        PressConfig._validate_objects(self)
+        GraspConfig._validate_objects(self)
+
+
+class TaskScene(PressScene):
+    """Button, lamp, box and the grasp block (config: :class:`TaskConfig`)."""
+
+    name = "task"
+    primary_object = "block"
+    config: TaskConfig
+
+    def _build_objects(self) -> None:
+        super()._build_objects()
+        cfg = self.config
+        self._add_box("block", cfg.block_size, cfg.block_mass, cfg.block_friction,
+                      cfg.block_position, cfg.block_color)
