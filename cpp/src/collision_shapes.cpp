@@ -32,16 +32,19 @@ std::unique_ptr<btCollisionShape> make_shape(const urdf::Geometry& g, const Mesh
   switch (g.type) {
     case urdf::Geometry::BOX: {
       const auto& b = static_cast<const urdf::Box&>(g);
-      s = std::make_unique<btBoxShape>(btVector3(b.dim.x / 2, b.dim.y / 2, b.dim.z / 2));
+      s = std::make_unique<btBoxShape>(btVector3(
+          b.dim.x / 2 + kLinkPadding, b.dim.y / 2 + kLinkPadding, b.dim.z / 2 + kLinkPadding));
       break;
     }
     case urdf::Geometry::CYLINDER: {
       const auto& c = static_cast<const urdf::Cylinder&>(g);
-      s = std::make_unique<btCylinderShapeZ>(btVector3(c.radius, c.radius, c.length / 2));
+      const double r = c.radius + kLinkPadding;
+      s = std::make_unique<btCylinderShapeZ>(btVector3(r, r, c.length / 2 + kLinkPadding));
       break;
     }
     case urdf::Geometry::SPHERE: {
-      s = std::make_unique<btSphereShape>(static_cast<const urdf::Sphere&>(g).radius);
+      s = std::make_unique<btSphereShape>(static_cast<const urdf::Sphere&>(g).radius +
+                                          kLinkPadding);
       return s;  // a sphere's margin is its radius
     }
     case urdf::Geometry::MESH: {
@@ -65,8 +68,8 @@ std::unique_ptr<btCollisionShape> make_shape(const urdf::Geometry& g, const Mesh
       auto h = std::make_unique<btConvexHullShape>();
       for (int i = 0; i < hull.numVertices(); ++i) h->addPoint(hull.getVertexPointer()[i], false);
       h->recalcLocalAabb();
-      s = std::move(h);
-      break;
+      h->setMargin(kShapeMargin + kLinkPadding);  // a hull grows by its margin
+      return h;
     }
     default:
       error = "link '" + link + "': unsupported collision geometry";
