@@ -4,13 +4,14 @@
 //!
 //! Every link's `<collision>` elements become Bullet shapes: boxes, cylinders and spheres as
 //! they are, meshes as convex hulls of their vertices (the vertices are given by the caller,
-//! see MeshVertices). The arm is the chain between two links (as in Kinematics); every link
-//! below the chain's first joint moves with it, every other link stays where the fixed joint
-//! positions put it. A configuration of the arm is in collision when a moving link touches an
-//! obstacle box (inflated by a padding), a static link, or another moving link — except the
-//! allowed pairs: adjacent links (parent and child, through links without geometry), links
-//! rigidly attached to each other (no arm joint between them: their contact never changes)
-//! and the pairs found in collision at a reference pose (allow_collisions_at()).
+//! see MeshVertices), each grown by 2 mm on every side so that planned paths keep a clearance
+//! (simulators approximate the same geometry up to ~1 mm larger). The arm is the chain between two
+//! links (as in Kinematics); every link below the chain's first joint moves with it, every other
+//! link stays where the fixed joint positions put it. A configuration of the arm is in collision
+//! when a moving link touches an obstacle box (inflated by a padding), a static link, or another
+//! moving link — except the allowed pairs: adjacent links (parent and child, through links without
+//! geometry), links rigidly attached to each other (no arm joint between them: their contact never
+//! changes) and the pairs found in collision at a reference pose (allow_collisions_at()).
 //!
 //! Poses are expressed in the frame of the chain's base link. Available when the core was
 //! built with Bullet (A2L_HAVE_BULLET).
