@@ -204,6 +204,35 @@ def vector_field_rows(fields: Sequence[Any], demos: Sequence[Demonstration], eff
     with np.errstate(invalid="ignore", divide="ignore"):
         move = np.where(speed > 1e-12, cfg.step * vel / speed, 0.0)
     states = dict(demos[0].states if states is None else states)
+    return dataset_frame(points, move, effect, states, episode0)
+
+
+def dataset_frame(points: np.ndarray, move: np.ndarray, effect: str,
+                  states: dict[str, str], episode0: int = 0,
+                  action: np.ndarray | None = None) -> pd.DataFrame:
+    """Rows in the common dataset format, one per sampled point (the object at the origin).
+
+    Parameters
+    ----------
+    points : np.ndarray, shape (n, 3)
+        End-effector positions relative to the object (m).
+    move : np.ndarray, shape (n, 3)
+        The movement at each point (m).
+    effect : str
+        The effect every row produces.
+    states : dict[str, str]
+        High-level state values, the same for every row.
+    episode0 : int
+        Episode number of the first row (each row is its own one-step episode).
+    action : np.ndarray of object, shape (n,), optional
+        An action name (or None) per row: the dataset's ``action`` column.
+
+    Returns
+    -------
+    pandas.DataFrame
+        n rows: ``episode``, ``step``, eef, object and move columns, ``action`` if given,
+        ``effect`` and one column per state.
+    """
     n = len(points)
     data: dict[str, Any] = {"episode": episode0 + np.arange(n, dtype=np.int64),
                             "step": np.zeros(n, dtype=np.int64)}
@@ -213,6 +242,8 @@ def vector_field_rows(fields: Sequence[Any], demos: Sequence[Demonstration], eff
         data[c] = np.zeros(n)
     for k, c in enumerate(MOVE_COLUMNS):
         data[c] = move[:, k]
+    if action is not None:
+        data["action"] = action
     data["effect"] = np.full(n, effect, dtype=object)
     for name, value in states.items():
         data[name] = np.full(n, value, dtype=object)

@@ -49,8 +49,8 @@ import numpy as np
 import pandas as pd
 from scipy.spatial import cKDTree
 
-from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.lfd.config import LfDConfig
+from a2l.lfd.dataset import dataset_frame
 from a2l.lfd.demonstration import Demonstration
 from a2l.lfd.execute import Progress, register_effect_test
 from a2l.lfd.library import SkillRecipe, register_skill
@@ -240,20 +240,7 @@ def phase_rows(phase: Phase, fields: Sequence[Any], effect: str, cfg: LfDConfig,
     if phase.end_action is not None:
         near = np.linalg.norm(points - phase.target, axis=1) <= ACTION_RADIUS[phase.end_action]
         action[near] = phase.end_action
-    n = len(points)
-    data: dict[str, Any] = {"episode": episode0 + np.arange(n, dtype=np.int64),
-                            "step": np.zeros(n, dtype=np.int64)}
-    for k, c in enumerate(EEF_COLUMNS):
-        data[c] = points[:, k]
-    for c in OBJECT_COLUMNS:
-        data[c] = np.zeros(n)
-    for k, c in enumerate(MOVE_COLUMNS):
-        data[c] = move[:, k]
-    data["action"] = action
-    data["effect"] = np.full(n, effect, dtype=object)
-    for name, value in phase.when.items():
-        data[name] = np.full(n, value, dtype=object)
-    return pd.DataFrame(data)
+    return dataset_frame(points, move, effect, dict(phase.when), episode0, action=action)
 
 
 def manipulation_discretizer(skill: str, cfg: LfDConfig = CONFIG) -> Any:
