@@ -73,8 +73,35 @@ def context_bins(eef: np.ndarray, obj: np.ndarray, variables: Sequence[ContextBi
     return _core.context_bins(e, o, core).astype(np.int64)
 
 
+class _Bins:
+    """What the three context discretizations share: the bin-count check and :meth:`bins`,
+    both through :func:`context_bins` (the C++ bin math)."""
+
+    name: str
+    n_bins: int
+
+    def _check_n_bins(self) -> None:
+        if not 1 <= self.n_bins <= 1024:
+            raise ValueError(f"{self.name}: n_bins must be in [1, 1024], got {self.n_bins}")
+
+    def bins(self, eef: np.ndarray, obj: np.ndarray) -> np.ndarray:
+        """Bins of this variable.
+
+        Parameters
+        ----------
+        eef, obj : ndarray, shape (n, 3) or (3,)
+            End-effector and object positions (m).
+
+        Returns
+        -------
+        ndarray of int64, shape (n,)
+            Bin in [0, n_bins), or -1 where eef − object is not finite.
+        """
+        return context_bins(eef, obj, [self])[:, 0]  # type: ignore[list-item]
+
+
 @dataclass(frozen=True)
-class DistanceBins:
+class DistanceBins(_Bins):
     """Equal bins of the eef→object distance over [low, high], saturating at both ends.
 
     Parameters
@@ -93,25 +120,9 @@ class DistanceBins:
     name: str = "distance"
 
     def __post_init__(self) -> None:
-        if not 1 <= self.n_bins <= 1024:
-            raise ValueError(f"{self.name}: n_bins must be in [1, 1024], got {self.n_bins}")
+        self._check_n_bins()
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             raise ValueError(f"{self.name}: need finite low < high, got [{self.low}, {self.high}]")
-
-    def bins(self, eef: np.ndarray, obj: np.ndarray) -> np.ndarray:
-        """Distance bins.
-
-        Parameters
-        ----------
-        eef, obj : ndarray, shape (n, 3) or (3,)
-            End-effector and object positions (m).
-
-        Returns
-        -------
-        ndarray of int64, shape (n,)
-            Bin in [0, n_bins), or -1 where eef − object is not finite.
-        """
-        return context_bins(eef, obj, [self])[:, 0]
 
     def core_variable(self) -> tuple[str, int, float, float]:
         """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
@@ -123,7 +134,7 @@ class DistanceBins:
 
 
 @dataclass(frozen=True)
-class OrientationBins:
+class OrientationBins(_Bins):
     """Sections of the planar angle of (eef − object), offset by half a section.
 
     Parameters
@@ -138,23 +149,7 @@ class OrientationBins:
     name: str = "orientation"
 
     def __post_init__(self) -> None:
-        if not 1 <= self.n_bins <= 1024:
-            raise ValueError(f"{self.name}: n_bins must be in [1, 1024], got {self.n_bins}")
-
-    def bins(self, eef: np.ndarray, obj: np.ndarray) -> np.ndarray:
-        """Orientation bins.
-
-        Parameters
-        ----------
-        eef, obj : ndarray, shape (n, 3) or (3,)
-            End-effector and object positions (m).
-
-        Returns
-        -------
-        ndarray of int64, shape (n,)
-            Bin in [0, n_bins), or -1 where eef − object is not finite.
-        """
-        return context_bins(eef, obj, [self])[:, 0]
+        self._check_n_bins()
 
     def core_variable(self) -> tuple[str, int, float, float]:
         """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
@@ -166,7 +161,7 @@ class OrientationBins:
 
 
 @dataclass(frozen=True)
-class InclinationBins:
+class InclinationBins(_Bins):
     """Sections of the angle from vertical of (eef − object), over [0, π].
 
     Parameters
@@ -181,23 +176,7 @@ class InclinationBins:
     name: str = "inclination"
 
     def __post_init__(self) -> None:
-        if not 1 <= self.n_bins <= 1024:
-            raise ValueError(f"{self.name}: n_bins must be in [1, 1024], got {self.n_bins}")
-
-    def bins(self, eef: np.ndarray, obj: np.ndarray) -> np.ndarray:
-        """Inclination bins.
-
-        Parameters
-        ----------
-        eef, obj : ndarray, shape (n, 3) or (3,)
-            End-effector and object positions (m).
-
-        Returns
-        -------
-        ndarray of int64, shape (n,)
-            Bin in [0, n_bins), or -1 where eef − object is not finite.
-        """
-        return context_bins(eef, obj, [self])[:, 0]
+        self._check_n_bins()
 
     def core_variable(self) -> tuple[str, int, float, float]:
         """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
