@@ -11,7 +11,7 @@ From a raw interaction dataset to a skill bundle::
 
 from __future__ import annotations
 
-from a2l.skills.bins import DistanceBins, InclinationBins, OrientationBins
+from a2l.skills.bins import DistanceBins, InclinationBins, OffsetBins, OrientationBins
 from a2l.skills.bundle import load_bundle, save_bundle
 from a2l.skills.compile import PolicyTable, compile_policy, relevant_evidence
 from a2l.skills.discretize import Discretizer
@@ -52,6 +52,7 @@ __all__ = [
     "K2Score",
     "KnownStructure",
     "MovementRepertoire",
+    "OffsetBins",
     "OrientationBins",
     "PolicyTable",
     "STRUCTURES",
