@@ -64,8 +64,7 @@ std::vector<Variable> to_variables(const std::vector<VariableTuple>& variables) 
                                           std::to_string(kMaxBins) + "], got " +
                                           std::to_string(n_bins));
     }
-    if (has_range(v.kind) &&
-        !(std::isfinite(low) && std::isfinite(high) && low < high)) {
+    if (has_range(v.kind) && !(std::isfinite(low) && std::isfinite(high) && low < high)) {
       raise(Status::invalid_argument, where + ": need finite low < high, got [" +
                                           std::to_string(low) + ", " + std::to_string(high) + "]");
     }

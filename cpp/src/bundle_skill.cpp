@@ -41,8 +41,9 @@ bool bundle_detail::parse_variables(const json& m, std::vector<Variable>& vars, 
       return false;
     }
     if (!parse_variable_kind(kind, v.kind)) {
-      return e.parse(where + "kind: unknown kind '" + kind +
-                     "' (effect, distance, orientation, inclination, high_level, offset_x, offset_y)");
+      return e.parse(
+          where + "kind: unknown kind '" + kind +
+          "' (effect, distance, orientation, inclination, high_level, offset_x, offset_y)");
     }
     if (v.kind == VariableKind::effect || v.kind == VariableKind::high_level) {
       const json* values = nullptr;

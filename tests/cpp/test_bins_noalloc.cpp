@@ -98,18 +98,16 @@ TEST(ContextBin, OffsetsAreDistanceBinsOfTheEefOffsetAlongXAndY) {
   EXPECT_EQ(k, VariableKind::offset_x);
   // An offset needs a range, like a distance.
   Discretizer disc;
-  const a2l::Result r =
-      Discretizer::create({variable(VariableKind::offset_x, 3, 0.1, 0.1)}, disc);
+  const a2l::Result r = Discretizer::create({variable(VariableKind::offset_x, 3, 0.1, 0.1)}, disc);
   EXPECT_FALSE(r.ok());
   EXPECT_NE(r.message.find("low/high"), std::string::npos) << r.message;
 }
 
 TEST(ContextBin, DiscretizeUsesContextBin) {
-  std::vector<Variable> vars = {variable(VariableKind::distance, 5, 0.02, 0.3),
-                                variable(VariableKind::orientation, 12),
-                                variable(VariableKind::inclination, 6),
-                                variable(VariableKind::offset_x, 3, -0.12, 0.12),
-                                variable(VariableKind::offset_y, 5, -0.2, 0.2)};
+  std::vector<Variable> vars = {
+      variable(VariableKind::distance, 5, 0.02, 0.3), variable(VariableKind::orientation, 12),
+      variable(VariableKind::inclination, 6), variable(VariableKind::offset_x, 3, -0.12, 0.12),
+      variable(VariableKind::offset_y, 5, -0.2, 0.2)};
   Discretizer disc;
   ASSERT_TRUE(Discretizer::create(vars, disc).ok());
   std::mt19937_64 rng(5);
@@ -130,11 +128,10 @@ TEST(ContextBin, DiscretizeUsesContextBin) {
 }
 
 TEST(BinsNoAlloc, ContextBinAndClassifyEffectAllocateNothingThrowNothing) {
-  const Variable vars[5] = {variable(VariableKind::distance, 3, 0.05, 0.20),
-                            variable(VariableKind::orientation, 16),
-                            variable(VariableKind::inclination, 8),
-                            variable(VariableKind::offset_x, 3, -0.135, 0.135),
-                            variable(VariableKind::offset_y, 3, -0.1575, 0.1575)};
+  const Variable vars[5] = {
+      variable(VariableKind::distance, 3, 0.05, 0.20), variable(VariableKind::orientation, 16),
+      variable(VariableKind::inclination, 8), variable(VariableKind::offset_x, 3, -0.135, 0.135),
+      variable(VariableKind::offset_y, 3, -0.1575, 0.1575)};
   std::mt19937_64 rng(11);
   const int n = 100000;
   std::vector<V> eef(static_cast<size_t>(n)), obj(static_cast<size_t>(n));

@@ -5,9 +5,9 @@
 //! distance saturating at both ends, orientation in sections offset by half a section,
 //! inclination from the vertical, and the planar offsets along the base frame's x and y axes
 //! (binned like a distance: they tell a point beside a face of a box from one in front of
-//! it, which distance and orientation sections do not). Discrete variables (the wanted effect, high-level states)
-//! are given by the caller as value indices. A non-finite position or a discrete index out
-//! of range is an *unknown context*: the discretizer reports it, it never guesses a bin.
+//! it, which distance and orientation sections do not). Discrete variables (the wanted effect,
+//! high-level states) are given by the caller as value indices. A non-finite position or a discrete
+//! index out of range is an *unknown context*: the discretizer reports it, it never guesses a bin.
 #pragma once
 
 #include <Eigen/Core>
@@ -60,7 +60,7 @@ struct Variable {
   int n_bins = 1;                              //!< number of bins (values for effect / high_level)
   double low = 0.0;   //!< distance, offset_x, offset_y only: lower end of the range (m)
   double high = 0.0;  //!< distance, offset_x, offset_y only: upper end of the range (m)
-  std::vector<std::string> values;             //!< effect / high_level only: value names
+  std::vector<std::string> values;  //!< effect / high_level only: value names
 };
 
 //! The current situation, as the runtime sees it at one instant. Fixed size, no allocation.

@@ -129,7 +129,7 @@ class FrameworkConfig:
     n_incl: int = 0
     dist_low: float = 0.05
     dist_high: float = 0.20
-    n_offset: int = 3
+    n_offset: int = 0
     offset_half_x: float = 0.045
     offset_half_y: float = 0.0525
     effect_threshold: float = 0.01
