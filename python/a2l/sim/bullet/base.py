@@ -10,7 +10,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-import a2l
 from a2l.errors import A2LError, A2LValueError
 from a2l.sim._pybullet import p
 from a2l.sim.bodies import BodyCache
@@ -79,14 +78,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         # check the arguments before touching the world: a bad reset leaves it as it was
         q_arm = self._neutral_q.copy()
         if eef is not None:
-            target = np.asarray(eef, dtype=float).reshape(3)
-            if not np.all(np.isfinite(target)):
-                raise A2LValueError(f"reset: eef must be 3 finite numbers, got {eef!r}")
-            q_arm, rep = self.kinematics.ik_report(self._pose(target), self._neutral_q)
-            if rep.status != a2l.Status.ok:
-                raise A2LValueError(f"reset: eef {tuple(np.round(target, 4))} is unreachable "
-                                    f"with the gripper pointing down "
-                                    f"({a2l._core.status_name(rep.status)})")
+            q_arm = self._ik_down(eef, "reset")
         placed = dict(objects or {})
         for name in placed:
             if name not in self._objects:

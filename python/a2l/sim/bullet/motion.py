@@ -18,6 +18,9 @@ from a2l.sim.scene import MoveResult
 
 __all__ = ["GRIPPER_DOWN", "MotionMixin"]
 
+#: Shortest settling at the end of a movement (s): 5 physics steps at 240 Hz.
+_SETTLE_MIN_S = 5.0 / 240.0
+
 #: Orientation of the gripper frame when it points down: z to the floor, fingers closing
 #: along the world y axis.
 GRIPPER_DOWN: NDArray[np.float64] = np.diag([-1.0, 1.0, -1.0])
@@ -34,6 +37,7 @@ class MotionMixin:
     _arm: list[int]
     _fingers: list[int]
     _vmax: NDArray[np.float64]
+    _neutral_q: NDArray[np.float64]
     _states: dict[str, str]
     _perceived_cache: Any
     kinematics: a2l.Kinematics
@@ -83,6 +87,39 @@ class MotionMixin:
         t[:3, :3] = GRIPPER_DOWN
         t[:3, 3] = np.asarray(xyz, dtype=float)
         return t
+
+    def _ik_down(self, xyz: ArrayLike, what: str) -> NDArray[np.float64]:
+        """Joint positions (7,) that put the end-effector at `xyz` with the gripper pointing
+        down, by the C++ IK from the neutral pose (the same solution every time), or an
+        A2LValueError that starts with `what`."""
+        target = np.asarray(xyz, dtype=float).reshape(3)
+        if not np.all(np.isfinite(target)):
+            raise A2LValueError(f"{what}: eef must be 3 finite numbers, got {xyz!r}")
+        q, rep = self.kinematics.ik_report(self._pose(target), self._neutral_q)
+        if rep.status != a2l.Status.ok:
+            raise A2LValueError(f"{what}: eef {tuple(np.round(target, 4))} is unreachable "
+                                f"with the gripper pointing down "
+                                f"({a2l._core.status_name(rep.status)})")
+        return np.asarray(q, dtype=float)
+
+    def place_arm(self, eef: ArrayLike) -> None:
+        """Put the acting arm, at rest, where the end-effector is at `eef` with the gripper
+        pointing down, as :meth:`reset` places it, without touching anything else: a
+        kinematic placement (joint states set, no physics step), not a movement. The
+        objects stay as they are; let the physics run (:meth:`settle`) for them to react.
+
+        Raises
+        ------
+        a2l.A2LValueError
+            `eef` is not 3 finite numbers or is out of reach; the world is then unchanged.
+        """
+        q = self._ik_down(eef, "place_arm")
+        self._set_arm_targets(q)
+        for j, v in zip(self._arm, q, strict=True):
+            p.resetJointState(self._robot, j, v, 0.0, physicsClientId=self._client)
+        self._command()
+        self._tick += 1
+        self._perceived_cache = None
 
     def _move(self, disp: NDArray[np.float64]) -> MoveResult:
         cfg = self.config
@@ -154,12 +191,14 @@ class MotionMixin:
             q = qi
 
     def _settle_at(self, target: NDArray[np.float64]) -> None:
-        """Step until the end-effector is within 2 mm of `target` (at least 5 steps, at most
-        0.3 s)."""
-        settle_max = max(1, round(0.3 / self.config.time_step))
+        """Step until the end-effector is within 2 mm of `target` (at least 1/48 s: 5 steps
+        at the default 240 Hz; at most 0.3 s)."""
+        ts = self.config.time_step
+        settle_min = max(1, math.ceil(_SETTLE_MIN_S / ts - 1e-9))
+        settle_max = max(settle_min, round(0.3 / ts))
         for i in range(settle_max):
             self._sim_step()
-            if i >= 4 and np.linalg.norm(self.eef_position() - target) < 0.002:
+            if i >= settle_min - 1 and np.linalg.norm(self.eef_position() - target) < 0.002:
                 break
 
     def _idle(self) -> None:
