@@ -162,11 +162,11 @@ def _transit_to(scene: Any, transit: Any, target: np.ndarray, held: tuple[str, .
     # IK from the current joints, the neutral pose, then seeded random starts: the first
     # collision-free solution (one seed may land the elbow in the torso)
     rng = np.random.default_rng(seed)
-    neutral = np.asarray(scene._neutral_q, dtype=float)
+    neutral = scene.neutral_joint_positions
     starts = [q0, neutral, *(neutral + rng.normal(0.0, 0.5, neutral.shape) for _ in range(8))]
     q1, why = None, "ik_failed"
     for start in starts:
-        q, rep = scene.kinematics.ik_report(scene._pose(target), start)
+        q, rep = scene.kinematics.ik_report(scene.gripper_down_pose(target), start)
         if rep.status != a2l.Status.ok:
             continue
         if transit.in_collision(q):
@@ -296,6 +296,6 @@ def _run_step(scene: Any, skill: Skill, step: PlanStep, bundles: Mapping[str, An
     status = _transit_to(scene, transit, pos + APPROACH, held, seed)
     if status != "ok":
         return f"transit:{status}"
-    scene._episode_start = scene._snapshot()  # the skill's effect test counts from here
+    scene.start_episode()  # the skill's effect test counts from here
     run = run_skill(scene, bundles[skill.name], skill.effect, object_name=obj)
     return run.stop
