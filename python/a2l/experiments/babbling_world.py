@@ -62,8 +62,9 @@ class WorldConfig:
     time_step : float
         Physics step (s; the scene's ``time_step``): 120 Hz, half the scenes' default
         rate, half the physics steps again. Measured against 240 Hz on 40 trajectories
-        aimed at the box: the same 30 moved it, the same 10 did not; where a pushed box
-        ended differs by a median 4.7 cm (pushes that turn the box diverge; BENCHMARKS.md).
+        aimed low at the box (BENCHMARKS.md, babbling): 29 moved it at both rates, one at
+        240 Hz only; the median push is as long (13.0 against 13.1 cm); where a pushed box
+        ended differs by a median 3.9 cm (pushes that turn the box diverge).
     seed : int
         The scene's seed.
     """
