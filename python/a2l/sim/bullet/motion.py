@@ -82,7 +82,14 @@ class MotionMixin:
         self._targets[l_] = 0.0 if closed else _FINGER_OPEN
         self._targets[r_] = 0.0 if closed else -_FINGER_OPEN
 
-    def _pose(self, xyz: ArrayLike) -> NDArray[np.float64]:
+    @property
+    def neutral_joint_positions(self) -> NDArray[np.float64]:
+        """Joint positions (7,) of the acting arm at the neutral pose (a copy)."""
+        return np.array(self._neutral_q, dtype=float)
+
+    def gripper_down_pose(self, xyz: ArrayLike) -> NDArray[np.float64]:
+        """Homogeneous pose (4, 4) of the end-effector at `xyz` (3,) with the gripper pointing
+        down (:data:`GRIPPER_DOWN`): the target every movement and transit asks the IK for."""
         t = np.eye(4)
         t[:3, :3] = GRIPPER_DOWN
         t[:3, 3] = np.asarray(xyz, dtype=float)
@@ -95,7 +102,7 @@ class MotionMixin:
         target = np.asarray(xyz, dtype=float).reshape(3)
         if not np.all(np.isfinite(target)):
             raise A2LValueError(f"{what}: eef must be 3 finite numbers, got {xyz!r}")
-        q, rep = self.kinematics.ik_report(self._pose(target), self._neutral_q)
+        q, rep = self.kinematics.ik_report(self.gripper_down_pose(target), self._neutral_q)
         if rep.status != a2l.Status.ok:
             raise A2LValueError(f"{what}: eef {tuple(np.round(target, 4))} is unreachable "
                                 f"with the gripper pointing down "
@@ -157,7 +164,7 @@ class MotionMixin:
         plan = []
         for i in range(1, n + 1):
             wp = start + disp * (i / n)
-            qi, rep = self.kinematics.ik_report(self._pose(wp), q)
+            qi, rep = self.kinematics.ik_report(self.gripper_down_pose(wp), q)
             if rep.status != a2l.Status.ok:
                 status = a2l._core.status_name(rep.status)
                 return MoveResult(False, "unreachable" if status != "joint_limit" else status,
