@@ -25,6 +25,12 @@ CXX_TEST_SOURCES := $(shell find tests/cpp benchmarks/cpp -name '*.cpp' 2>/dev/n
 STAMP_APT := $(BUILD)/.stamp-apt
 STAMP_VENV := $(VENV)/.stamp-venv
 STAMP_INSTALL := $(VENV)/.stamp-install
+# The editable install maps each Python module to its file when installed: a module added or
+# removed needs a reinstall. The list of modules is rewritten only when it changes.
+PY_MODULES := $(BUILD)/.python-modules
+$(shell mkdir -p $(BUILD) && find python -name '*.py' | sort > $(PY_MODULES).new && \
+  { cmp -s $(PY_MODULES).new $(PY_MODULES) || mv $(PY_MODULES).new $(PY_MODULES); }; \
+  rm -f $(PY_MODULES).new)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: help setup demo test test-cpp test-guarded test-python fuzz bench lint format clean
@@ -50,7 +56,7 @@ $(STAMP_VENV): $(STAMP_APT)
 	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools wheel
 	@touch $@
 
-$(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES)
+$(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
 	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py -e ".[dev]"
 	@touch $@

@@ -105,6 +105,37 @@ void SkillState::push(const TraceRecord& r) noexcept {
   }
 }
 
+void SkillState::begin_step(StepOutput& out) const noexcept {
+  out.movement = -1;
+  out.probability = 0.0;
+  out.displacement.setZero();
+  out.action = MovementAction::none;
+  TraceRecord& rec = out.record;
+  rec.step = calls_;
+  rec.movement = -1;
+  rec.probability = 0.0;
+  rec.n_variables = 0;
+  rec.phase = -1;
+}
+
+Status SkillState::finish_step(StepOutput& out, Status s) noexcept {
+  out.status = s;
+  out.record.status = s;
+  if (n_variables_ >= 0) {
+    push(out.record);
+    ++calls_;
+  }
+  return s;
+}
+
+Status SkillState::check_sized(const Skill& skill) const noexcept {
+  if (!skill.loaded() || n_variables_ < 0) return Status::not_initialized;
+  if (n_variables_ != skill.n_variables() || n_moves_ != skill.n_moves()) {
+    return Status::size_mismatch;
+  }
+  return Status::ok;
+}
+
 namespace {
 
 // The top two movements of `p` (lowest index on ties).
@@ -126,31 +157,10 @@ void top_two(const double* p, int n, int& first, int& second) noexcept {
 Status step(const Skill& skill, SkillState& state, const Context& context,
             StepOutput& out) noexcept {
   [[maybe_unused]] const detail::RealTimeSection rt;
-  out.movement = -1;
-  out.probability = 0.0;
-  out.displacement.setZero();
-  out.action = MovementAction::none;
+  state.begin_step(out);
   TraceRecord& rec = out.record;
-  rec.step = state.calls_;
-  rec.movement = -1;
-  rec.probability = 0.0;
-  rec.n_variables = 0;
-  rec.phase = -1;
-
-  auto finish = [&](Status s) noexcept {
-    out.status = s;
-    rec.status = s;
-    if (state.n_variables_ >= 0) {
-      state.push(rec);
-      ++state.calls_;
-    }
-    return s;
-  };
-
-  if (!skill.loaded() || state.n_variables_ < 0) return finish(Status::not_initialized);
-  if (state.n_variables_ != skill.n_variables() || state.n_moves_ != skill.n_moves()) {
-    return finish(Status::size_mismatch);
-  }
+  auto finish = [&](Status st) noexcept { return state.finish_step(out, st); };
+  if (const Status sized = state.check_sized(skill); sized != Status::ok) return finish(sized);
   const int nv = skill.n_variables();
   const Discretizer& disc = skill.discretizer();
   const PolicyTable& table = skill.table();

@@ -11,34 +11,13 @@ Status step_ds(const Skill& skill, SkillState& state, const Eigen::Vector3d& eef
                const Eigen::Vector3d& object, const DSStateValues& states,
                StepOutput& out) noexcept {
   [[maybe_unused]] const detail::RealTimeSection rt;
-  out.movement = -1;
-  out.probability = 0.0;
-  out.displacement.setZero();
-  out.action = MovementAction::none;
+  state.begin_step(out);
   TraceRecord& rec = out.record;
-  rec.step = state.calls_;
-  rec.movement = -1;
-  rec.probability = 0.0;
-  rec.n_variables = 0;
-  rec.phase = -1;
-
-  auto finish = [&](Status s) noexcept {
-    out.status = s;
-    rec.status = s;
-    if (state.n_variables_ >= 0) {
-      state.push(rec);
-      ++state.calls_;
-    }
-    return s;
-  };
-
+  auto finish = [&](Status st) noexcept { return state.finish_step(out, st); };
   const DSPhaseSet& set = skill.ds_phases();
-  if (!skill.loaded() || state.n_variables_ < 0 || set.empty()) {
-    return finish(Status::not_initialized);
-  }
-  if (state.n_variables_ != skill.n_variables() || state.n_moves_ != skill.n_moves()) {
-    return finish(Status::size_mismatch);
-  }
+  const Status sized = state.check_sized(skill);
+  if (sized == Status::not_initialized || set.empty()) return finish(Status::not_initialized);
+  if (sized != Status::ok) return finish(sized);
   if (!eef.allFinite() || !object.allFinite()) return finish(Status::unknown_context);
   const int p = set.select(states);
   if (p < 0) return finish(Status::unknown_context);

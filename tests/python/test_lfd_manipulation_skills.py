@@ -96,7 +96,7 @@ def test_the_light_decides_what_the_grasp_does_even_mid_action(bundles) -> None:
             reset_for_trial(scene, name, seed)
             if scene.ground_truth()["states"]["light"] == "on":
                 scene.perturb("toggle", state="light")
-                scene._episode_start = scene._snapshot()
+                scene.start_episode()
 
             def switch(k: int, _step: object) -> None:
                 if k == 2:
@@ -122,7 +122,7 @@ def test_the_light_decides_what_the_grasp_does_even_mid_action(bundles) -> None:
         reset_for_trial(scene, name, HELD_OUT[2])
         if scene.ground_truth()["states"]["light"] == "on":
             scene.perturb("toggle", state="light")
-            scene._episode_start = scene._snapshot()
+            scene.start_episode()
         run = run_skill(scene, bundles[name], "grasped", object_name="block")
         assert run.success and "close" in [s.label for s in run.steps]
         assert scene.observe_effect(since="episode", source="ground_truth") == "grasped"

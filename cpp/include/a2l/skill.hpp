@@ -159,6 +159,15 @@ class SkillState {
   friend Status step_ds(const Skill&, SkillState&, const Eigen::Vector3d&, const Eigen::Vector3d&,
                         const DSStateValues&, StepOutput&) noexcept;
   void push(const TraceRecord& r) noexcept;
+  // The opening of step() and step_ds(): `out` cleared (no movement), its record numbered
+  // with this call and emptied.
+  void begin_step(StepOutput& out) const noexcept;
+  // The end of every step() / step_ds() call: the status into `out` and its record; the
+  // record pushed into the trace and the call counted (if the state is sized). Returns `s`.
+  Status finish_step(StepOutput& out, Status s) noexcept;
+  // not_initialized (not loaded, or an unsized state) or size_mismatch (sized for another
+  // skill), else ok.
+  Status check_sized(const Skill& skill) const noexcept;
 
   int n_variables_ = -1;
   int n_moves_ = 0;

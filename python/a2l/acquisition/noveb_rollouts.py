@@ -45,7 +45,7 @@ def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]
         The interaction up to the movement that moved the object (None: nothing moved, or
         a movement outside the framework's repertoire came first).
     movements : int
-        Robot movements made (out and back).
+        Robot movements tried (the arm is put back at the start without moving).
     """
     cfg_d, genotype, max_moves = task
     cfg = FrameworkConfig(**cfg_d)

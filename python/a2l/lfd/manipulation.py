@@ -299,7 +299,7 @@ def replay(scene: Any, segments: Sequence[Demonstration], obj: str,
                 scene.close_gripper() if value == "closed" else scene.open_gripper()
             else:
                 scene.perturb("toggle", state=name)
-    scene._episode_start = scene._snapshot()
+    scene.start_episode()
     actions = segment_actions(segments)
     for k, seg in enumerate(segments):
         if on_segment is not None:

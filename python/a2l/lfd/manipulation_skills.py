@@ -318,7 +318,7 @@ def _setup(skill: str) -> Any:
         # half the trials under each light state
         if rng.uniform() < 0.5:
             scene.perturb("toggle", state="light")
-            scene._episode_start = scene._snapshot()
+            scene.start_episode()
 
     return setup
 

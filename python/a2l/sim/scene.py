@@ -291,6 +291,12 @@ class Scene(ABC):
             snap["perceived"] = self._perceive()
         return snap
 
+    def start_episode(self) -> None:
+        """Start a new effect episode now, without resetting anything:
+        ``observe_effect(since="episode")`` counts from the current state (a skill run in
+        the middle of a task, or after a trial's set-up changed a state)."""
+        self._episode_start = self._snapshot()
+
     def context(self, source: str | None = None) -> Context:
         """Read the context: low-level states of every object and the high-level states.
 

@@ -1,0 +1,86 @@
+"""``a2l demo`` and ``a2l demo-record``."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from a2l.cli.args import UsageError, nonnegative_int, positive_int
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from a2l.demo import run_demo
+
+    return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
+                    starts=args.starts, workers=args.workers)
+
+
+def _cmd_demo_record(args: argparse.Namespace) -> int:
+    from a2l.lfd.teleop import record_demonstrations
+
+    start = None
+    if args.start is not None:
+        try:
+            start = [float(v) for v in args.start.split(",")]
+        except ValueError:
+            start = []
+        if len(start) != 3:
+            raise UsageError("--start", f"expected DX,DY,DZ (3 numbers, m), got {args.start!r}")
+    keys = None
+    if args.keys is not None:
+        keys = [k for k in args.keys.split(",") if k.strip()]
+    if not 0 < args.step <= 0.1:
+        raise UsageError("--step", f"must be in (0, 0.1] m, got {args.step}")
+    out = Path(args.out)
+    if out.suffix.lower() not in (".csv", ".parquet", ".pq"):
+        raise UsageError("--out", f"'{out}': use a .csv or .parquet file")
+    try:
+        rec = record_demonstrations(args.scene, out, seed=args.seed, keys=keys, start=start,
+                                    step=args.step)
+    except ValueError as exc:
+        raise UsageError("--keys" if keys is not None else "--scene", str(exc)) from None
+    return 0 if rec.recordings else 1
+
+
+def add_demo_record_parser(sub: argparse._SubParsersAction) -> None:
+    """``demo-record``: demonstrations by teleoperation."""
+    rec = sub.add_parser(
+        "demo-record", help="record demonstrations by teleoperation in the PyBullet GUI",
+        description="Move Baxter's end-effector with the keyboard in the PyBullet GUI and "
+        "record demonstrations (the part-1 demonstration format, relative to the object). "
+        "Keys: arrows = x/y, Page Up/Down = z (1 cm steps), Space = gripper, Return = "
+        "start/stop recording, q = save and quit.")
+    rec.add_argument("--scene", choices=("grasp", "grasp_light", "press", "push"),
+                     required=True, help="the scene to demonstrate in")
+    rec.add_argument("--out", metavar="FILE", required=True,
+                     help="demonstration file to write (.csv or .parquet)")
+    rec.add_argument("--seed", type=nonnegative_int, default=0, help="scene seed (default 0)")
+    rec.add_argument("--step", type=float, default=0.01, metavar="M",
+                     help="length of one move (default 0.01 m)")
+    rec.add_argument("--start", metavar="DX,DY,DZ", default=None,
+                     help="start the end-effector here relative to the object (m; default: "
+                     "the neutral pose)")
+    rec.add_argument("--keys", metavar="CMD,CMD,...", default=None,
+                     help="no GUI: run these commands instead of reading the keyboard "
+                     "(forward, back, left, right, up, down, gripper, record, quit; "
+                     "'down*5' repeats)")
+    rec.set_defaults(func=_cmd_demo_record)
+
+
+def add_demo_parser(sub: argparse._SubParsersAction) -> None:
+    """``demo``: the main job."""
+    demo = sub.add_parser(
+        "demo", help="run the main job: the world, a short A2L push experiment on Baxter, "
+        "then the exported skill in the C++ runtime (a2l-run)")
+    demo.add_argument("--seed", type=nonnegative_int, default=0,
+                      help="random seed (default 0)")
+    demo.add_argument("--gui", action="store_true", help="open the PyBullet GUI (part 1)")
+    demo.add_argument("--out", metavar="DIR", default=None,
+                      help="run directory of the experiment (default runs/demo-<timestamp>)")
+    demo.add_argument("--iterations", type=positive_int, default=2, metavar="N",
+                      help="iterations of the push experiment (default 2)")
+    demo.add_argument("--starts", type=positive_int, default=8, metavar="N",
+                      help="start positions of the push experiment (default 8)")
+    demo.add_argument("--workers", type=positive_int, default=None, metavar="N",
+                      help="worker processes for the rollouts (default: up to 2)")
+    demo.set_defaults(func=_cmd_demo)

@@ -1,0 +1,226 @@
+"""The base of the PyBullet scenes: connecting, resetting an episode, the objects and what
+the cameras see."""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from a2l.errors import A2LError, A2LValueError
+from a2l.sim._pybullet import p
+from a2l.sim.bodies import BodyCache
+from a2l.sim.bullet.build import _FLOOR_Z, _PARK, BuildMixin, _Object
+from a2l.sim.bullet.motion import MotionMixin
+from a2l.sim.bullet.transit import TransitMixin
+from a2l.sim.config import SceneConfig
+from a2l.sim.perception import Camera, ColorTarget, Perception
+from a2l.sim.scene import Observation, Scene
+
+__all__ = ["BulletScene"]
+
+
+class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
+    """A PyBullet scene; subclasses add the objects. Use :func:`a2l.sim.make_scene`."""
+
+    config: SceneConfig
+
+    def __init__(self, config: SceneConfig, seed: int = 0) -> None:
+        super().__init__(config, seed)
+        self._client = -1
+        cfg = config
+        if cfg.gui and sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+            # PyBullet would print "cannot connect to X server" and end the process
+            raise A2LError("gui=True needs a display (DISPLAY is not set); run without the "
+                           "GUI or under xvfb-run")
+        self._client = p.connect(p.GUI if cfg.gui else p.DIRECT)
+        if self._client < 0:
+            raise A2LError("cannot connect to PyBullet" + (" in GUI mode: is there a display?"
+                                                           if cfg.gui else ""))
+        c = self._client
+        if cfg.gui:
+            p.configureDebugVisualizer(p.COV_ENABLE_GUI, 0, physicsClientId=c)
+            p.resetDebugVisualizerCamera(1.6, 120, -25, (0.65, -0.15, -0.15), physicsClientId=c)
+        p.setGravity(0, 0, -9.81, physicsClientId=c)
+        p.setTimeStep(cfg.time_step, physicsClientId=c)
+        # Contacts solved in an order that does not depend on the world's history (with the
+        # objects rebuilt at every reset, see a2l.sim.bodies): same start, same rollout.
+        p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
+        self._tick = 0
+        self._perceived_cache: tuple[int, Observation] | None = None
+        self._objects: dict[str, _Object] = {}
+        self._states: dict[str, str] = cfg.initial_states()
+        #: Every body but the robot, rebuilt at each reset (a2l.sim.bodies).
+        self._bodies = BodyCache(c)
+        self._build_world()
+        self._build_robot()
+        self._build_objects()
+        targets = [ColorTarget(o.name, o.rgba, o.size[2] / 2, o.size[0] * o.size[1])
+                   for o in self._objects.values()]
+        #: The cameras: the main one first, then the ones looked at when an object is
+        #: hidden from it (see :meth:`perceive`).
+        self.cameras = [Camera(c, cfg.camera_width, cfg.camera_height, eye,
+                               cfg.camera_target, cfg.camera_fov)
+                        for eye in (cfg.camera_eye, *cfg.extra_camera_eyes)]
+        self.perceptions = [Perception(cam, targets, lamp_rgba=self._lamp_rgba())
+                            for cam in self.cameras]
+        self.camera = self.cameras[0]
+        self.perception = self.perceptions[0]
+        self.reset()
+
+    # --- Scene interface ------------------------------------------------------------
+    def reset(self, eef: ArrayLike | None = None,
+              objects: dict[str, ArrayLike] | None = None) -> None:
+        c, cfg = self._client, self.config
+        # check the arguments before touching the world: a bad reset leaves it as it was
+        q_arm = self._neutral_q.copy()
+        if eef is not None:
+            q_arm = self._ik_down(eef, "reset")
+        placed = dict(objects or {})
+        for name in placed:
+            if name not in self._objects:
+                raise A2LValueError(f"reset: unknown object '{name}'; this scene has "
+                                    f"{sorted(self._objects)}")
+        moves = []
+        for o in self._objects.values():
+            xy = np.asarray(placed.get(o.name, o.xy), dtype=float).reshape(2)
+            if o.movable and cfg.object_jitter > 0:
+                xy = xy + self._rng.uniform(-cfg.object_jitter, cfg.object_jitter, 2)
+            if o.name in placed or (o.movable and cfg.object_jitter > 0):
+                cfg.check_on_table(f"{o.name} position", (float(xy[0]), float(xy[1])),
+                                   (o.size[0] / 2, o.size[1] / 2))
+                moves.append((o, xy))
+        # New bodies but the robot: no contact or pair cache survives from earlier episodes
+        # (restoreState would not clear them, a2l.sim.bodies); the robot's joints are all
+        # reset below, its base is fixed.
+        ids = self._bodies.rebuild()
+        for o in self._objects.values():
+            o.body = ids[o.name]
+        self._removed = set()
+        self._hold = 0
+        self._states = cfg.initial_states()
+        self._set_arm_targets(q_arm)
+        self._set_fingers(self._states["gripper"] == "closed")
+        for j, v in self._targets.items():
+            p.resetJointState(self._robot, j, v, 0.0, physicsClientId=c)
+        self._command()
+        for o, xy in moves:
+            self._place_base(o, xy)
+        self._reset_extra()
+        self._tick += 1
+        self._perceived_cache = None
+        self._episode_start = self._snapshot()
+        self._step_start = self._episode_start
+
+    def _place_base(self, o: _Object, xy: NDArray[np.float64]) -> None:
+        pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=self._client)
+        if o.link == -1:
+            z = self.config.table_z + o.size[2] / 2
+        else:
+            z = pos[2]
+        self._teleport(o.body, (float(xy[0]), float(xy[1]), z),
+                       orn if o.link != -1 else (0, 0, 0, 1))
+
+    def _teleport(self, body: int, pos: Any, orn: Any) -> None:
+        c = self._client
+        p.resetBasePositionAndOrientation(body, pos, orn, physicsClientId=c)
+        p.resetBaseVelocity(body, (0, 0, 0), (0, 0, 0), physicsClientId=c)
+
+    def _reset_extra(self) -> None:
+        """Scene-specific reset (light, button)."""
+
+    def _object_names(self) -> list[str]:
+        return list(self._objects)
+
+    def _object_position(self, o: _Object) -> tuple[float, float, float]:
+        c = self._client
+        if o.link == -1:
+            pos = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[0]
+        else:
+            pos = p.getLinkState(o.body, o.link, computeForwardKinematics=True,
+                                 physicsClientId=c)[4]
+        return (float(pos[0]), float(pos[1]), float(pos[2]))
+
+    def _ground_truth(self) -> Observation:
+        objs = {n: self._object_position(o) for n, o in self._objects.items()
+                if n not in self._removed}
+        return Observation(objs, dict(self._states), self.eef_position(),
+                           self._states["gripper"] == "closed")
+
+    def _perceive(self) -> Observation:
+        if self._perceived_cache is not None and self._perceived_cache[0] == self._tick:
+            return self._perceived_cache[1]
+        best: dict[str, tuple[float, tuple[float, float, float]]] = {}
+        lit: bool | None = None
+        for perception in self.perceptions:
+            objs, lamp, visible = perception.locate(*perception.camera.render())
+            for name, pos in objs.items():
+                if name not in best or visible[name] > best[name][0]:
+                    best[name] = (visible[name], pos)
+            if "light_on" in lamp:
+                lit = bool(lit) or lamp["light_on"]
+            if len(best) == len(perception.targets) and all(
+                    v >= self.config.min_visible for v, _ in best.values()):
+                break  # every object well seen: no need for another view
+        objs = {name: pos for name, (_, pos) in best.items()}
+        states = dict(self._states)
+        if lit is not None:
+            states["light"] = "on" if lit else "off"
+        obs = Observation(objs, states, self.eef_position(), self._states["gripper"] == "closed")
+        self._perceived_cache = (self._tick, obs)
+        return obs
+
+    def render(self, camera: int = 0) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
+        """One frame of camera `camera` (0: the main one): RGB (H, W, 3) uint8 and the
+        depth buffer (H, W) float32."""
+        return self.cameras[camera].render()
+
+    def _place(self, name: str, xyz: NDArray[np.float64]) -> None:
+        o = self._objects[name]
+        self.config.check_on_table("delta", (float(xyz[0]), float(xyz[1])),
+                                   (o.size[0] / 2, o.size[1] / 2))
+        c = self._client
+        pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)
+        shift = np.asarray(xyz, dtype=float) - np.asarray(self._object_position(o))
+        self._teleport(o.body, tuple(np.asarray(pos) + shift), orn)
+        self._tick += 1
+
+    def _park(self, name: str) -> None:
+        o = self._objects[name]
+        c = self._client
+        orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[1]
+        k = list(self._objects).index(name)
+        self._teleport(o.body, (_PARK[0], _PARK[1] + 0.5 * k, _FLOOR_Z + o.size[2] / 2 + 0.05),
+                       orn)
+        self._tick += 1
+
+    def _toggle(self, state: str) -> None:
+        if state == "gripper":
+            closed = self._states["gripper"] != "closed"
+            self._states["gripper"] = "closed" if closed else "open"
+            self._set_fingers(closed)
+            self._command()
+        self._tick += 1
+
+    def contacts(self, name: str) -> bool:
+        """Whether object `name` touches one of the gripper's fingers (ground truth)."""
+        o = self._objects[name]
+        pts = p.getContactPoints(self._robot, o.body, physicsClientId=self._client)
+        return any(pt[3] in self._finger_links for pt in pts)
+
+    def close(self) -> None:
+        if getattr(self, "_client", -1) >= 0:
+            try:
+                p.disconnect(physicsClientId=self._client)
+            except p.error:
+                pass
+            self._client = -1
+
+    @property
+    def client(self) -> int:
+        """The PyBullet physics client id of this scene."""
+        return self._client
+

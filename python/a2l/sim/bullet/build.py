@@ -1,0 +1,149 @@
+"""Building a PyBullet scene: the floor, the table, Baxter and the boxes on the table."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+import a2l
+from a2l.robot import BAXTER_ARMS, arm_spec, pybullet_urdf
+from a2l.sim._pybullet import p, quiet
+from a2l.sim.assets import collision_render_urdf
+from a2l.sim.bodies import BodyCache
+
+__all__ = ["BuildMixin"]
+
+_FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
+_FINGER_OPEN = 0.020833
+_PARK = np.array([3.5, 2.0])  # where removed objects rest on the floor: behind the camera
+
+
+@dataclass
+class _Object:
+    """An object of the scene as built: its PyBullet body (renewed at every reset), size,
+    colour and configured place."""
+
+    name: str
+    body: int
+    size: tuple[float, float, float]
+    rgba: tuple[float, float, float, float]
+    xy: tuple[float, float]  # configured position
+    movable: bool = True
+    link: int = -1  # link whose position is the object's (button: the cap)
+
+
+class BuildMixin:
+    """Builds the world of a :class:`~a2l.sim.bullet.BulletScene` (one of its bases)."""
+
+    _client: int
+    _bodies: BodyCache
+    _objects: dict[str, _Object]
+    config: Any
+
+    def _build_world(self) -> None:
+        c, cfg = self._client, self.config
+        floor = p.createCollisionShape(p.GEOM_PLANE, physicsClientId=c)
+        # the software renderer fills a large floor slowly (16 ms of a 30 ms frame): the
+        # floor is drawn only in the GUI. A body without a visual shape is drawn with its
+        # collision shape, so outside the GUI a small box hidden under the pedestal stands
+        # in for the floor's visual and the camera sees the background around the table.
+        floor_vis = p.createVisualShape(
+            p.GEOM_BOX, halfExtents=(3, 3, 0.001) if cfg.gui else (0.01, 0.01, 0.001),
+            rgbaColor=(0.45, 0.45, 0.47, 1), physicsClientId=c)
+        self._bodies.add("floor", baseMass=0, baseCollisionShapeIndex=floor,
+                         baseVisualShapeIndex=floor_vis, basePosition=(0, 0, _FLOOR_Z))
+        (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
+        top_h = 0.04
+        top = p.createCollisionShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
+                                     physicsClientId=c)
+        top_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
+                                      rgbaColor=(0.78, 0.76, 0.72, 1), physicsClientId=c)
+        leg_len = cfg.table_z - top_h - _FLOOR_Z
+        legs = []
+        if leg_len > 0:
+            leg_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(0.025, 0.025, leg_len / 2),
+                                          rgbaColor=(0.35, 0.33, 0.3, 1), physicsClientId=c)
+            for ix in (-1, 1):
+                for iy in (-1, 1):
+                    legs.append((leg_vis, (ix * (sx / 2 - 0.05), iy * (sy / 2 - 0.05),
+                                           -top_h / 2 - leg_len / 2)))
+        self._bodies.add(
+            "table", [(-1, {"lateralFriction": 0.5})], baseMass=0,
+            baseCollisionShapeIndex=top, baseVisualShapeIndex=top_vis,
+            basePosition=(cx, cy, cfg.table_z - top_h / 2), linkMasses=[0] * len(legs),
+            linkCollisionShapeIndices=[-1] * len(legs),
+            linkVisualShapeIndices=[v for v, _ in legs], linkPositions=[q for _, q in legs],
+            linkOrientations=[(0, 0, 0, 1)] * len(legs),
+            linkInertialFramePositions=[(0, 0, 0)] * len(legs),
+            linkInertialFrameOrientations=[(0, 0, 0, 1)] * len(legs),
+            linkParentIndices=[0] * len(legs), linkJointTypes=[p.JOINT_FIXED] * len(legs),
+            linkJointAxis=[(0, 0, 1)] * len(legs))
+
+    def _build_robot(self) -> None:
+        c, cfg = self._client, self.config
+        urdf = pybullet_urdf()
+        if cfg.robot_visual == "collision":
+            urdf = collision_render_urdf(urdf)
+        with quiet():
+            self._robot = p.loadURDF(str(urdf), (0, 0, 0), useFixedBase=True,
+                                     flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=c)
+        self._joint_index: dict[str, int] = {}
+        self._link_index: dict[str, int] = {}
+        self._movable: list[int] = []
+        self._effort: list[float] = []
+        for j in range(p.getNumJoints(self._robot, physicsClientId=c)):
+            info = p.getJointInfo(self._robot, j, physicsClientId=c)
+            self._joint_index[info[1].decode()] = j
+            self._link_index[info[12].decode()] = j
+            if info[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC):
+                self._movable.append(j)
+                effort = float(info[10]) if info[10] > 0 else 50.0
+                finger = "finger" in info[1].decode()
+                self._effort.append(effort if finger else effort * cfg.motor_force_scale)
+        spec = arm_spec("baxter", cfg.arm)
+        self.kinematics = a2l.Kinematics(spec.urdf, spec.base_link, spec.tip_link)
+        self._arm = [self._joint_index[n] for n in self.kinematics.joint_names]
+        vmax = np.asarray(self.kinematics.velocity_limits, dtype=float)
+        self._vmax = np.where(vmax > 0, vmax, np.inf)
+        self._neutral_q = np.asarray(spec.neutral, dtype=float)
+        prefix = cfg.arm[0]
+        self._fingers = [self._joint_index[f"{prefix}_gripper_l_finger_joint"],
+                         self._joint_index[f"{prefix}_gripper_r_finger_joint"]]
+        self._finger_links = set(self._fingers)
+        for name in (f"{prefix}_gripper_l_finger_tip", f"{prefix}_gripper_r_finger_tip"):
+            self._finger_links.add(self._link_index[name])
+            p.changeDynamics(self._robot, self._link_index[name], lateralFriction=1.5,
+                             physicsClientId=c)
+        for j in self._fingers:
+            p.changeDynamics(self._robot, j, lateralFriction=1.5, physicsClientId=c)
+        # the joint targets every movable joint holds: both arms neutral, head straight
+        self._targets = {j: 0.0 for j in self._movable}
+        for arm, (_, _, neutral) in BAXTER_ARMS.items():
+            for name, q in zip(
+                    [f"{arm}_{s}" for s in ("s0", "s1", "e0", "e1", "w0", "w1", "w2")],
+                    neutral, strict=True):
+                self._targets[self._joint_index[name]] = q
+        for arm in ("l", "r"):
+            self._targets[self._joint_index[f"{arm}_gripper_l_finger_joint"]] = _FINGER_OPEN
+            self._targets[self._joint_index[f"{arm}_gripper_r_finger_joint"]] = -_FINGER_OPEN
+
+    def _build_objects(self) -> None:
+        """Create the scene's objects (subclasses)."""
+
+    def _add_box(self, name: str, size: tuple[float, float, float], mass: float,
+                 friction: float, xy: tuple[float, float], rgba: tuple[float, ...]) -> None:
+        c = self._client
+        half = [s / 2 for s in size]
+        col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=c)
+        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=rgba,
+                                  physicsClientId=c)
+        body = self._bodies.add(name, [(-1, {"lateralFriction": friction})], baseMass=mass,
+                                baseCollisionShapeIndex=col, baseVisualShapeIndex=vis,
+                                basePosition=(xy[0], xy[1], self.config.table_z + half[2]))
+        self._objects[name] = _Object(name, body, tuple(size), tuple(rgba), tuple(xy))
+
+    def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
+        return None
+
