@@ -42,192 +42,25 @@ import argparse
 import os
 import shlex
 import time
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+from a2l.experiments.task_trials import (
+    JITTER,
+    TASKS,
+    Played,
+    TaskSpec,
+    learn_task_skills,
+    play_task,
+    trial_task,
+)
 
-__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "TaskSpec", "add_parser", "run_tasks",
-           "trial_task"]
+__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "add_parser",
+           "learn_task_skills", "play_task", "run_tasks", "trial_task"]
 
 #: First trial seed by default (held out: the demonstrations use 0 .. 2 n_demos - 1).
 DEFAULT_SEED = 7000
-#: The block starts within ± this (m) of its start region's centre on each table axis.
-JITTER = 0.03
-_TASK_STREAM = 0x7461736B
-
-
-@dataclass(frozen=True)
-class TaskSpec:
-    """One task of the experiment.
-
-    Attributes
-    ----------
-    name : str
-    description : str
-    start_region : str
-        Where the block starts (its centre ± :data:`JITTER`).
-    gripper : {"open", "closed"}
-        The gripper at the start.
-    light : str or None
-        The light at the start (None: drawn from the trial's seed).
-    goal : callable ``(rng) -> str``
-        The PDDL goal (the rng draws what the goal leaves open).
-    fault : {"light_on", "drop", "move"}
-        The injected fault: the light switched back on after the press, the block dropped
-        after the grasp, the block moved to another region after the first step.
-    """
-
-    name: str
-    description: str
-    start_region: str
-    gripper: str
-    light: str | None
-    goal: Callable[[np.random.Generator], str]
-    fault: str
-
-
-def _light(rng: np.random.Generator) -> str:
-    return "on" if rng.uniform() < 0.5 else "off"
-
-
-#: Task name -> spec.
-TASKS: dict[str, TaskSpec] = {t.name: t for t in (
-    TaskSpec("light-off-place-right", "switch the light off, grasp the block and put it in "
-             "the right-hand area", "mid-centre", "open", "on",
-             lambda _rng: "(and (light-off) (at block mid-right))", "light_on"),
-    TaskSpec("tidy-light-on", "open the gripper, move the block to the middle, switch the "
-             "light on, close the gripper", "close-right", "closed", "off",
-             lambda _rng: "(and (light-on) (at block mid-centre) (gripper-closed) (hand-empty))",
-             "drop"),
-    TaskSpec("light-match", "make the light match a drawn goal state and bring the block "
-             "close", "mid-right", "closed", None,
-             lambda rng: f"(and (light-{_light(rng)}) (at block close-centre))", "move"),
-)}
-
-#: Regions a moved block may land in (the right arm reaches them with the gripper down).
-_MOVE_TO = ("close-right", "mid-centre", "mid-right", "close-centre")
-
-
-def _rng(seed: int, task: str, *extra: str) -> np.random.Generator:
-    key = [int(seed), _TASK_STREAM, list(TASKS).index(task)]
-    key += [sum(ord(c) for c in e) for e in extra]
-    return np.random.default_rng(np.random.SeedSequence(key))
-
-
-def _skills() -> list[Any]:
-    from a2l.planning import grasp_skill, gripper_skill, place_skill, press_skills
-
-    return [grasp_skill(), place_skill(), *press_skills("light", ("on", "off"), learned_under={}),
-            gripper_skill("open"), gripper_skill("closed")]
-
-
-_TRANSIT: list[Any] = []  # one ArmTransit per process (its obstacles are synced per transit)
-
-
-def _transit() -> Any:
-    if not _TRANSIT:
-        from a2l.planning.transit import ArmTransit
-
-        _TRANSIT.append(ArmTransit("baxter", "right"))
-    return _TRANSIT[0]
-
-
-def _fault_hook(spec: TaskSpec, rng: np.random.Generator, regions: Any, goal: str,
-                fired: list[str]) -> Callable[[int, Any, Any], None]:
-    """The ``after_step`` hook that injects the task's fault once (a moved block lands
-    neither where it is nor in a region the goal names)."""
-
-    def hook(k: int, step: Any, scene: Any) -> None:
-        if fired:
-            return
-        if spec.fault == "light_on" and step.name == "press-light-off":
-            scene.perturb("toggle", state="light")
-        elif spec.fault == "drop" and step.name == "grasp":
-            scene.execute("open")
-        elif spec.fault == "move" and k == 0:
-            pos = np.asarray(scene.ground_truth()["objects"]["block"], dtype=float)
-            now = regions.region_of(pos[:2])
-            choices = [r for r in _MOVE_TO if r != now and r not in goal]
-            to = np.asarray(regions.center_of(choices[int(rng.integers(len(choices)))]))
-            to = to + rng.uniform(-JITTER, JITTER, 2)
-            scene.perturb("move_object", name="block", delta=tuple(to - pos[:2]))
-        else:
-            return
-        fired.append(f"{spec.fault}@{k}:{step}")
-
-    return hook
-
-
-def trial_task(job: dict[str, Any]) -> dict[str, Any]:
-    """One trial (a picklable task for :class:`a2l.parallel.Executor`).
-
-    Parameters
-    ----------
-    job : dict
-        ``task``, ``seed``, ``fault`` (bool), ``bundles`` (operator -> path), ``out``
-        (where the plan files go), ``planner``, ``time_limit``, ``max_replans``.
-
-    Returns
-    -------
-    dict
-        One row of ``trials.csv``.
-    """
-    from a2l.lfd.library import make_skill_scene
-    from a2l.planning import TableRegions
-    from a2l.planning.execute import execute_task
-
-    spec = TASKS[job["task"]]
-    seed = int(job["seed"])
-    rng = _rng(seed, spec.name)
-    light = spec.light or _light(rng)
-    goal = spec.goal(rng)
-    jitter = rng.uniform(-JITTER, JITTER, 2)
-    t0 = time.perf_counter()
-    scene = make_skill_scene("grasp", seed, scene="task", states={"light": light})
-    try:
-        regions = TableRegions(tuple(scene.config.table_center), tuple(scene.config.table_size))
-        start = np.asarray(regions.center_of(spec.start_region)) + jitter
-        scene.reset(objects={"block": tuple(start)})
-        if spec.gripper == "closed":
-            scene.execute("close")
-        fired: list[str] = []
-        hook = (_fault_hook(spec, _rng(seed, spec.name, "fault"), regions, goal, fired)
-                if job["fault"] else None)
-        tag = f"{spec.name}-{seed}{'-fault' if job['fault'] else ''}"
-        res = execute_task(scene, _skills(), job["bundles"], goal, Path(job["out"]) / tag,
-                           regions=regions, planner=job.get("planner", "pyperplan"),
-                           time_limit=float(job.get("time_limit", 10.0)),
-                           max_replans=int(job.get("max_replans", 3)), transit=_transit(),
-                           seed=seed, after_step=hook, objects=("block",))
-        final = scene.ground_truth()["objects"]["block"]
-    finally:
-        scene.close()
-    return {"task": spec.name, "seed": seed, "fault": bool(job["fault"]),
-            "fault_injected": ";".join(fired), "goal": goal, "light_start": light,
-            "success": bool(res.success), "replans": int(res.replans),
-            "skills_run": len(res.steps), "plan_len": len(res.plans[0]) if res.plans else 0,
-            "plan": " ".join(res.plans[0]) if res.plans else "",
-            "stops": ";".join(f"{s.step.name}:{s.stop}" for s in res.steps),
-            "unmet": ";".join(res.unmet), "message": res.message,
-            "last_skill": res.last_skill or "",
-            "plan_ms": float(np.sum(res.plan_ms)), "plan_calls": len(res.plan_ms),
-            "plan_ms_first": float(res.plan_ms[0]) if res.plan_ms else float("nan"),
-            "transit_ms": float(np.sum(res.transit_ms)), "transits": len(res.transit_ms),
-            "transit_ms_max": float(np.max(res.transit_ms)) if res.transit_ms else 0.0,
-            "block_x": float(final[0]), "block_y": float(final[1]),
-            "wall_s": time.perf_counter() - t0}
-
-
-def _learn(out_dir: Path) -> dict[str, str]:
-    """Learn the grasp and press skills once; operator -> bundle path."""
-    from a2l.lfd.library import learn_recipe
-
-    grasp = str(learn_recipe("grasp", out_dir).bundle)
-    press = str(learn_recipe("press", out_dir).bundle)
-    return {"grasp": grasp, "press-light-on": press, "press-light-off": press}
 
 
 def _check(tasks: Sequence[str], trials: int, seed: int, workers: int) -> None:
@@ -297,7 +130,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         "jitter_m": JITTER, "planner": planner, "workers": workers, "command": command}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
-    bundles = _learn(run_dir / "skills")
+    bundles = learn_task_skills(run_dir / "skills")
     learn_s = time.perf_counter() - t0
     jobs = [{"task": n, "seed": s, "fault": f, "bundles": bundles,
              "out": str(run_dir / "plans"), "planner": planner}
