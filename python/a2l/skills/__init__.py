@@ -19,6 +19,7 @@ from typing import Any
 _EXPORTS: dict[str, str] = {
     "DistanceBins": "a2l.skills.bins",
     "InclinationBins": "a2l.skills.bins",
+    "OffsetBins": "a2l.skills.bins",
     "OrientationBins": "a2l.skills.bins",
     "load_bundle": "a2l.skills.bundle",
     "save_bundle": "a2l.skills.bundle",
@@ -67,6 +68,7 @@ __all__ = [
     "K2Score",
     "KnownStructure",
     "MovementRepertoire",
+    "OffsetBins",
     "OrientationBins",
     "PolicyTable",
     "STRUCTURES",
