@@ -130,6 +130,36 @@ def _pddl_table() -> str:
             f"the start: {os.getloadavg()[0]:.1f}.\n\n" + "\n".join(rows))
 
 
+def _experiment_tasks_table() -> str:
+    """Both planners on the start states of ``a2l experiment tasks``' tasks."""
+    from a2l.experiments.task_trials import TASKS, task_skills
+    from a2l.planning import PerceivedState, TableRegions, domain_pddl, problem_pddl, solve
+
+    regions = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
+    skills = task_skills()
+    dom = domain_pddl(skills)
+    rows = ["| task | start -> goal | planner | status | steps | wall ms (median of 3) |",
+            "|---|---|---|---|---|---|"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, spec in TASKS.items():
+            for light in ([spec.light] if spec.light else ["on", "off"]):
+                goal = spec.goal(np.random.default_rng(0))
+                state = PerceivedState(regions.names, {"block": spec.start_region},
+                                       ("button",), {"light": light, "gripper": spec.gripper})
+                prob = problem_pddl(skills, state, goal)
+                for planner in ("pyperplan", "fast-downward"):
+                    res = [solve(dom, prob, tmp, planner=planner, time_limit=60)
+                           for _ in range(3)]
+                    ms = np.median([r.time_s * 1000 for r in res])
+                    rows.append(f"| {name} | light {light}, gripper {spec.gripper}, block "
+                                f"{spec.start_region} -> `{goal}` | {planner} | "
+                                f"{res[0].status} | "
+                                f"{len(res[0].plan) if res[0].solved else '-'} | {ms:.0f} |")
+    return ("The tasks of `a2l experiment tasks` from their start states (repertoire: grasp, "
+            "place, press-light-on/off, open/close gripper; the block the only movable). "
+            f"Load average at the start: {os.getloadavg()[0]:.1f}.\n\n" + "\n".join(rows))
+
+
 def run() -> str:
     parts = []
     if _core.transit_available():
@@ -138,5 +168,6 @@ def run() -> str:
     else:
         parts.append("Transit: not measured (this build has no Bullet/OMPL).")
     parts.append("### Task planning (PDDL)\n\n" + _pddl_table())
+    parts.append("### The experiment's tasks (PDDL)\n\n" + _experiment_tasks_table())
     t = time.strftime("%H:%M")
     return "\n\n".join(parts) + f"\n\n_(section finished at {t})_"

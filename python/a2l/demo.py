@@ -13,6 +13,10 @@
    runs on Baxter in the scene with a lamp while the box is moved mid-action and the light
    is switched; the demo prints the context and the movement the skill chose around each
    change.
+5. A planned task (:func:`planned_task`): the light off and the block in the right-hand
+   area, reached by a PDDL plan (pyperplan) of learned skills (grasp, press, through the C++
+   step) joined by OMPL transits on Baxter; the light is switched back on behind the robot's
+   back and the demo shows the replanning; it prints every plan and the plan files' directory.
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["lfd_push", "push_box", "run_demo"]
+__all__ = ["lfd_push", "planned_task", "push_box", "run_demo"]
 
 #: The box must move at least this far (m) for the demo to succeed.
 MIN_DISPLACEMENT = 0.01
@@ -178,6 +182,66 @@ def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
     return 0
 
 
+def planned_task(out: str | Path, seed: int = 7000, gui: bool = False,
+                 task: str = "light-off-place-right", fault: bool = True) -> int:
+    """Part 5 of the demo: a task planned with the learned skills, replanned after a fault.
+
+    The grasp and press skills are learned (:func:`a2l.experiments.tasks.learn_task_skills`)
+    and task `task` of :data:`a2l.experiments.tasks.TASKS` is played from trial `seed`
+    (:func:`a2l.experiments.tasks.play_task`), with its fault when `fault`.
+
+    Returns
+    -------
+    int
+        0 when the goal was reached, 1 when not, 2 when the scene could not be built.
+    """
+    from a2l.errors import A2LError
+    from a2l.experiments.tasks import TASKS, learn_task_skills, play_task
+
+    t0 = time.perf_counter()
+    out = Path(out)
+    bundles = learn_task_skills(out / "skills")
+    spec = TASKS[task]
+    print(f"  skills grasp and press learned from demonstrations ({time.perf_counter() - t0:.1f}"
+          f" s); operators grasp, press-light-on/off, and the scripted place, open-gripper, "
+          "close-gripper")
+    print(f"  task {task}: {spec.description}; trial seed {seed}"
+          + (f", fault: {spec.fault}" if fault else ""))
+    try:
+        played = play_task(task, seed, fault, bundles, out / "plans", gui=gui)
+    except A2LError as exc:
+        print(f"FAILED: cannot build the scene: {exc}")
+        return 2
+    res = played.result
+    print(f"  goal {played.goal}; start: light {played.light}")
+    steps = iter(res.steps)
+    for i, (plan, ms) in enumerate(zip(res.plans, res.plan_ms, strict=True)):
+        head = "plan" if i == 0 else f"** replan {i} (the world disagreed)"
+        print(f"  {head} (pyperplan, {ms:.0f} ms): " + " ".join(
+            f"{k + 1}. {s}" for k, s in enumerate(plan)))
+        for _ in plan:
+            st = next(steps, None)
+            if st is None:
+                break
+            ok = "as expected" if st.as_expected else (
+                "NOT as expected: " + ", ".join(
+                    [f"+{f}" for f in sorted(st.perceived - st.expected)]
+                    + [f"-{f}" for f in sorted(st.expected - st.perceived)]))
+            print(f"    {st.step}: {st.stop}; {ok}")
+            if not st.as_expected:
+                if played.fired:
+                    print(f"    ** injected fault: {', '.join(played.fired)}")
+                break
+    print(f"  {res.report()}; OMPL transits {len(res.transit_ms)} (median "
+          f"{np.median(res.transit_ms) if res.transit_ms else 0:.0f} ms planning); "
+          f"plan files in {played.plan_dir}/ ({time.perf_counter() - t0:.1f} s)")
+    if not res.success:
+        print("FAILED: the planned task did not reach its goal")
+        return 1
+    print("OK: the planned task reached its goal")
+    return 0
+
+
 def _a2l_run(bundle: Path, seed: int) -> int:
     """Run ``a2l-run`` on `bundle` (virtual scene, through Baxter's arm) and echo it."""
     exe = shutil.which("a2l-run") or str(Path(sys.executable).with_name("a2l-run"))
@@ -213,11 +277,11 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     """
     workers = workers or max(1, min(2, os.cpu_count() or 1))
     t0 = time.perf_counter()
-    print("== 1/4  the world: Baxter pushes a box (PyBullet, C++ IK) ==")
+    print("== 1/5  the world: Baxter pushes a box (PyBullet, C++ IK) ==")
     rc = push_box(seed=seed, gui=gui)
     if rc != 0:
         return rc
-    print(f"\n== 2/4  A2L push experiment on the Baxter scene ({starts} starts, 4 effects, "
+    print(f"\n== 2/5  A2L push experiment on the Baxter scene ({starts} starts, 4 effects, "
           f"{iterations} iterations) ==", flush=True)
     from a2l.experiments.push import run_push_experiment
     from a2l.experiments.rundir import make_run_dir
@@ -229,14 +293,19 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     run_dir = make_run_dir("demo", out)
     result = run_push_experiment(cfg, out=run_dir, workers=workers)
     bundle = Path(result["run_dir"]) / result["bundle"]
-    print(f"\n== 3/4  a2l-run: the exported skill in the C++ runtime ({bundle.name}) ==",
+    print(f"\n== 3/5  a2l-run: the exported skill in the C++ runtime ({bundle.name}) ==",
           flush=True)
     rc = _a2l_run(bundle, seed)
     if rc != 0:
         return rc
-    print("\n== 4/4  learning from demonstration: a demonstrated push under perturbations "
+    print("\n== 4/5  learning from demonstration: a demonstrated push under perturbations "
           "(Baxter, PyBullet) ==", flush=True)
     rc = lfd_push(Path(run_dir) / "lfd", gui=gui)
+    if rc != 0:
+        return rc
+    print("\n== 5/5  a planned task: PDDL plan of learned skills, OMPL transits, replanning "
+          "(Baxter, PyBullet) ==", flush=True)
+    rc = planned_task(Path(run_dir) / "task", gui=gui)
     print(f"\ndemo finished in {time.perf_counter() - t0:.0f} s; results in {run_dir}/ "
           "(report.md, metrics.json, plots, skills/)")
     return rc

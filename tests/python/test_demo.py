@@ -53,6 +53,11 @@ def test_cli_runs_the_whole_demo(tmp_path, capfd: pytest.CaptureFixture[str]) ->
     # Part 4: the demonstrated push, with the box moved and the light switched mid-action.
     assert "the box is moved 4 cm to the right" in text and "the light is switched on" in text
     assert "OK: the box went far despite the changes" in text
+    # Part 5: the planned task, replanned after the light was switched back on.
+    assert "** replan 1 (the world disagreed)" in text and "injected fault: light_on" in text
+    assert "OK: the planned task reached its goal" in text
+    assert (out / "task" / "plans" / "light-off-place-right-7000-fault"
+            / "plan1-plan-pyperplan.txt").is_file()
 
 
 def test_demo_gui_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch,

@@ -138,11 +138,12 @@ def add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
                                 "with config, metrics, plots, report)")
     exps = experiment.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")
     from a2l.cli import push
-    from a2l.experiments import lfd_skills, parametrization, perturbations
+    from a2l.experiments import lfd_skills, parametrization, perturbations, tasks
 
     lfd_skills.add_parser(exps)
     parametrization.add_parser(exps)
     perturbations.add_parser(exps)
+    tasks.add_parser(exps)
 
     push.add_push_parser(exps)
     push.add_discretization_parser(exps)

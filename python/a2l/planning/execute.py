@@ -32,7 +32,7 @@ from a2l.planning.planners import PlanStep, solve
 from a2l.planning.repertoire import TableRegions
 from a2l.planning.simulate import apply_step, goal_literals, unmet
 
-__all__ = ["APPROACH", "ExecutedStep", "TaskResult", "execute_task", "perceive_state"]
+__all__ = ["APPROACH", "SCRIPTED", "ExecutedStep", "TaskResult", "execute_task", "perceive_state"]
 
 #: Where a skill starts, relative to its object (m): above it, inside the start
 #: distribution the manipulation skills were demonstrated from.
@@ -40,10 +40,18 @@ APPROACH = np.array([-0.02, 0.0, 0.18])
 #: How far (m) the end-effector rises straight up before a transit, clear of what the last
 #: skill touched (the transit's start must be out of its padded obstacles).
 CLEARANCE = 0.06
+#: Operator kinds carried out by a scripted primitive, not a learned skill bundle: the
+#: gripper's open/close, and ``place`` (no place skill was demonstrated; see :func:`_place`).
+SCRIPTED = ("gripper", "place")
+#: Height (m) of the held object's bottom above the table where ``place`` arrives by transit.
+PLACE_HEIGHT = 0.10
+#: ``place`` lowers the held object until its bottom is this close to the table (m).
+PLACE_GAP = 0.01
 
 
 def perceive_state(scene: Any, regions: TableRegions, static: Sequence[str] = (),
-                   source: str = "ground_truth") -> PerceivedState:
+                   source: str = "ground_truth",
+                   objects: Sequence[str] | None = None) -> PerceivedState:
     """The planner's state from the scene.
 
     Parameters
@@ -55,6 +63,9 @@ def perceive_state(scene: Any, regions: TableRegions, static: Sequence[str] = ()
         Static facts (region neighbourhood).
     source : {"ground_truth", "perceived"}
         Where positions and states come from.
+    objects : sequence of str, optional
+        The movable objects the planner may act on (default: every object of the scene
+        but the button).
 
     Returns
     -------
@@ -72,7 +83,7 @@ def perceive_state(scene: Any, regions: TableRegions, static: Sequence[str] = ()
     movables: dict[str, str | None] = {}
     holding = None
     for name, pos in obs["objects"].items():
-        if name == "button" or pos is None:
+        if name == "button" or pos is None or (objects is not None and name not in objects):
             continue
         xyz = np.asarray(pos, dtype=float)
         size = getattr(cfg, f"{name}_size", (0.0, 0.0, 0.0))
@@ -130,6 +141,13 @@ class TaskResult:
     steps : list of ExecutedStep
     message : str
         A failure report (empty on success).
+    plan_ms : list of float
+        Wall time of each planner call (ms, the child process's start-up included).
+    transit_ms : list of float
+        OMPL planning time of each transit (ms; path shortening and time parameterisation
+        included, the arm's movement not).
+    plans : list of list of str
+        Every plan made, its steps as PDDL text.
     """
 
     success: bool
@@ -139,6 +157,9 @@ class TaskResult:
     replans: int
     steps: list[ExecutedStep] = field(default_factory=list)
     message: str = ""
+    plan_ms: list[float] = field(default_factory=list)
+    transit_ms: list[float] = field(default_factory=list)
+    plans: list[list[str]] = field(default_factory=list)
 
     def report(self) -> str:
         """One line for humans."""
@@ -150,8 +171,9 @@ class TaskResult:
 
 
 def _transit_to(scene: Any, transit: Any, target: np.ndarray, held: tuple[str, ...],
-                seed: int) -> str:
-    """Move the arm to the end-effector position `target` (3,); returns ``"ok"`` or why not."""
+                seed: int, times: list[float]) -> str:
+    """Move the arm to the end-effector position `target` (3,); returns ``"ok"`` or why not.
+    The OMPL planning time (ms) is appended to `times`."""
     import a2l
 
     for _ in range(int(round(CLEARANCE / scene.step_length))):  # up, clear of what it touched
@@ -177,6 +199,7 @@ def _transit_to(scene: Any, transit: Any, target: np.ndarray, held: tuple[str, .
     if q1 is None:
         return why
     plan = transit.plan(q0, q1, seed=seed)
+    times.append(1000.0 * plan.planning_time)
     if not plan.ok:
         return plan.status
     err = scene.follow_joint_trajectory(plan.times, plan.positions)
@@ -188,7 +211,8 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
                  planner: str = "pyperplan", time_limit: float = 10.0, max_replans: int = 3,
                  transit: Any = None, seed: int = 0,
                  after_step: Callable[[int, PlanStep, Any], None] | None = None,
-                 static: Sequence[str] = ()) -> TaskResult:
+                 static: Sequence[str] = (), objects: Sequence[str] | None = None
+                 ) -> TaskResult:
     """Reach `goal` in `scene` with the learned skills, replanning when the world disagrees.
 
     Parameters
@@ -199,7 +223,7 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
         The repertoire (planning operators).
     bundles : mapping of str to path
         Operator name -> skill bundle that runs it (kind ``press``, ``grasp``, ``push``...);
-        ``gripper`` primitives need none (the scene opens or closes the gripper).
+        the scripted kinds (:data:`SCRIPTED`: ``gripper``, ``place``) need none.
     goal : str
         PDDL goal: one atom or ``(and ...)`` of atoms.
     out_dir : path
@@ -219,6 +243,9 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
         Called after plan step k's skill ran, before perceiving (a test injects faults here).
     static : sequence of str
         Static facts (region neighbourhood for push skills).
+    objects : sequence of str, optional
+        The movable objects the planner may act on (default: all; see
+        :func:`perceive_state`).
 
     Returns
     -------
@@ -233,7 +260,8 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
 
     regions = regions or TableRegions(tuple(scene.config.table_center),
                                       tuple(scene.config.table_size))
-    missing = sorted(s.name for s in skills if s.kind != "gripper" and s.name not in bundles)
+    missing = sorted(s.name for s in skills
+                     if s.kind not in SCRIPTED and s.name not in bundles)
     if missing:
         raise A2LValueError(f"execute_task: no skill bundle for operators {missing}")
     if transit is None:
@@ -247,7 +275,7 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
     result = TaskResult(False, goal, [], None, 0)
     k = 0
     for attempt in range(max_replans + 1):
-        state = perceive_state(scene, regions, static)
+        state = perceive_state(scene, regions, static, objects=objects)
         facts = frozenset(state.facts())
         result.unmet = unmet(goal, facts)
         if not result.unmet:
@@ -256,24 +284,27 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
         result.replans = attempt
         plan = solve(domain, problem_pddl(skills, state, goal), out, planner, time_limit,
                      name=f"plan{attempt}")
+        result.plan_ms.append(1000.0 * plan.time_s)
+        result.plans.append([str(s) for s in plan.plan])
         if not plan.solved:
             result.message = f"planner: {plan.report()}"
             return result
         for step in plan.plan:
             skill = by_name[step.name]
             expected = apply_step(skills, facts, step)
-            stop = _run_step(scene, skill, step, bundles, transit, state, seed + k, run_skill)
+            stop = _run_step(scene, skill, step, bundles, transit, state, seed + k, run_skill,
+                             regions, result.transit_ms)
             result.last_skill = str(step)
             if after_step is not None:
                 after_step(k, step, scene)
             k += 1
-            state = perceive_state(scene, regions, static)
+            state = perceive_state(scene, regions, static, objects=objects)
             now = frozenset(state.facts())
             result.steps.append(ExecutedStep(step, stop, expected, now))
             facts = now
             if now != expected:
                 break  # an effect not produced or a world changed: replan
-    state = perceive_state(scene, regions, static)
+    state = perceive_state(scene, regions, static, objects=objects)
     result.unmet = unmet(goal, state.facts())
     result.success = not result.unmet
     if not result.success:
@@ -281,19 +312,46 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
     return result
 
 
+def _place(scene: Any, transit: Any, step: PlanStep, regions: TableRegions, seed: int,
+           times: list[float]) -> str:
+    """The scripted ``place`` primitive: carry the held object above the centre of the
+    step's region (transit), lower it until it is within :data:`PLACE_GAP` of the table,
+    open the gripper; returns ``"done"`` or why not."""
+    obj, region = step.args[0], step.args[-1]
+    cfg = scene.config
+    size = getattr(cfg, f"{obj}_size", (0.0, 0.0, 0.0))
+    cx, cy = regions.center_of(region)
+    held_z = float(scene.eef_position()[2] - scene.ground_truth()["objects"][obj][2])
+    above = np.array([cx, cy, cfg.table_z + size[2] / 2 + PLACE_HEIGHT + held_z])
+    status = _transit_to(scene, transit, above, (obj,), seed, times)
+    if status != "ok":
+        return f"transit:{status}"
+    for _ in range(int(np.ceil(PLACE_HEIGHT / scene.step_length)) + 2):
+        z = float(scene.ground_truth()["objects"][obj][2])
+        if z - size[2] / 2 - cfg.table_z <= PLACE_GAP:
+            break
+        if not scene.execute_displacement([0.0, 0.0, -scene.step_length]).carried_out:
+            break
+    res = scene.execute("open")
+    return "done" if res.carried_out else res.status
+
+
 def _run_step(scene: Any, skill: Skill, step: PlanStep, bundles: Mapping[str, Any],
-              transit: Any, state: PerceivedState, seed: int, run_skill: Any) -> str:
+              transit: Any, state: PerceivedState, seed: int, run_skill: Any,
+              regions: TableRegions, times: list[float]) -> str:
     """Carry out one plan step; returns why it stopped."""
     if skill.kind == "gripper":
         res = scene.execute("open" if skill.effect == "open" else "close")
         return "done" if res.carried_out else res.status
+    if skill.kind == "place":
+        return _place(scene, transit, step, regions, seed, times)
     obj = next((a for a in step.args if a in scene.object_names), None)
     if obj is None:
         raise A2LValueError(f"plan step {step}: none of its arguments is an object of scene "
                             f"{scene.name!r} ({list(scene.object_names)})")
     pos = np.asarray(scene.ground_truth()["objects"][obj], dtype=float)
     held = (state.holding,) if state.holding else ()
-    status = _transit_to(scene, transit, pos + APPROACH, held, seed)
+    status = _transit_to(scene, transit, pos + APPROACH, held, seed, times)
     if status != "ok":
         return f"transit:{status}"
     scene.start_episode()  # the skill's effect test counts from here

@@ -1,0 +1,195 @@
+"""``a2l experiment tasks``: planned tasks on Baxter in PyBullet, with and without faults
+(issue 13, item 5).
+
+Each task is a goal in PDDL reached in the ``task`` scene (button, lamp, grasp block) by
+:func:`a2l.planning.execute.execute_task`: perceive, plan (pyperplan by default), then per
+plan step an OMPL transit and the learned skill through the C++ step (``grasp``,
+``press``), or a scripted primitive (``open-gripper``, ``close-gripper``, ``place``: no place
+skill was demonstrated), perceive again, replan on a mismatch.
+
+==========================  =====  ==========================================================
+task                        skills  start -> goal; injected fault
+==========================  =====  ==========================================================
+``light-off-place-right``   3      light on, block mid-centre -> light off, block in the
+                                   right-hand area (mid-right); fault: the light is switched
+                                   back on right after the press
+``tidy-light-on``           5      light off, gripper closed, block close-right -> light on,
+                                   block mid-centre, gripper closed; fault: the block is
+                                   dropped right after the grasp (the gripper opens)
+``light-match``             3-4    light drawn, gripper closed, block mid-right -> light as
+                                   drawn for the goal, block close-centre; fault: after
+                                   planning (after the first step), the block is moved to
+                                   another region
+==========================  =====  ==========================================================
+
+A trial is one (task, seed, fault or not): the block's start (its region's centre
+± :data:`JITTER` on each axis) and the drawn light values come from ``(seed, task)`` only, so
+the trial with and without its fault start alike; the fault's draw from ``(seed, task,
+"fault")``. Every trial builds its own scene (0.15 s), so results do not depend on the
+workers. Skills are learned once per run (demonstration seeds ``0 ..``); trial seeds default
+to :data:`DEFAULT_SEED` (held out).
+
+Output: ``skills/*.a2lb``, ``config.json``, ``trials.csv`` (one row per trial),
+``plans/<task>-<seed>[-fault]/`` (every domain, problem and plan file), ``metrics.json``
+(``tasks -> task -> {success_rate, success_rate_with_faults, mean_replans, plan_ms,
+transit_ms, wall_s, ...}``), ``tasks.png`` and ``report.md``
+(:mod:`a2l.experiments.tasks_report`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from a2l.experiments.task_trials import (
+    JITTER,
+    TASKS,
+    Played,
+    TaskSpec,
+    learn_task_skills,
+    play_task,
+    trial_task,
+)
+
+__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "add_parser",
+           "learn_task_skills", "play_task", "run_tasks", "trial_task"]
+
+#: First trial seed by default (held out: the demonstrations use 0 .. 2 n_demos - 1).
+DEFAULT_SEED = 7000
+
+
+def _check(tasks: Sequence[str], trials: int, seed: int, workers: int) -> None:
+    unknown = [t for t in tasks if t not in TASKS]
+    if unknown or not tasks:
+        raise ValueError(f"--tasks: unknown task(s) {unknown}; known: {list(TASKS)}")
+    if trials < 1:
+        raise ValueError(f"--trials: must be >= 1, got {trials}")
+    if workers < 1:
+        raise ValueError(f"--workers: must be >= 1, got {workers}")
+    if seed < 16:
+        raise ValueError(f"--seed: trial seeds {seed}.. overlap the demonstration seeds "
+                         f"0..15; use a seed >= 16 (default {DEFAULT_SEED})")
+
+
+def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
+              trials: int = 20, seed: int = DEFAULT_SEED, workers: int = 1,
+              faults: Sequence[bool] = (False, True), planner: str = "pyperplan",
+              quiet: bool = False, plots: bool = True) -> dict[str, Any]:
+    """Learn the skills, run every trial and write the run directory.
+
+    Parameters
+    ----------
+    out : path
+        Run directory.
+    tasks : sequence of str, optional
+        Default: every task of :data:`TASKS`.
+    trials : int
+        Trials per task and fault condition (seeds ``seed .. seed + trials - 1``).
+    seed : int
+        First trial seed.
+    workers : int
+        Local worker processes (:class:`a2l.parallel.Executor`).
+    faults : sequence of bool
+        The conditions run: without (False) and with (True) the task's fault.
+    planner : {"pyperplan", "fast-downward"}
+    quiet, plots : bool
+        No progress bar / no figure.
+
+    Returns
+    -------
+    dict
+        The content of ``metrics.json``.
+    """
+    import pandas as pd
+
+    from a2l.experiments.lfd_skills import progress_bar
+    from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+    from a2l.experiments.tasks_report import summarise, write_report
+    from a2l.parallel import Executor
+
+    names = list(tasks) if tasks else list(TASKS)
+    _check(names, trials, seed, workers)
+    out_path = Path(out)
+    if out_path.exists() and not out_path.is_dir():
+        raise ValueError(f"--out: '{out_path}' exists and is not a directory")
+    run_dir = make_run_dir("tasks", out_path)
+    command = shlex.join(["a2l", "experiment", "tasks", "--out", str(run_dir), "--tasks",
+                          ",".join(names), "--trials", str(trials), "--seed", str(seed),
+                          "--workers", str(workers), "--planner", planner]
+                         + ([] if list(faults) == [False, True] else
+                            ["--faults", "with" if list(faults) == [True] else "without"]))
+    config = {"experiment": "tasks", "tasks": {n: {
+        "description": TASKS[n].description, "start_region": TASKS[n].start_region,
+        "gripper": TASKS[n].gripper, "light": TASKS[n].light, "fault": TASKS[n].fault}
+        for n in names}, "trial_seeds": [seed, seed + trials - 1], "faults": list(faults),
+        "jitter_m": JITTER, "planner": planner, "workers": workers, "command": command}
+    write_json(run_dir / "config.json", config)
+    t0 = time.perf_counter()
+    bundles = learn_task_skills(run_dir / "skills")
+    learn_s = time.perf_counter() - t0
+    jobs = [{"task": n, "seed": s, "fault": f, "bundles": bundles,
+             "out": str(run_dir / "plans"), "planner": planner}
+            for n in names for f in faults for s in range(seed, seed + trials)]
+    with Executor(workers) as ex, progress_bar("task trials", len(jobs), quiet) as bar:
+        rows = ex.map(trial_task, jobs, on_done=bar)
+    wall = time.perf_counter() - t0
+    frame = pd.DataFrame(rows)
+    atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
+    metrics = {"experiment": "tasks", "trial_seeds": config["trial_seeds"],
+               "planner": planner, "tasks": summarise(frame), "learn_s": learn_s,
+               "wall_s": wall, "workers": workers}
+    write_json(run_dir / "metrics.json", metrics)
+    text = write_report(run_dir, metrics, config, frame, plots=plots)
+    if not quiet:
+        print(text)
+        print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, tasks.png)")
+    return metrics
+
+
+def _cmd(args: argparse.Namespace) -> int:
+    from a2l.cli import UsageError
+
+    names = [x.strip() for x in args.tasks.split(",") if x.strip()] if args.tasks else None
+    faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
+    try:
+        run_tasks(args.out, names, args.trials, args.seed, args.workers, faults,
+                  args.planner, quiet=args.quiet, plots=not args.no_plots)
+    except ValueError as exc:
+        arg, _, msg = str(exc).partition(": ")
+        if not arg.startswith("--"):
+            raise
+        raise UsageError(arg, msg) from None
+    return 0
+
+
+def add_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment tasks``."""
+    from a2l.cli.args import nonnegative_int, positive_int
+
+    p = exps.add_parser(
+        "tasks", help="planned tasks with the learned skills, with and without faults",
+        description="Plan and run tasks of 3 to 5 skills on Baxter in PyBullet (PDDL plan, "
+        "OMPL transits, the learned grasp and press through the C++ step, replanning when "
+        "the world disagrees), each from seeded trials without and with an injected fault; "
+        "write metrics.json, trials.csv, report.md and tasks.png.")
+    p.add_argument("--out", metavar="DIR", required=True, help="run directory")
+    p.add_argument("--tasks", metavar="A,B,...", default=None,
+                   help=f"comma-separated tasks (default: all of {','.join(TASKS)})")
+    p.add_argument("--trials", type=positive_int, default=20, metavar="N",
+                   help="trials per task and condition (default 20)")
+    p.add_argument("--seed", type=nonnegative_int, default=DEFAULT_SEED, metavar="S",
+                   help=f"first trial seed (default {DEFAULT_SEED})")
+    p.add_argument("--workers", type=positive_int, default=1, metavar="N",
+                   help="local worker processes (default 1)")
+    p.add_argument("--faults", choices=("both", "without", "with"), default="both",
+                   help="run the trials without and/or with the injected fault (default both)")
+    p.add_argument("--planner", choices=("pyperplan", "fast-downward"), default="pyperplan",
+                   help="task planner (default pyperplan)")
+    p.add_argument("--no-plots", action="store_true", help="no figure")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
+    p.set_defaults(func=_cmd)
