@@ -61,14 +61,14 @@ class _Instrument:
                 self.move_s += time.perf_counter() - t
 
         SceneEnv.execute = execute  # type: ignore[method-assign]
-        orig_map = Executor.map
-        self._orig["map"] = orig_map
+        orig_submit = Executor.submit
+        self._orig["submit"] = orig_submit
 
-        def map_(ex: Executor, *args: Any, **kwargs: Any) -> Any:
+        def submit(ex: Executor, *args: Any, **kwargs: Any) -> Any:
             self.maps += 1
-            return orig_map(ex, *args, **kwargs)
+            return orig_submit(ex, *args, **kwargs)
 
-        Executor.map = map_  # type: ignore[method-assign]
+        Executor.submit = submit  # type: ignore[method-assign]
         for name in self.PHASES:
             self._orig[name] = getattr(self.HOME[name], name)
             setattr(self.HOME[name], name, self._timed(name, self._orig[name]))
@@ -97,7 +97,7 @@ class _Instrument:
 
     def __exit__(self, *exc: object) -> None:
         SceneEnv.execute = self._orig["execute"]  # type: ignore[method-assign]
-        Executor.map = self._orig["map"]  # type: ignore[method-assign]
+        Executor.submit = self._orig["submit"]  # type: ignore[method-assign]
         for name in (*self.PHASES, *self.TASKS):
             setattr(self.HOME[name], name, self._orig[name])
 
@@ -237,12 +237,15 @@ def run() -> str:
         "",
         f"{ins.moves:,} movements took {ins.move_s:.1f} s ({per_move_us:.0f} µs each) of "
         f"the 1-worker run's {wall1:.1f} s. The rollout phases ran {ins.tasks:,} rollouts "
-        f"(tasks) in {ins.maps} `Executor.map` calls (the effect-directed rounds of all "
-        "stuck pairs go in one call), "
+        f"(tasks) in {ins.maps} submissions (`Executor.submit`; a round of effect-directed "
+        "babbling for all stuck pairs is one), "
         f"each rollout costing {overhead_ms:.3f} ms beyond its movements (Python: the "
         "scene wrapper's positions, arrays, the result object); skill learning and the "
         "run's bookkeeping are serial. With workers, rollouts travel in batches "
-        f"({Executor.BATCHES_PER_SLOT} per worker and map call, one round trip each); the "
+        f"({Executor.BATCHES_PER_SLOT} per worker and submission, one round trip each), and "
+        f"the babbling rounds are submitted {loop.AHEAD} ahead (`drive_ahead`: the workers "
+        "run the next round while the main process collects one; what a strategy was asked "
+        "past its end is dropped, so the results are those of one round at a time); the "
         "main process stays busy too (learning, collecting results), so two workers on two "
         "cores cannot give twice the speed on the virtual scene's small tasks.",
         "",

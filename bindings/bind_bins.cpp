@@ -53,20 +53,18 @@ std::vector<Variable> to_variables(const std::vector<VariableTuple>& variables) 
     const std::string where = "variables[" + std::to_string(i) + "]";
     Variable v;
     v.name = where;
-    if (!parse_variable_kind(kind_name, v.kind) ||
-        (v.kind != VariableKind::distance && v.kind != VariableKind::orientation &&
-         v.kind != VariableKind::inclination)) {
-      raise(Status::invalid_argument,
-            where + ": kind must be 'distance', 'orientation' or 'inclination', got '" + kind_name +
-                "'");
+    if (!parse_variable_kind(kind_name, v.kind) || !is_geometric(v.kind)) {
+      raise(Status::invalid_argument, where +
+                                          ": kind must be 'distance', 'orientation', "
+                                          "'inclination', 'offset_x' or 'offset_y', got '" +
+                                          kind_name + "'");
     }
     if (n_bins < 1 || n_bins > kMaxBins) {
       raise(Status::invalid_argument, where + ": n_bins must be in [1, " +
                                           std::to_string(kMaxBins) + "], got " +
                                           std::to_string(n_bins));
     }
-    if (v.kind == VariableKind::distance &&
-        !(std::isfinite(low) && std::isfinite(high) && low < high)) {
+    if (has_range(v.kind) && !(std::isfinite(low) && std::isfinite(high) && low < high)) {
       raise(Status::invalid_argument, where + ": need finite low < high, got [" +
                                           std::to_string(low) + ", " + std::to_string(high) + "]");
     }
@@ -143,7 +141,8 @@ eef, object : array_like, shape (n, 3) or (3,)
     End-effector and object positions (m).
 variables : list of (str, int, float, float)
     ``(kind, n_bins, low, high)`` of each context variable; kind is ``"distance"``,
-    ``"orientation"`` or ``"inclination"``; low and high (m) are read for a distance only.
+    ``"orientation"``, ``"inclination"``, ``"offset_x"`` or ``"offset_y"``; low and high (m)
+    are read for a distance and the offsets only.
 
 Returns
 -------

@@ -90,7 +90,9 @@ void bind_skill(py::module_& m) {
       .value("distance", VariableKind::distance)
       .value("orientation", VariableKind::orientation)
       .value("inclination", VariableKind::inclination)
-      .value("high_level", VariableKind::high_level);
+      .value("high_level", VariableKind::high_level)
+      .value("offset_x", VariableKind::offset_x)
+      .value("offset_y", VariableKind::offset_y);
 
   py::enum_<Smoothing>(m, "Smoothing", "Smoothing choice of a run (SkillState.smoothing).")
       .value("from_skill", Smoothing::from_skill)

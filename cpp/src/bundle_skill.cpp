@@ -41,8 +41,9 @@ bool bundle_detail::parse_variables(const json& m, std::vector<Variable>& vars, 
       return false;
     }
     if (!parse_variable_kind(kind, v.kind)) {
-      return e.parse(where + "kind: unknown kind '" + kind +
-                     "' (effect, distance, orientation, inclination, high_level)");
+      return e.parse(
+          where + "kind: unknown kind '" + kind +
+          "' (effect, distance, orientation, inclination, high_level, offset_x, offset_y)");
     }
     if (v.kind == VariableKind::effect || v.kind == VariableKind::high_level) {
       const json* values = nullptr;
@@ -64,7 +65,7 @@ bool bundle_detail::parse_variables(const json& m, std::vector<Variable>& vars, 
       if (!get_int(jv, where, "n_bins", 1, kMaxBins, n, e)) return false;
       v.n_bins = static_cast<int>(n);
     }
-    if (v.kind == VariableKind::distance) {
+    if (has_range(v.kind)) {
       if (!get_number(jv, where, "low", v.low, e) || !get_number(jv, where, "high", v.high, e)) {
         return false;
       }

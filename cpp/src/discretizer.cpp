@@ -23,12 +23,16 @@ const char* variable_kind_name(VariableKind kind) noexcept {
       return "inclination";
     case VariableKind::high_level:
       return "high_level";
+    case VariableKind::offset_x:
+      return "offset_x";
+    case VariableKind::offset_y:
+      return "offset_y";
   }
   return "unknown_kind";
 }
 
 bool parse_variable_kind(const std::string& name, VariableKind& kind) noexcept {
-  for (int i = 0; i <= static_cast<int>(VariableKind::high_level); ++i) {
+  for (int i = 0; i <= static_cast<int>(VariableKind::offset_y); ++i) {
     const auto k = static_cast<VariableKind>(i);
     if (name == variable_kind_name(k)) {
       kind = k;
@@ -46,7 +50,7 @@ Result Discretizer::create(std::vector<Variable> variables, Discretizer& out) {
                                " are supported");
   }
   std::set<std::string> names;
-  int count[5] = {0, 0, 0, 0, 0};
+  int count[7] = {0, 0, 0, 0, 0, 0, 0};
   int effect_axis = -1;
   for (size_t i = 0; i < variables.size(); ++i) {
     Variable& v = variables[i];
@@ -56,7 +60,7 @@ Result Discretizer::create(std::vector<Variable> variables, Discretizer& out) {
       return Result::failure(Status::invalid_argument, where + ": duplicate name");
     }
     const int k = static_cast<int>(v.kind);
-    if (k < 0 || k > static_cast<int>(VariableKind::high_level)) {
+    if (k < 0 || k > static_cast<int>(VariableKind::offset_y)) {
       return Result::failure(Status::invalid_argument, where + ": unknown kind");
     }
     if (v.kind == VariableKind::effect || v.kind == VariableKind::high_level) {
@@ -75,7 +79,7 @@ Result Discretizer::create(std::vector<Variable> variables, Discretizer& out) {
                                                            std::to_string(kMaxBins) + "], got " +
                                                            std::to_string(v.n_bins));
     }
-    if (v.kind == VariableKind::distance) {
+    if (has_range(v.kind)) {
       if (!std::isfinite(v.low) || !std::isfinite(v.high) || !(v.low < v.high)) {
         std::ostringstream ss;
         ss << where << ".low/high: need finite low < high, got low=" << v.low << " high=" << v.high;
@@ -142,6 +146,10 @@ int Discretizer::context_bin(const Variable& v, const Eigen::Vector3d& eef,
       return orientation_bin(std::atan2(r.y(), r.x()), v.n_bins);
     case VariableKind::inclination:
       return inclination_bin(std::atan2(std::sqrt(planar2), r.z()), v.n_bins);
+    case VariableKind::offset_x:
+      return distance_bin(r.x(), v.low, v.high, v.n_bins);
+    case VariableKind::offset_y:
+      return distance_bin(r.y(), v.low, v.high, v.n_bins);
     case VariableKind::effect:
     case VariableKind::high_level:
       break;
@@ -167,6 +175,8 @@ Status Discretizer::discretize(const Context& c, int* bins) const noexcept {
       case VariableKind::distance:
       case VariableKind::orientation:
       case VariableKind::inclination:
+      case VariableKind::offset_x:
+      case VariableKind::offset_y:
         b = context_bin(v, c.eef, c.object);
         break;
     }

@@ -10,12 +10,12 @@ import multiprocessing as mp
 import os
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from typing import Any, TypeVar
+from typing import Any, Generic, TypeVar
 
 T = TypeVar("T")
 R = TypeVar("R")
 
-__all__ = ["Executor", "make_executor"]
+__all__ = ["Executor", "Pending", "make_executor"]
 
 
 class Executor:
@@ -71,44 +71,37 @@ class Executor:
             Called with the number of finished tasks (progress bars): after each task in
             this process, after each batch on workers or Dask.
         """
+        return self.submit(fn, tasks).result(on_done)
+
+    @property
+    def in_process(self) -> bool:
+        """True when tasks run in this process (one worker, no cluster): a submitted map
+        then runs only when its results are asked for."""
+        return self._client is None and self.workers == 1
+
+    def submit(self, fn: Callable[[T], R], tasks: Iterable[T]) -> Pending[R]:
+        """Start ``[fn(t) for t in tasks]`` and return at once (:meth:`map` without the
+        wait): the caller can submit the next tasks while these run, so that the workers
+        do not wait for it between two maps.
+
+        In this process (:attr:`in_process`) nothing runs before :meth:`Pending.result`.
+        """
         items: Sequence[T] = list(tasks)
-        if not items:
-            return []
-        if self._client is None and self.workers == 1:
-            out = []
-            for i, t in enumerate(items):
-                out.append(fn(t))
-                if on_done:
-                    on_done(i + 1)
-            return out
+        if not items or self.in_process:
+            return Pending(fn, items, [], None)
         # Elsewhere, tasks travel in batches: one round trip (and one pickled copy of what
         # the tasks share, such as the run's configuration) per batch, not per task.
         batches = _batches(items, self.BATCHES_PER_SLOT * self._slots())
-        results: list[R] = []
         if self._client is not None:
-            from dask.distributed import as_completed
-
             futures = self._client.map(_run_batch, [(fn, b) for b in batches], pure=False)
-            sizes = {f.key: len(b) for f, b in zip(futures, batches, strict=True)}
-            done = 0
-            for f in as_completed(futures):
-                done += sizes[f.key]
-                if on_done:
-                    on_done(done)
-            for chunk in self._client.gather(futures):
-                results.extend(chunk)
-            return results
+            return Pending(fn, items, futures, [len(b) for b in batches], self._client)
         if self._pool is None:
             self._pool = ProcessPoolExecutor(
                 max_workers=self.workers, mp_context=mp.get_context("spawn"),
                 initializer=_limit_threads,
             )
-        pending = [self._pool.submit(_run_batch, (fn, b)) for b in batches]
-        for f in pending:
-            results.extend(f.result())
-            if on_done:
-                on_done(len(results))
-        return results
+        futures = [self._pool.submit(_run_batch, (fn, b)) for b in batches]
+        return Pending(fn, items, futures, [len(b) for b in batches])
 
     def _slots(self) -> int:
         """How many tasks can run at once where this executor runs them."""
@@ -131,6 +124,72 @@ class Executor:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+class Pending(Generic[R]):
+    """The results of one :meth:`Executor.submit`, in task order.
+
+    Made by :meth:`Executor.submit`; in this process, the tasks run in :meth:`result`.
+    """
+
+    def __init__(self, fn: Callable[[Any], R], items: Sequence[Any], futures: list[Any],
+                 sizes: list[int] | None, client: Any = None) -> None:
+        self._fn = fn
+        self._items = items
+        self._futures = futures
+        self._sizes = sizes
+        self._client = client  # Dask's, when the futures are Dask's
+        self._results: list[R] | None = None
+        self._cancelled = False
+
+    def result(self, on_done: Callable[[int], None] | None = None) -> list[R]:
+        """Wait for the results (run the tasks, in this process).
+
+        Parameters
+        ----------
+        on_done : callable, optional
+            Called with the number of finished tasks, as in :meth:`Executor.map`.
+
+        Raises
+        ------
+        Exception
+            The first task error, as raised in the task.
+        """
+        if self._cancelled:
+            raise RuntimeError("the results of a cancelled submission were asked for")
+        if self._results is not None:
+            return self._results
+        out: list[R] = []
+        if self._sizes is None:  # in this process
+            for i, t in enumerate(self._items):
+                out.append(self._fn(t))
+                if on_done:
+                    on_done(i + 1)
+        elif self._client is not None:
+            from dask.distributed import as_completed
+
+            sizes = {f.key: n for f, n in zip(self._futures, self._sizes, strict=True)}
+            done = 0
+            for f in as_completed(self._futures):
+                done += sizes[f.key]
+                if on_done:
+                    on_done(done)
+            for chunk in self._client.gather(self._futures):
+                out.extend(chunk)
+        else:
+            for f in self._futures:
+                out.extend(f.result())
+                if on_done:
+                    on_done(len(out))
+        self._results = out
+        return out
+
+    def cancel(self) -> None:
+        """Drop the results: batches not started yet do not run (those running finish)."""
+        for f in self._futures:
+            f.cancel()
+        self._futures = []
+        self._cancelled = True
 
 
 def _batches(items: Sequence[T], n: int) -> list[list[T]]:

@@ -76,10 +76,38 @@ TEST(ContextBin, UnknownContextIsMinusOneAndTheObjectAtTheEefHasABin) {
   EXPECT_EQ(Discretizer::context_bin(e, p, V::Zero()), -1);
 }
 
+TEST(ContextBin, OffsetsAreDistanceBinsOfTheEefOffsetAlongXAndY) {
+  // 3 bins over [-0.135, 0.135]: edges at -0.045 and 0.045 (a box face grown by 1 cm).
+  const Variable x = variable(VariableKind::offset_x, 3, -0.135, 0.135);
+  const Variable y = variable(VariableKind::offset_y, 3, -0.135, 0.135);
+  const V obj(0.6, -0.2, 0.05);
+  // 4.1 cm off the object's centre along x: in front of the y faces (middle bin); 5.9 cm:
+  // beside them. The same points along y, and the other coordinate does not matter.
+  EXPECT_EQ(Discretizer::context_bin(x, obj + V(0.041, 0.141, 0.3), obj), 1);
+  EXPECT_EQ(Discretizer::context_bin(x, obj + V(0.059, 0.091, 0.0), obj), 2);
+  EXPECT_EQ(Discretizer::context_bin(x, obj + V(-0.059, 0.0, 0.0), obj), 0);
+  EXPECT_EQ(Discretizer::context_bin(y, obj + V(0.141, 0.041, 0.0), obj), 1);
+  EXPECT_EQ(Discretizer::context_bin(y, obj + V(0.0, -0.059, 0.0), obj), 0);
+  // Saturated at both ends, and -1 for a non-finite offset.
+  EXPECT_EQ(Discretizer::context_bin(x, obj + V(5.0, 0.0, 0.0), obj), 2);
+  EXPECT_EQ(Discretizer::context_bin(y, obj + V(0.0, -5.0, 0.0), obj), 0);
+  EXPECT_EQ(Discretizer::context_bin(x, V(NAN, 0, 0), obj), -1);
+  EXPECT_STREQ(a2l::variable_kind_name(VariableKind::offset_y), "offset_y");
+  VariableKind k = VariableKind::effect;
+  ASSERT_TRUE(a2l::parse_variable_kind("offset_x", k));
+  EXPECT_EQ(k, VariableKind::offset_x);
+  // An offset needs a range, like a distance.
+  Discretizer disc;
+  const a2l::Result r = Discretizer::create({variable(VariableKind::offset_x, 3, 0.1, 0.1)}, disc);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message.find("low/high"), std::string::npos) << r.message;
+}
+
 TEST(ContextBin, DiscretizeUsesContextBin) {
-  std::vector<Variable> vars = {variable(VariableKind::distance, 5, 0.02, 0.3),
-                                variable(VariableKind::orientation, 12),
-                                variable(VariableKind::inclination, 6)};
+  std::vector<Variable> vars = {
+      variable(VariableKind::distance, 5, 0.02, 0.3), variable(VariableKind::orientation, 12),
+      variable(VariableKind::inclination, 6), variable(VariableKind::offset_x, 3, -0.12, 0.12),
+      variable(VariableKind::offset_y, 5, -0.2, 0.2)};
   Discretizer disc;
   ASSERT_TRUE(Discretizer::create(vars, disc).ok());
   std::mt19937_64 rng(5);
@@ -90,7 +118,7 @@ TEST(ContextBin, DiscretizeUsesContextBin) {
     c.object = V(coordinate(rng), coordinate(rng), coordinate(rng));
     const a2l::Status s = disc.discretize(c, bins);
     bool unknown = false;
-    for (int j = 0; j < 3; ++j) {
+    for (int j = 0; j < static_cast<int>(vars.size()); ++j) {
       const int b = Discretizer::context_bin(vars[static_cast<size_t>(j)], c.eef, c.object);
       ASSERT_EQ(bins[j], b) << k << " " << j;
       unknown = unknown || b < 0;
@@ -100,9 +128,10 @@ TEST(ContextBin, DiscretizeUsesContextBin) {
 }
 
 TEST(BinsNoAlloc, ContextBinAndClassifyEffectAllocateNothingThrowNothing) {
-  const Variable vars[3] = {variable(VariableKind::distance, 3, 0.05, 0.20),
-                            variable(VariableKind::orientation, 16),
-                            variable(VariableKind::inclination, 8)};
+  const Variable vars[5] = {
+      variable(VariableKind::distance, 3, 0.05, 0.20), variable(VariableKind::orientation, 16),
+      variable(VariableKind::inclination, 8), variable(VariableKind::offset_x, 3, -0.135, 0.135),
+      variable(VariableKind::offset_y, 3, -0.1575, 0.1575)};
   std::mt19937_64 rng(11);
   const int n = 100000;
   std::vector<V> eef(static_cast<size_t>(n)), obj(static_cast<size_t>(n));

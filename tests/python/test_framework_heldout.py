@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.acquisition.protocol import drive
+from a2l.acquisition.protocol import drive, drive_ahead
 from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task, directed_task
 from a2l.framework import FrameworkConfig, make_env, run_framework
-from a2l.framework.loop import _drive_together, _seed
+from a2l.framework.loop import _seed
 from a2l.framework.validation import heldout_task
 from a2l.parallel import Executor
 
@@ -107,6 +107,36 @@ def test_resumed_run_keeps_its_heldout_history(tmp_path: Path) -> None:
     assert resumed["heldout_score"] == whole["heldout_score"]
 
 
+class _Ready:
+    """Outcomes computed now, behind a submission's ``result()``."""
+
+    def __init__(self, outcomes: list) -> None:
+        self.outcomes = outcomes
+
+    def result(self) -> list:
+        return self.outcomes
+
+
+class _Later:
+    """Outcomes computed when asked for (the rounds submitted ahead run out of order)."""
+
+    def __init__(self, fn, items: list) -> None:  # noqa: ANN001
+        self.fn, self.items = fn, items
+
+    def result(self) -> list:
+        return [self.fn(t) for t in self.items]
+
+
+def _drive_together(strategies: list, evaluate, batch: int, ahead: int = 0) -> None:  # noqa: ANN001
+    """The framework's way: pairs (candidate, wanted effect) evaluated in rounds."""
+    if ahead == 0:
+        submit = lambda pairs: _Ready(evaluate([(c, s.effect) for s, c in pairs]))  # noqa: E731
+    else:
+        submit = lambda pairs: _Later(lambda p: evaluate([p])[0],  # noqa: E731
+                                      [(c, s.effect) for s, c in pairs])
+    drive_ahead(strategies, submit, batch, ahead=ahead)
+
+
 def test_directed_pairs_driven_together_find_what_they_find_one_by_one() -> None:
     cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, seed=2)
     pairs = [(4, 2), (0, 1), (6, 3)]
@@ -150,6 +180,42 @@ def test_directed_pairs_driven_together_find_what_they_find_one_by_one() -> None
     kept = sum(len(t.found) for t in light)
     assert sum(not isinstance(o, int) for o in sent) >= kept
     assert sum(isinstance(o, int) for o in sent) > kept     # most come back as an index
+
+
+@pytest.mark.parametrize("ahead", [1, 3])
+def test_rounds_asked_ahead_end_as_rounds_one_by_one(ahead: int) -> None:
+    """Rounds submitted before the previous ones are told (as on workers) are dropped past
+    the point where a strategy is done: every strategy ends as driven one round at a time,
+    whatever the number of rounds in advance."""
+    cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, seed=2)
+    pairs = [(4, 2), (0, 1), (6, 3), (2, 0)]
+
+    def strategies() -> list[EffectDirected]:
+        return [EffectDirected(cfg, s, e, lambda i, j=j: _seed(cfg, 1, 2 + j, i),
+                               want=w, cap=70) for j, ((s, e), w) in
+                enumerate(zip(pairs, (5, 1, 3, 200), strict=True))]
+
+    def evaluate(pairs_: list) -> list:
+        return [directed_outcome_task(p) for p in pairs_]
+
+    one_by_one = strategies()
+    _drive_together(one_by_one, evaluate, batch=8)
+    ahead_ = strategies()
+    _drive_together(ahead_, evaluate, batch=8, ahead=ahead)
+    for a, b in zip(one_by_one, ahead_, strict=True):
+        assert (a.tried, a.done) == (b.tried, b.done)
+        assert [r.moves for r in a.found] == [r.moves for r in b.found]
+        assert b.asked >= b.tried  # asked ahead, dropped when done
+    assert ahead_[3].tried == 70 and len(ahead_[3].found) < 200  # one ran into its cap
+    assert any(b.asked > b.tried for b in ahead_)
+
+
+def test_drive_ahead_refuses_a_strategy_that_cannot_be_asked_ahead() -> None:
+    class Plain:
+        done = False
+
+    with pytest.raises(TypeError, match="cannot be asked ahead"):
+        drive_ahead([Plain()], lambda pairs: _Ready([]), batch=4)
 
 
 def test_make_env_sets_the_scene_to_the_source_it_reads() -> None:

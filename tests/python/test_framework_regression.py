@@ -54,6 +54,29 @@ EXPECTED: dict[int, list[dict[str, Any]]] = {
 }
 
 
+#: Seed 1 with the offset context variables (``n_offset = 3``: the end-effector in front of
+#: the box's faces across x and y, or beside them), measured by ``a2l experiment sweep
+#: --seeds 0-29`` with ``n_offset = 3`` as the default (commit 4123357; docs/framework.md's
+#: sweep table): the offsets go through discretization, learning, the bundle and the C++
+#: step; the network keeps ``offset_x``.
+EXPECTED_OFFSETS = [
+    _it(0, 23.4375, (0.0, 0.125, 0.25, 0.5), 2, 4.285714285714286, 181),
+    _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.1875, 8913),
+]
+
+
+def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
+    from a2l.skills import load_bundle
+
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=1, n_offset=3)
+    with Executor(workers=1) as executor:
+        result = run_framework(cfg, tmp_path, executor)
+    got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
+    assert json.dumps(got, sort_keys=True) == json.dumps(EXPECTED_OFFSETS, sort_keys=True)
+    kinds = [v.kind for v in load_bundle(result["bundle"]).variables]
+    assert "offset_x" in kinds
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed)

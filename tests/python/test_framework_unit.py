@@ -93,6 +93,10 @@ def test_score_of_babbling_rollouts_count_nothing() -> None:
     ("waypoints_max", 1.5),
     ("waypoint_aim", 0.0),
     ("waypoint_aim", float("nan")),
+    ("n_offset", 2),
+    ("n_offset", -1),
+    ("offset_half_x", 0.0),
+    ("offset_half_y", float("inf")),
 ])
 def test_validate_names_the_bad_field(field: str, value: object) -> None:
     cfg = FrameworkConfig(**{field: value})

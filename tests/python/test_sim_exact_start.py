@@ -85,3 +85,42 @@ def test_same_rollout_after_perturbations_and_gripper_actions() -> None:
             scene.execute(d)
             rows.append((*scene.ground_truth()["objects"]["box"], *scene.eef_position()))
     assert np.array_equal(np.asarray(rows), _rollout("push", None))
+
+
+#: Displacements off the axes (a DS step's), for :func:`test_first_episode_of_a_scene_...`.
+DS_STEPS = [(0.031, -0.017, 0.005), (0.02, 0.02, -0.01), (0.04, 0.0, 0.0), (0.01, -0.03, 0.01),
+            (0.035, 0.012, 0.0), (0.028, -0.021, 0.0)]
+
+
+def _ds_rollout(scene: BulletScene, home: np.ndarray) -> np.ndarray:
+    name = scene.primary_object
+    _begin(scene, home, (-0.13, 0.01, 0.0))
+    rows = [(*scene.ground_truth()["objects"][name], *scene.eef_position())]
+    for d in DS_STEPS:
+        scene.execute_displacement(d)
+        rows.append((*scene.ground_truth()["objects"][name], *scene.eef_position()))
+    return np.asarray(rows)
+
+
+@pytest.mark.parametrize("scene_name", ["push", "press"])
+def test_first_episode_of_a_scene_is_an_episode_like_the_others(scene_name: str) -> None:
+    """Off-axis displacements (a DS run) from the first start of a new scene, after other
+    episodes, and in a scene made after another one was closed in this process (a worker
+    switching scenes) end bitwise at the same positions."""
+    kw = {"seed": 0, "object_jitter": 0.0, "context_source": "ground_truth"}
+    with make_scene(scene_name, **kw) as scene:
+        home = np.asarray(scene.ground_truth()["objects"][scene.primary_object])
+        first = _ds_rollout(scene, home)
+        for offset, moves in HISTORIES["table"]:
+            _begin(scene, home, offset)
+            for d in moves:
+                scene.execute(d)
+        after = _ds_rollout(scene, home)
+    with make_scene("grasp", **kw) as other:
+        other.execute((0, 0, -1))
+    with make_scene(scene_name, **kw) as scene:
+        remade = _ds_rollout(scene, home)
+    assert np.array_equal(after, first), np.abs(after - first).max()
+    assert np.array_equal(remade, first), np.abs(remade - first).max()
+    if scene_name == "push":
+        assert np.ptp(first[:, 0]) > 0.01  # the box was pushed: contacts in the rollout

@@ -6,12 +6,14 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from a2l import _core
 from a2l.skills import (
     Discretizer,
     HighLevelState,
     MovementRepertoire,
+    OffsetBins,
     compile_policy,
     known_structure_dataset,
     learn_network,
@@ -54,9 +56,14 @@ def test_cpp_bins_equal_python_bins() -> None:
     assert py["inclination"].tolist() == cpp_i
 
 
-def test_learned_push_skill_round_trip(tmp_path: Path) -> None:
-    disc = Discretizer(movements=MovementRepertoire(planar=True))
-    net = learn_network(disc.discretize(push_dataset(1500, seed=2)), "hc-k2")
+@pytest.mark.parametrize("offsets", [False, True])
+def test_learned_push_skill_round_trip(tmp_path: Path, offsets: bool) -> None:
+    strips = (OffsetBins.strip("x", 0.045), OffsetBins.strip("y", 0.0525)) if offsets else ()
+    disc = Discretizer(movements=MovementRepertoire(planar=True), offsets=strips)
+    # the hand-coded structure keeps every context variable (the synthetic pushes do not
+    # depend on the offsets, so hill-climbing would leave them out of the table)
+    net = learn_network(disc.discretize(push_dataset(1500, seed=2)),
+                        "hand-coded" if offsets else "hc-k2")
     table = compile_policy(net, "move", disc.evidence)
     spec = make_skill_spec(table, disc, name="push")
     path = save_bundle(spec, tmp_path / "push.a2l")
@@ -65,6 +72,8 @@ def test_learned_push_skill_round_trip(tmp_path: Path) -> None:
     np.testing.assert_array_equal(back.argmax, table.argmax_indices)
     assert [v.name for v in back.variables] == table.variables
     assert back.labels == list(disc.movements.labels)
+    assert [(v.kind, v.low, v.high) for v in back.variables if v.kind.startswith("offset")] == [
+        (b.kind, b.low, b.high) for b in strips]
 
     skill = _core.load_bundle(path)
     assert skill.n_moves == 8 and skill.effect_values == list(disc.effects.values)

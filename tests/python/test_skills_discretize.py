@@ -15,6 +15,7 @@ from a2l.skills import (
     HighLevelState,
     InclinationBins,
     MovementRepertoire,
+    OffsetBins,
     OrientationBins,
 )
 
@@ -72,6 +73,36 @@ def test_orientation_sections_are_centred_on_minus_pi_plus_k_w() -> None:
 def test_inclination_from_vertical() -> None:
     eef = np.array([[0, 0, 1.0], [1.0, 0, 0], [0, 0, -1.0], [1.0, 0, 1.0]])
     assert InclinationBins(8).bins(eef, np.zeros_like(eef)).tolist() == [0, 4, 7, 2]
+
+
+def test_offset_strips_tell_in_front_of_a_face_from_beside_it() -> None:
+    """3 offset bins of half-width h: edges at ±h, saturated beyond (the formula of a
+    distance bin, applied to dx or dy); the points of docs/framework.md's aliased cell."""
+    x = OffsetBins.strip("x", 0.045)
+    y = OffsetBins.strip("y", 0.0525)
+    assert (x.name, x.kind, x.low, x.high) == ("offset_x", "offset_x", -0.135, 0.135)
+    obj = np.array([0.6, -0.1, 0.05])
+    rel = np.array([[0.041, 0.141, 0.0], [0.059, 0.091, 0.0], [-0.046, 0.0, 0.0],
+                    [-0.044, 0.05, 0.3], [9.0, -9.0, 0.0], [0.0, 0.0525, 0.0]])
+    assert x.bins(obj + rel, np.tile(obj, (6, 1))).tolist() == [1, 2, 0, 1, 2, 1]
+    assert y.bins(obj + rel, np.tile(obj, (6, 1))).tolist() == [2, 2, 1, 1, 0, 2]
+    # the same as the distance formula on the signed offset
+    rng = np.random.default_rng(3)
+    r = rng.normal(0, 0.1, (500, 3))
+    five = OffsetBins("y", 5, -0.2, 0.1)
+    assert five.bins(r, np.zeros_like(r)).tolist() == [
+        min(max(math.floor((v + 0.2) / 0.3 * 5), 0), 4) for v in r[:, 1]]
+    disc = Discretizer(inclination=None, offsets=(x, y))
+    assert disc.variable_names == ["effect", "distance", "orientation", "offset_x", "offset_y",
+                                   "move"]
+    assert disc.to_json()["offset_y"] == {"kind": "offset_y", "n_bins": 3, "low": -0.1575,
+                                          "high": 0.1575}
+    with pytest.raises(ValueError, match="axis"):
+        OffsetBins("z")
+    with pytest.raises(ValueError, match="odd"):
+        OffsetBins.strip("x", 0.045, 4)
+    with pytest.raises(ValueError, match="offset_x: need finite low < high"):
+        OffsetBins("x", 3, 0.1, 0.1)
 
 
 def test_non_finite_context_is_unknown() -> None:

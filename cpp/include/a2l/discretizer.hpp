@@ -3,9 +3,11 @@
 //!
 //! The bin formulas are those of docs/bundle_format.md (and METHOD.md's discretization):
 //! distance saturating at both ends, orientation in sections offset by half a section,
-//! inclination from the vertical. Discrete variables (the wanted effect, high-level states)
-//! are given by the caller as value indices. A non-finite position or a discrete index out
-//! of range is an *unknown context*: the discretizer reports it, it never guesses a bin.
+//! inclination from the vertical, and the planar offsets along the base frame's x and y axes
+//! (binned like a distance: they tell a point beside a face of a box from one in front of
+//! it, which distance and orientation sections do not). Discrete variables (the wanted effect,
+//! high-level states) are given by the caller as value indices. A non-finite position or a discrete
+//! index out of range is an *unknown context*: the discretizer reports it, it never guesses a bin.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,7 +31,21 @@ enum class VariableKind : int {
   orientation = 2,  //!< atan2(dy, dx) of (eef - object) in the table plane
   inclination = 3,  //!< angle of (eef - object) from the vertical, in [0, pi]
   high_level = 4,   //!< a discrete state (light, gripper, colour); index given by the caller
+  offset_x = 5,     //!< x of (eef - object) in the base frame (m), binned like a distance
+  offset_y = 6,     //!< y of (eef - object) in the base frame (m), binned like a distance
 };
+
+//! Whether `kind` is measured from the end-effector and object positions (distance,
+//! orientation, inclination, offset_x, offset_y) rather than given as an index.
+constexpr bool is_geometric(VariableKind kind) noexcept {
+  return kind != VariableKind::effect && kind != VariableKind::high_level;
+}
+
+//! Whether a variable of `kind` has a range [low, high] (distance, offset_x, offset_y).
+constexpr bool has_range(VariableKind kind) noexcept {
+  return kind == VariableKind::distance || kind == VariableKind::offset_x ||
+         kind == VariableKind::offset_y;
+}
 
 //! The manifest name of a kind ("effect", "distance", ...). Never allocates.
 const char* variable_kind_name(VariableKind kind) noexcept;
@@ -42,9 +58,9 @@ struct Variable {
   std::string name;                            //!< unique name, e.g. "distance", "light"
   VariableKind kind = VariableKind::distance;  //!< what it measures
   int n_bins = 1;                              //!< number of bins (values for effect / high_level)
-  double low = 0.0;                            //!< distance only: lower end of the range (m)
-  double high = 0.0;                           //!< distance only: upper end of the range (m)
-  std::vector<std::string> values;             //!< effect / high_level only: value names
+  double low = 0.0;   //!< distance, offset_x, offset_y only: lower end of the range (m)
+  double high = 0.0;  //!< distance, offset_x, offset_y only: upper end of the range (m)
+  std::vector<std::string> values;  //!< effect / high_level only: value names
 };
 
 //! The current situation, as the runtime sees it at one instant. Fixed size, no allocation.
@@ -92,10 +108,11 @@ class Discretizer {
   //! -1 if phi is not finite.
   static int inclination_bin(double phi, int n) noexcept;
 
-  //! Bin of the geometric variable `v` (distance, orientation or inclination) for an
-  //! end-effector at `eef` and an object at `object`, by the formulas above applied to
-  //! r = eef - object (distance sqrt(rx*rx + ry*ry + rz*rz), orientation atan2(ry, rx),
-  //! inclination atan2(sqrt(rx*rx + ry*ry), rz)). The one implementation of the context bins:
+  //! Bin of the geometric variable `v` (distance, orientation, inclination, offset_x or
+  //! offset_y) for an end-effector at `eef` and an object at `object`, by the formulas above
+  //! applied to r = eef - object (distance sqrt(rx*rx + ry*ry + rz*rz), orientation
+  //! atan2(ry, rx), inclination atan2(sqrt(rx*rx + ry*ry), rz); offset_x and offset_y:
+  //! distance_bin of rx and ry over [low, high]). The one implementation of the context bins:
   //! discretize() and the Python learning side (a2l._core.context_bins) call it.
   //! \return the bin, or -1 if r is not finite (an unknown context) or `v` is not of a
   //!         geometric kind. Allocates nothing.

@@ -16,20 +16,38 @@ protocol (:mod:`a2l.acquisition.protocol`): a strategy proposes trajectories
   interaction-dataset rows.
 """
 
-from a2l.acquisition.goal_babbling import GoalBabbling, RandomTrajectories
-from a2l.acquisition.images import image_descriptor
-from a2l.acquisition.noveb import ArchiveThreshold, NovEB, NovEBConfig, novelty
-from a2l.acquisition.protocol import Strategy, drive
-from a2l.acquisition.random_babbling import RandomBabbling, babble_task, random_walk
-from a2l.acquisition.rollout import Rollout, effect_of, erase_loops, play, rollouts_to_frame
-from a2l.acquisition.trajectory import WaypointEncoding, follow_waypoints
-from a2l.acquisition.waypoints import (
-    EffectDirected,
-    directed_outcome_task,
-    directed_task,
-    heading_chooser,
-    random_waypoints,
-)
+import importlib
+from typing import Any
+
+# Names are imported from their module on first use (PEP 562): a worker process that
+# needs one module does not import the others (pgmpy, OpenCV: seconds per process).
+_EXPORTS: dict[str, str] = {
+    "GoalBabbling": "a2l.acquisition.goal_babbling",
+    "RandomTrajectories": "a2l.acquisition.goal_babbling",
+    "image_descriptor": "a2l.acquisition.images",
+    "ArchiveThreshold": "a2l.acquisition.noveb",
+    "NovEB": "a2l.acquisition.noveb",
+    "NovEBConfig": "a2l.acquisition.noveb",
+    "novelty": "a2l.acquisition.noveb",
+    "Strategy": "a2l.acquisition.protocol",
+    "drive": "a2l.acquisition.protocol",
+    "drive_ahead": "a2l.acquisition.protocol",
+    "RandomBabbling": "a2l.acquisition.random_babbling",
+    "babble_task": "a2l.acquisition.random_babbling",
+    "random_walk": "a2l.acquisition.random_babbling",
+    "Rollout": "a2l.acquisition.rollout",
+    "effect_of": "a2l.acquisition.rollout",
+    "erase_loops": "a2l.acquisition.rollout",
+    "play": "a2l.acquisition.rollout",
+    "rollouts_to_frame": "a2l.acquisition.rollout",
+    "WaypointEncoding": "a2l.acquisition.trajectory",
+    "follow_waypoints": "a2l.acquisition.trajectory",
+    "EffectDirected": "a2l.acquisition.waypoints",
+    "directed_outcome_task": "a2l.acquisition.waypoints",
+    "directed_task": "a2l.acquisition.waypoints",
+    "heading_chooser": "a2l.acquisition.waypoints",
+    "random_waypoints": "a2l.acquisition.waypoints",
+}
 
 __all__ = [
     "ArchiveThreshold",
@@ -46,6 +64,7 @@ __all__ = [
     "directed_outcome_task",
     "directed_task",
     "drive",
+    "drive_ahead",
     "effect_of",
     "erase_loops",
     "follow_waypoints",
@@ -57,3 +76,16 @@ __all__ = [
     "random_waypoints",
     "rollouts_to_frame",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

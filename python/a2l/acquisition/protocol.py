@@ -5,14 +5,23 @@ them), somebody evaluates them where it likes (in this process, on workers, on D
 the strategy is told what came out (:meth:`Strategy.tell`), in the order it asked. It never
 evaluates anything itself, so the same strategy runs alone (:func:`drive`) or inside the
 framework's loop, and what it learns is only what it is told.
+
+A strategy whose candidates do not depend on the outcomes (only whether it goes on does:
+random babbling, effect-directed trajectories) can say so with ``asks_ahead = True``: it
+may then be asked again before it is told, and gives the candidates that follow.
+:func:`drive_ahead` uses that to keep workers busy while outcomes travel back: the next
+round is evaluated while the strategies are told the previous one, and what a strategy
+was asked past the point where it is done is dropped, so it ends exactly as with
+:func:`drive`.
 """
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Any, Protocol, runtime_checkable
 
-__all__ = ["Strategy", "drive"]
+__all__ = ["Strategy", "drive", "drive_ahead"]
 
 
 @runtime_checkable
@@ -72,3 +81,74 @@ def drive(strategy: Strategy, evaluate: Callable[[Sequence[Any]], Sequence[Any]]
         if on_batch:
             on_batch(strategy)
     return strategy
+
+
+def drive_ahead(strategies: Sequence[Any], submit: Callable[[list[tuple[Any, Any]]], Any],
+                batch: int, ahead: int = 1,
+                on_round: Callable[[], None] | None = None) -> None:
+    """Drive ask-ahead strategies together, with `ahead` rounds evaluated in advance.
+
+    Each round asks every strategy not yet done for `batch` candidates and submits them all
+    at once; rounds are told in order, each strategy its own part, unless it is done by
+    then (the part is dropped). With ``ahead = 0`` this is :func:`drive` for several
+    strategies at once; with more, the next rounds run while a round's outcomes come back,
+    at the cost of evaluating up to `ahead` batches per strategy that are dropped. Either
+    way every strategy is asked and told exactly what :func:`drive` would ask and tell it.
+
+    Parameters
+    ----------
+    strategies : sequence of Strategy
+        Each with ``asks_ahead = True`` (see the module's docstring).
+    submit : callable
+        ``submit([(strategy, candidate), ...])`` -> an object whose ``result()`` returns
+        the outcomes in that order (e.g. :meth:`a2l.parallel.Executor.submit`).
+    batch : int
+        Candidates asked of each strategy per round.
+    ahead : int
+        Rounds submitted beyond the one waited for (0: none).
+    on_round : callable, optional
+        Called after each round is told (progress bars).
+
+    Raises
+    ------
+    TypeError
+        A strategy that cannot be asked ahead.
+    RuntimeError
+        A strategy not done that has nothing left to ask.
+    """
+    if batch < 1:
+        raise ValueError(f"batch must be >= 1, got {batch}")
+    if ahead < 0:
+        raise ValueError(f"ahead must be >= 0, got {ahead}")
+    for s in strategies:
+        if not getattr(s, "asks_ahead", False):
+            raise TypeError(f"{type(s).__name__} cannot be asked ahead (asks_ahead is not True)")
+    inflight: deque[tuple[list[tuple[Any, list[Any]]], Any]] = deque()
+
+    def launch() -> bool:
+        asks = [(s, s.ask(batch)) for s in strategies if not s.done]
+        asks = [(s, asked) for s, asked in asks if asked]
+        if asks:
+            inflight.append((asks, submit([(s, c) for s, asked in asks for c in asked])))
+        return bool(asks)
+
+    while True:
+        while len(inflight) <= ahead and launch():
+            pass
+        if not inflight:
+            break
+        asks, pending = inflight.popleft()
+        outcomes = pending.result()
+        n = sum(len(asked) for _, asked in asks)
+        if len(outcomes) != n:
+            raise ValueError(f"evaluate returned {len(outcomes)} outcomes for {n} candidates")
+        k = 0
+        for s, asked in asks:
+            if not s.done:
+                s.tell(asked, outcomes[k:k + len(asked)])
+            k += len(asked)
+        if on_round:
+            on_round()
+    for s in strategies:
+        if not s.done:
+            raise RuntimeError(f"{type(s).__name__} is not done but asked for nothing")

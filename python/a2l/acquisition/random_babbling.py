@@ -70,6 +70,9 @@ class RandomBabbling:
         Most trajectories tried.
     """
 
+    #: Candidates depend on their position only: may be asked before the previous are told.
+    asks_ahead = True
+
     def __init__(self, cfg: FrameworkConfig, seed_of: Callable[[int], int], target: int,
                  try_cap: int) -> None:
         self.cfg = cfg
@@ -78,6 +81,8 @@ class RandomBabbling:
         self.target = int(target)
         self.try_cap = int(try_cap)
         self.tried = 0
+        #: Candidates asked so far (ahead of `tried` while outcomes are on their way).
+        self.asked = 0
         self.kept: list[Rollout] = []
 
     @property
@@ -86,12 +91,15 @@ class RandomBabbling:
         return len(self.kept) >= self.target or self.tried >= self.try_cap
 
     def ask(self, n: int) -> list[BabbleTask]:
-        """The next (at most) `n` trajectories to try."""
+        """The next (at most) `n` trajectories to try: those after every one asked so far
+        (told or not)."""
         if self.done:
             return []
-        n = min(n, self.try_cap - self.tried)
-        return [(self._cfg_d, (self.tried + i) % self.cfg.n_starts, [],
-                 self.seed_of(self.tried + i), self.cfg.max_babble_steps) for i in range(n)]
+        first = self.asked
+        n = max(0, min(n, self.try_cap - first))
+        self.asked += n
+        return [(self._cfg_d, (first + i) % self.cfg.n_starts, [],
+                 self.seed_of(first + i), self.cfg.max_babble_steps) for i in range(n)]
 
     def tell(self, asked: Sequence[BabbleTask], outcomes: Sequence[Rollout]) -> None:
         """Keep, in order, the trajectories that moved the object (up to the target)."""

@@ -138,22 +138,27 @@ def rollouts_to_frame(rollouts: Sequence[Rollout], disc: Any, first_episode: int
     -------
     pandas.DataFrame, shape (total steps, 16)
     """
-    rows: list[dict[str, Any]] = []
-    ep = first_episode
-    for r in rollouts:
-        if not r.moved:
-            continue
-        disp = r.obj[-1] - r.obj[0]
-        for k, move in enumerate(r.moves):
-            d = disc.movements.displacement(move)
-            row = {"episode": ep, "step": k, "start": r.start}
-            row.update(zip(EEF_COLUMNS, r.eef[k], strict=True))
-            row.update(zip(OBJECT_COLUMNS, r.obj[k], strict=True))
-            row.update(zip(MOVE_COLUMNS, d, strict=True))
-            row.update(zip(EFFECT_DISPLACEMENT_COLUMNS, disp, strict=True))
-            rows.append(row)
-        ep += 1
     cols = ["episode", "step", "start", *EEF_COLUMNS, *OBJECT_COLUMNS, *MOVE_COLUMNS,
             *EFFECT_DISPLACEMENT_COLUMNS]
-    return pd.DataFrame(rows, columns=cols)
+    moved = [r for r in rollouts if r.moved]
+    if not moved:
+        return pd.DataFrame([], columns=cols)
+    # column by column (a dict per row cost ~25 us a row in the main process, serial)
+    lens = np.array([len(r.moves) for r in moved])
+    moves = np.concatenate([np.asarray(r.moves, dtype=np.int64) for r in moved])
+    blocks = [
+        np.repeat(np.arange(first_episode, first_episode + len(moved)), lens)[:, None],
+        np.concatenate([np.arange(n) for n in lens])[:, None],
+        np.repeat([r.start for r in moved], lens)[:, None],
+    ]
+    ints = np.hstack(blocks).astype(np.int64)
+    floats = np.hstack([
+        np.concatenate([r.eef[:n] for r, n in zip(moved, lens, strict=True)]),
+        np.concatenate([r.obj[:n] for r, n in zip(moved, lens, strict=True)]),
+        disc.movements.displacement(moves).reshape(-1, 3),
+        np.repeat(np.array([r.obj[-1] - r.obj[0] for r in moved]), lens, axis=0),
+    ]).astype(np.float64)
+    data = {c: ints[:, i] for i, c in enumerate(cols[:3])}
+    data.update({c: floats[:, i] for i, c in enumerate(cols[3:])})
+    return pd.DataFrame(data, columns=cols)
 

@@ -66,6 +66,8 @@ def heading_chooser(points: np.ndarray, disc: Any, start: np.ndarray
     dirs = disc.movements.directions.astype(float)
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
     reach = 0.7 * disc.movements.step
+    # every movement's displacement, once (the same numbers as displacement(move))
+    steps = disc.movements.displacement(np.arange(disc.movements.n_moves)).reshape(-1, 3)
     k = 0
     at = np.array(start, dtype=float)
 
@@ -77,7 +79,7 @@ def heading_chooser(points: np.ndarray, disc: Any, start: np.ndarray
         if disc.movements.planar:
             d[2] = 0.0
         move = int(np.argmax(dirs @ d))
-        at = at + disc.movements.displacement(move)
+        at = at + steps[move]
         return move
 
     return choose
@@ -139,6 +141,9 @@ class EffectDirected:
         Trajectories wanted, most tried.
     """
 
+    #: Candidates depend on their position only: may be asked before the previous are told.
+    asks_ahead = True
+
     def __init__(self, cfg: FrameworkConfig, start: int, effect: int,
                  seed_of: Callable[[int], int], want: int, cap: int) -> None:
         self.cfg = cfg
@@ -147,6 +152,8 @@ class EffectDirected:
         self.seed_of = seed_of
         self.want, self.cap = int(want), int(cap)
         self.tried = 0
+        #: Candidates asked so far (ahead of `tried` while outcomes are on their way).
+        self.asked = 0
         self.found: list[Rollout] = []
 
     @property
@@ -155,11 +162,14 @@ class EffectDirected:
         return len(self.found) >= self.want or self.tried >= self.cap
 
     def ask(self, n: int) -> list[DirectedTask]:
-        """The next (at most) `n` trajectories to try."""
+        """The next (at most) `n` trajectories to try: those after every one asked so far
+        (told or not)."""
         if self.done:
             return []
-        n = min(n, self.cap - self.tried)
-        return [(self._cfg_d, self.start, self.seed_of(self.tried + i), self.cfg.directed_steps)
+        first = self.asked
+        n = max(0, min(n, self.cap - first))
+        self.asked += n
+        return [(self._cfg_d, self.start, self.seed_of(first + i), self.cfg.directed_steps)
                 for i in range(n)]
 
     def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout | int]) -> None:

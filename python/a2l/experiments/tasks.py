@@ -25,8 +25,10 @@ task                        skills  start -> goal; injected fault
 A trial is one (task, seed, fault or not): the block's start (its region's centre
 ± :data:`JITTER` on each axis) and the drawn light values come from ``(seed, task)`` only, so
 the trial with and without its fault start alike; the fault's draw from ``(seed, task,
-"fault")``. Every trial builds its own scene (0.15 s), so results do not depend on the
-workers. Skills are learned once per run (demonstration seeds ``0 ..``); trial seeds default
+"fault")``. Every trial builds its own scene (0.15 s); each transit's sampler is seeded
+from the trial seed, but OMPL's planner and shortener draw from its global generator, seeded
+once per process, so a transit path (rarely its outcome) may differ with the worker that ran
+the trial. Skills are learned once per run (demonstration seeds ``0 ..``); trial seeds default
 to :data:`DEFAULT_SEED` (held out).
 
 Output: ``skills/*.a2lb``, ``config.json``, ``trials.csv`` (one row per trial),

@@ -51,6 +51,15 @@ class FrameworkConfig:
         Bins of the context variables (``n_incl = 0`` leaves inclination out).
     dist_low, dist_high : float
         Range of the distance bins (m).
+    n_offset : int
+        Bins of each planar offset of the end-effector from the object (``offset_x``,
+        ``offset_y``: :meth:`a2l.skills.bins.OffsetBins.strip`); 0 leaves them out, else odd.
+        With 3, each tells whether the end-effector is in front of the box's faces across
+        that axis (``|dx| < offset_half_x``) or beside them: the distance and orientation
+        cells near the box alias the two (``docs/framework.md``).
+    offset_half_x, offset_half_y : float
+        Half-width of an offset bin (m): the box's half-size plus the end-effector's radius
+        along that axis (the virtual box: 0.035 + 0.01, 0.0425 + 0.01).
     effect_threshold : float
         Smallest object displacement that counts as an effect (m).
     structure : str
@@ -120,6 +129,9 @@ class FrameworkConfig:
     n_incl: int = 0
     dist_low: float = 0.05
     dist_high: float = 0.20
+    n_offset: int = 0
+    offset_half_x: float = 0.045
+    offset_half_y: float = 0.0525
     effect_threshold: float = 0.01
     structure: str = "hc-k2"
     effect_parent: bool = True
@@ -161,13 +173,17 @@ class FrameworkConfig:
             if not isinstance(v, int) or v < 1:
                 raise ValueError(f"{name}: must be a positive integer, got {v!r}")
         for name in ("start_radius", "step", "effect_threshold", "waypoint_aim", "heldout_r_low",
-                     "heldout_r_high"):
+                     "heldout_r_high", "offset_half_x", "offset_half_y"):
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name}: must be a positive length, got {v!r}")
         if not 0 < self.dist_low < self.dist_high:
             raise ValueError(f"dist_low, dist_high: need 0 < low < high, got "
                              f"{self.dist_low}, {self.dist_high}")
+        if not isinstance(self.n_offset, int) or self.n_offset < 0 or (
+                self.n_offset and self.n_offset % 2 == 0):
+            raise ValueError(f"n_offset: must be 0 or an odd positive integer, got "
+                             f"{self.n_offset!r}")
         if self.n_incl < 0:
             raise ValueError(f"n_incl: must be >= 0, got {self.n_incl}")
         if self.extension_cut < 1:
@@ -247,26 +263,32 @@ def discretizers(cfg: FrameworkConfig) -> Any:
     """The discretization of `cfg` (built once per set of its parameters: rollouts call this
     for every task)."""
     return _discretizer_for(cfg.n_dist, cfg.dist_low, cfg.dist_high, cfg.n_orient, cfg.n_incl,
-                            cfg.planar, cfg.step, cfg.n_effects, cfg.effect_threshold)
+                            cfg.planar, cfg.step, cfg.n_effects, cfg.effect_threshold,
+                            cfg.n_offset, cfg.offset_half_x, cfg.offset_half_y)
 
 
 @functools.lru_cache(maxsize=16)
 def _discretizer_for(n_dist: int, dist_low: float, dist_high: float, n_orient: int,
                      n_incl: int, planar: bool, step: float, n_effects: int,
-                     effect_threshold: float) -> Any:
+                     effect_threshold: float, n_offset: int, offset_half_x: float,
+                     offset_half_y: float) -> Any:
     from a2l.skills.discretize import (
         Discretizer,
         DistanceBins,
         EffectDiscretizer,
         InclinationBins,
         MovementRepertoire,
+        OffsetBins,
         OrientationBins,
     )
 
+    offsets = ((OffsetBins.strip("x", offset_half_x, n_offset),
+                OffsetBins.strip("y", offset_half_y, n_offset)) if n_offset else ())
     return Discretizer(
         distance=DistanceBins(n_bins=n_dist, low=dist_low, high=dist_high),
         orientation=OrientationBins(n_bins=n_orient),
         inclination=InclinationBins(n_bins=n_incl) if n_incl > 0 else None,
+        offsets=offsets,
         movements=MovementRepertoire(planar=planar, step=step),
         effects=EffectDiscretizer(n_effects=n_effects, threshold=effect_threshold),
     )

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from a2l.acquisition.protocol import drive
+from a2l.acquisition.protocol import drive_ahead
 from a2l.acquisition.random_babbling import RandomBabbling, babble_task
 from a2l.acquisition.rollout import Rollout, rollouts_to_frame
 from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task
@@ -55,13 +55,25 @@ def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
     target = cfg.n_starts * cfg.n_effects
     babbling = RandomBabbling(cfg, lambda i: _seed(cfg, iteration, 0, i), target, cfg.try_cap)
 
-    def report(s: Any) -> None:
+    def report() -> None:
         if progress:
-            progress("acquire", len(s.kept), target)
+            progress("acquire", len(babbling.kept), target)
 
-    drive(babbling, lambda tasks: executor.map(babble_task, tasks),
-          batch=max(16, 8 * executor.workers), on_batch=report)
+    drive_ahead([babbling], lambda pairs: executor.submit(babble_task, [c for _, c in pairs]),
+                batch=max(16, 8 * executor.workers), ahead=_ahead(executor), on_round=report)
     return babbling.kept
+
+
+#: Rounds of babbling submitted to workers beyond the one waited for
+#: (:func:`a2l.acquisition.protocol.drive_ahead`): the workers run them while the main
+#: process collects a round and asks for the next, instead of waiting for it.
+AHEAD = 1
+
+
+def _ahead(executor: Executor) -> int:
+    """Rounds to submit in advance: none in this process (nothing would run meanwhile, and
+    a round asked ahead may be dropped), :data:`AHEAD` on workers."""
+    return 0 if executor.in_process else AHEAD
 
 
 def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
@@ -99,42 +111,12 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
                                        lambda i, j=j: _seed(cfg, iteration, 2 + j, i),
                                        want=cfg.directed_per_pair * grow,
                                        cap=cfg.directed_try_cap * grow))
-    _drive_together(directed, lambda tasks: executor.map(directed_outcome_task, tasks),
-                    batch=32)
+    drive_ahead(directed, lambda pairs: executor.submit(
+        directed_outcome_task, [(c, s.effect) for s, c in pairs]),
+        batch=32, ahead=_ahead(executor))
     for d in directed:
         out.extend(d.found)
     return out
-
-
-def _drive_together(strategies: Sequence[EffectDirected],
-                    evaluate: Callable[[Sequence[Any]], Sequence[Any]], batch: int) -> None:
-    """:func:`a2l.acquisition.protocol.drive` for several strategies at once: each round
-    asks every strategy not yet done for `batch` candidates and evaluates them all in one
-    call (one ``Executor.map`` instead of one per strategy: a map costs milliseconds
-    whatever its size). `evaluate` receives ``(candidate, strategy.effect)`` pairs (e.g.
-    :func:`a2l.acquisition.waypoints.directed_outcome_task`), so that what comes back can
-    be reduced to what the strategy keeps.
-
-    Each strategy is asked and told exactly what :func:`drive` would ask and tell it, in the
-    same batches: the outcome is the same as driving them one after the other.
-    """
-    if batch < 1:
-        raise ValueError(f"batch must be >= 1, got {batch}")
-    while True:
-        asks = [(s, s.ask(batch)) for s in strategies if not s.done]
-        if not asks:
-            return
-        for s, asked in asks:
-            if not asked:
-                raise RuntimeError(f"{type(s).__name__} is not done but asked for nothing")
-        outcomes = evaluate([(c, s.effect) for s, asked in asks for c in asked])
-        n = sum(len(asked) for _, asked in asks)
-        if len(outcomes) != n:
-            raise ValueError(f"evaluate returned {len(outcomes)} outcomes for {n} candidates")
-        k = 0
-        for s, asked in asks:
-            s.tell(asked, outcomes[k:k + len(asked)])
-            k += len(asked)
 
 
 def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,

@@ -11,31 +11,47 @@ From a raw interaction dataset to a skill bundle::
 
 from __future__ import annotations
 
-from a2l.skills.bins import DistanceBins, InclinationBins, OrientationBins
-from a2l.skills.bundle import load_bundle, save_bundle
-from a2l.skills.compile import PolicyTable, compile_policy, relevant_evidence
-from a2l.skills.discretize import Discretizer
-from a2l.skills.effects import AXIS_EFFECTS, DIAGONAL_EFFECTS, EffectDiscretizer
-from a2l.skills.export import make_skill_spec
-from a2l.skills.k2 import K2Score, k2_local_score
-from a2l.skills.learning import (
-    STRUCTURES,
-    hand_coded_structure,
-    learn_network,
-    learn_structure,
-)
-from a2l.skills.phases import DSPhase, load_ds_phases
-from a2l.skills.repertoire import MovementRepertoire
-from a2l.skills.runner import CppSkillRunner, StepResult
-from a2l.skills.spec import (
-    ACTIONS,
-    BUNDLE_SCHEMA_VERSION,
-    VARIABLE_KINDS,
-    SkillSpec,
-    VariableSpec,
-)
-from a2l.skills.states import HighLevelState
-from a2l.skills.synthetic import KnownStructure, known_structure_dataset, push_dataset
+import importlib
+from typing import Any
+
+# Names are imported from their module on first use (PEP 562): a worker process that
+# needs one module does not import the others (pgmpy, OpenCV: seconds per process).
+_EXPORTS: dict[str, str] = {
+    "DistanceBins": "a2l.skills.bins",
+    "InclinationBins": "a2l.skills.bins",
+    "OffsetBins": "a2l.skills.bins",
+    "OrientationBins": "a2l.skills.bins",
+    "load_bundle": "a2l.skills.bundle",
+    "save_bundle": "a2l.skills.bundle",
+    "PolicyTable": "a2l.skills.compile",
+    "compile_policy": "a2l.skills.compile",
+    "relevant_evidence": "a2l.skills.compile",
+    "Discretizer": "a2l.skills.discretize",
+    "AXIS_EFFECTS": "a2l.skills.effects",
+    "DIAGONAL_EFFECTS": "a2l.skills.effects",
+    "EffectDiscretizer": "a2l.skills.effects",
+    "make_skill_spec": "a2l.skills.export",
+    "K2Score": "a2l.skills.k2",
+    "k2_local_score": "a2l.skills.k2",
+    "STRUCTURES": "a2l.skills.learning",
+    "hand_coded_structure": "a2l.skills.learning",
+    "learn_network": "a2l.skills.learning",
+    "learn_structure": "a2l.skills.learning",
+    "DSPhase": "a2l.skills.phases",
+    "load_ds_phases": "a2l.skills.phases",
+    "MovementRepertoire": "a2l.skills.repertoire",
+    "CppSkillRunner": "a2l.skills.runner",
+    "StepResult": "a2l.skills.runner",
+    "ACTIONS": "a2l.skills.spec",
+    "BUNDLE_SCHEMA_VERSION": "a2l.skills.spec",
+    "VARIABLE_KINDS": "a2l.skills.spec",
+    "SkillSpec": "a2l.skills.spec",
+    "VariableSpec": "a2l.skills.spec",
+    "HighLevelState": "a2l.skills.states",
+    "KnownStructure": "a2l.skills.synthetic",
+    "known_structure_dataset": "a2l.skills.synthetic",
+    "push_dataset": "a2l.skills.synthetic",
+}
 
 __all__ = [
     "ACTIONS",
@@ -52,6 +68,7 @@ __all__ = [
     "K2Score",
     "KnownStructure",
     "MovementRepertoire",
+    "OffsetBins",
     "OrientationBins",
     "PolicyTable",
     "STRUCTURES",
@@ -72,3 +89,16 @@ __all__ = [
     "relevant_evidence",
     "save_bundle",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -1,4 +1,5 @@
-"""Context bins: distance, orientation and inclination of the end-effector to the object.
+"""Context bins: distance, orientation, inclination and planar offsets of the end-effector to
+the object.
 
 The bins follow ``docs/bundle_format.md`` to the letter: the learning side and the C++
 runtime (``a2l::Discretizer``) must agree bin for bin, so both call the same function. All
@@ -11,6 +12,7 @@ variable                  bin
 ``orientation``           θ = atan2(dy, dx) of (eef − object); w = 2π/n;
                           floor(((θ + π + w/2) mod 2π)/w) mod n (bin k centred on −π + k·w)
 ``inclination``           φ = atan2(√(dx² + dy²), dz) of (eef − object); min(floor(φ/π·n), n−1)
+``offset_x``, ``offset_y``  dx (dy) of (eef − object), binned like the distance over [low, high]
 ========================  ================================================================
 
 A non-finite eef − object (NaN, inf, overflow) gives bin ``-1`` (the runtime's *unknown
@@ -32,7 +34,8 @@ import numpy as np
 from a2l import _core
 from a2l.skills.spec import VariableSpec
 
-__all__ = ["ContextBins", "DistanceBins", "InclinationBins", "OrientationBins", "context_bins"]
+__all__ = ["ContextBins", "DistanceBins", "InclinationBins", "OffsetBins", "OrientationBins",
+           "context_bins"]
 
 
 def _as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
@@ -60,7 +63,7 @@ def context_bins(eef: np.ndarray, obj: np.ndarray, variables: Sequence[ContextBi
     ----------
     eef, obj : ndarray, shape (n, 3) or (3,)
         End-effector and object positions (m).
-    variables : sequence of DistanceBins, OrientationBins or InclinationBins
+    variables : sequence of DistanceBins, OrientationBins, InclinationBins or OffsetBins
         The context discretizations.
 
     Returns
@@ -187,5 +190,80 @@ class InclinationBins(_Bins):
         return VariableSpec(self.name, "inclination", self.n_bins)
 
 
+@dataclass(frozen=True)
+class OffsetBins(_Bins):
+    """Equal bins of the end-effector's offset from the object along the base frame's x or y
+    axis (``dx`` or ``dy`` of eef − object) over [low, high], saturating at both ends.
+
+    Distance and orientation sections are rings and wedges around the object's centre, so a
+    cell near a box holds points beside a face and points in front of it, from which the
+    same movement passes the box or hits it. Offset bins whose edges lie on the faces (e.g.
+    3 bins over ``[-3h, 3h]``: edges at ``±h``, h = the box's half-size plus the
+    end-effector's radius) tell the two apart (:meth:`strip`).
+
+    Parameters
+    ----------
+    axis : {"x", "y"}
+        The base-frame axis.
+    n_bins : int
+        Number of bins.
+    low, high : float
+        Range in metres; offsets outside fall in the end bins.
+    name : str
+        Variable name (default ``"offset_x"`` / ``"offset_y"``).
+    """
+
+    axis: str = "x"
+    n_bins: int = 3
+    low: float = -0.135
+    high: float = 0.135
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if self.axis not in ("x", "y"):
+            raise ValueError(f"offset bins: axis must be 'x' or 'y', got {self.axis!r}")
+        if not self.name:
+            object.__setattr__(self, "name", f"offset_{self.axis}")
+        self._check_n_bins()
+        if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
+            raise ValueError(f"{self.name}: need finite low < high, got [{self.low}, {self.high}]")
+
+    @classmethod
+    def strip(cls, axis: str, half_width: float, n_bins: int = 3) -> OffsetBins:
+        """Bins of width ``2 · half_width`` centred on the object: the middle one (n_bins
+        odd) is the strip ``|offset| < half_width`` in front of the object's faces across
+        `axis`.
+
+        Parameters
+        ----------
+        axis : {"x", "y"}
+            The base-frame axis.
+        half_width : float
+            Half-width of a bin (m), > 0.
+        n_bins : int
+            Number of bins, odd (range ``[-n_bins · half_width, n_bins · half_width]``).
+        """
+        if not (math.isfinite(half_width) and half_width > 0):
+            raise ValueError(f"offset_{axis}: half_width must be a positive length, got "
+                             f"{half_width!r}")
+        if n_bins < 1 or n_bins % 2 == 0:
+            raise ValueError(f"offset_{axis}: n_bins must be odd, got {n_bins}")
+        return cls(axis=axis, n_bins=n_bins, low=-n_bins * half_width,
+                   high=n_bins * half_width)
+
+    @property
+    def kind(self) -> str:
+        """The bundle kind: ``"offset_x"`` or ``"offset_y"``."""
+        return f"offset_{self.axis}"
+
+    def core_variable(self) -> tuple[str, int, float, float]:
+        """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
+        return (self.kind, self.n_bins, self.low, self.high)
+
+    def spec(self) -> VariableSpec:
+        """The bundle variable of this discretization."""
+        return VariableSpec(self.name, self.kind, self.n_bins, low=self.low, high=self.high)
+
+
 #: A context discretization: what :func:`context_bins` and ``Discretizer.context`` hold.
-ContextBins = DistanceBins | OrientationBins | InclinationBins
+ContextBins = DistanceBins | OrientationBins | InclinationBins | OffsetBins

@@ -29,7 +29,13 @@ from a2l import _core
 from a2l.atomic import atomic_write_bytes
 from a2l.errors import A2LFileNotFoundError, BundleError
 from a2l.skills.phases import DSPhase, ds_phases_section
-from a2l.skills.spec import BUNDLE_SCHEMA_VERSION, VARIABLE_KINDS, SkillSpec, VariableSpec
+from a2l.skills.spec import (
+    BUNDLE_SCHEMA_VERSION,
+    RANGED_KINDS,
+    VARIABLE_KINDS,
+    SkillSpec,
+    VariableSpec,
+)
 
 __all__ = [
     "BUNDLE_MAGIC",
@@ -144,8 +150,8 @@ def _variable_json(v: VariableSpec, i: int) -> dict[str, Any]:
         raise BundleError(
             f"variables[{i}] ('{v.name}').values: {len(v.values)} values for n_bins={v.n_bins}"
         )
-    if v.kind == "distance" and (v.low is None or v.high is None):
-        raise BundleError(f"variables[{i}] ('{v.name}'): a distance variable needs low and high")
+    if v.kind in RANGED_KINDS and (v.low is None or v.high is None):
+        raise BundleError(f"variables[{i}] ('{v.name}'): a {v.kind} variable needs low and high")
     return v.to_json()
 
 
@@ -417,8 +423,8 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
                 name=v["name"],
                 kind=v["kind"],
                 n_bins=len(values) if v["kind"] in ("effect", "high_level") else int(v["n_bins"]),
-                low=float(v["low"]) if v["kind"] == "distance" else None,
-                high=float(v["high"]) if v["kind"] == "distance" else None,
+                low=float(v["low"]) if v["kind"] in RANGED_KINDS else None,
+                high=float(v["high"]) if v["kind"] in RANGED_KINDS else None,
                 values=values,
             )
         )

@@ -9,6 +9,7 @@ variable                  module
 ``distance``              :mod:`a2l.skills.bins` (:class:`DistanceBins`)
 ``orientation``           :mod:`a2l.skills.bins` (:class:`OrientationBins`)
 ``inclination``           :mod:`a2l.skills.bins` (:class:`InclinationBins`)
+``offset_x``, ``offset_y``  :mod:`a2l.skills.bins` (:class:`OffsetBins`)
 ``move``                  :mod:`a2l.skills.repertoire` (:class:`MovementRepertoire`): signs
                           of the end-effector step per axis, with a dead-band
 ``effect``                :mod:`a2l.skills.effects` (:class:`EffectDiscretizer`)
@@ -33,7 +34,14 @@ from a2l.data.schema import (
     OBJECT_COLUMNS,
     check_columns,
 )
-from a2l.skills.bins import DistanceBins, InclinationBins, OrientationBins, context_bins
+from a2l.skills.bins import (
+    ContextBins,
+    DistanceBins,
+    InclinationBins,
+    OffsetBins,
+    OrientationBins,
+    context_bins,
+)
 from a2l.skills.effects import AXIS_EFFECTS, DIAGONAL_EFFECTS, EffectDiscretizer
 from a2l.skills.repertoire import MovementRepertoire
 from a2l.skills.spec import VariableSpec
@@ -48,6 +56,7 @@ __all__ = [
     "HighLevelState",
     "InclinationBins",
     "MovementRepertoire",
+    "OffsetBins",
     "OrientationBins",
     "as_state_names",
     "state_codes",
@@ -62,6 +71,9 @@ class Discretizer:
     ----------
     distance, orientation, inclination : bins or None
         Context discretizations; None leaves the variable out.
+    offsets : tuple of OffsetBins
+        Planar offset discretizations (``offset_x``, ``offset_y``), after the others; empty
+        by default.
     movements : MovementRepertoire
         The movement repertoire (variable ``move``).
     effects : EffectDiscretizer
@@ -73,6 +85,7 @@ class Discretizer:
     distance: DistanceBins | None = field(default_factory=DistanceBins)
     orientation: OrientationBins | None = field(default_factory=OrientationBins)
     inclination: InclinationBins | None = field(default_factory=InclinationBins)
+    offsets: tuple[OffsetBins, ...] = ()
     movements: MovementRepertoire = field(default_factory=MovementRepertoire)
     effects: EffectDiscretizer = field(default_factory=EffectDiscretizer)
     high_level: tuple[HighLevelState, ...] = ()
@@ -84,9 +97,10 @@ class Discretizer:
             raise ValueError(f"variable names must be unique, repeated: {sorted(dup)}")
 
     @property
-    def context(self) -> tuple[DistanceBins | OrientationBins | InclinationBins, ...]:
+    def context(self) -> tuple[ContextBins, ...]:
         """The low-level context discretizations in use."""
-        return tuple(b for b in (self.distance, self.orientation, self.inclination) if b)
+        return (*(b for b in (self.distance, self.orientation, self.inclination) if b),
+                *self.offsets)
 
     @property
     def variable_names(self) -> list[str]:
@@ -227,7 +241,7 @@ class Discretizer:
         d: dict[str, object] = {}
         for b in self.context:
             d[b.name] = {"kind": b.spec().kind, "n_bins": b.n_bins}
-            if isinstance(b, DistanceBins):
+            if isinstance(b, DistanceBins | OffsetBins):
                 d[b.name].update(low=b.low, high=b.high)  # type: ignore[union-attr]
         m = self.movements
         d["move"] = {

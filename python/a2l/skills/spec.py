@@ -11,7 +11,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ACTIONS", "BUNDLE_SCHEMA_VERSION", "VARIABLE_KINDS", "SkillSpec", "VariableSpec"]
+__all__ = ["ACTIONS", "BUNDLE_SCHEMA_VERSION", "RANGED_KINDS", "VARIABLE_KINDS", "SkillSpec",
+           "VariableSpec"]
 
 #: Schema version written and read by this version of a2l.
 BUNDLE_SCHEMA_VERSION = 3
@@ -21,7 +22,11 @@ BUNDLE_SCHEMA_VERSION = 3
 ACTIONS = ("open", "close", "stay")
 
 #: Kinds of evidence variables a bundle may hold.
-VARIABLE_KINDS = ("effect", "distance", "orientation", "inclination", "high_level")
+VARIABLE_KINDS = ("effect", "distance", "orientation", "inclination", "high_level", "offset_x",
+                  "offset_y")
+
+#: Kinds whose variables have a range ``[low, high]`` (m).
+RANGED_KINDS = ("distance", "offset_x", "offset_y")
 
 
 @dataclass(frozen=True)
@@ -37,7 +42,7 @@ class VariableSpec:
     n_bins : int
         Number of bins (for ``effect`` and ``high_level``: number of values).
     low, high : float or None
-        Range of a ``distance`` variable (m); None otherwise.
+        Range of a ``distance``, ``offset_x`` or ``offset_y`` variable (m); None otherwise.
     values : tuple of str
         Value names of an ``effect`` or ``high_level`` variable; empty otherwise.
     """
@@ -56,7 +61,7 @@ class VariableSpec:
             d["values"] = list(self.values)
         else:
             d["n_bins"] = int(self.n_bins)
-        if self.kind == "distance":
+        if self.kind in RANGED_KINDS:
             d["low"] = float(self.low)  # type: ignore[arg-type]
             d["high"] = float(self.high)  # type: ignore[arg-type]
         return d
