@@ -34,7 +34,8 @@ def _fit_times() -> tuple[list[float], list[float], dict[str, DiffeoDS]]:
         times.append(float(np.median(runs)))
         cpu.append(float(np.median(runs_cpu)))
         fitted[name] = DiffeoDS.from_maps(res.target, res.centers, res.vectors, res.rhos,
-                                          speed_gain(float(np.mean(durations))))
+                                          speed_gain(float(np.mean(durations)),
+                                                     CFG.arrival))
     return times, cpu, fitted
 
 

@@ -78,7 +78,8 @@ def test_config_validation_names_the_parameter():
     with pytest.raises(ValueError, match="mu"):
         LasaConfig(mu=1.5).validate()
     for bad, name in (({"n_starts": 0}, "n_starts"), ({"start_steps": 0}, "start_steps"),
-                      ({"tolerance": 0.0}, "tolerance"), ({"horizon": -1.0}, "horizon")):
+                      ({"tolerance": 0.0}, "tolerance"), ({"horizon": -1.0}, "horizon"),
+                      ({"arrival": 1.0}, "arrival")):
         with pytest.raises(ValueError, match=name):
             LasaConfig(**bad).validate()
 

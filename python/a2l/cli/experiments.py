@@ -19,11 +19,12 @@ def _cmd_experiment_lasa(args: argparse.Namespace) -> int:
             raise UsageError("--shapes", f"unknown shape(s) {unknown}; known: "
                              f"{', '.join(lasa_shapes())}")
     try:
+        arrival = {} if args.arrival is None else {"arrival": args.arrival}
         cfg = LasaConfig(K=args.K, beta=args.beta, mu=args.mu, n_starts=args.starts,
-                         seed=args.seed)
+                         seed=args.seed, **arrival)
         cfg.validate()
     except ValueError as exc:
-        raise UsageError("--K/--beta/--mu", str(exc)) from None
+        raise UsageError("--K/--beta/--mu/--arrival", str(exc)) from None
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
@@ -48,6 +49,9 @@ def _add_lasa_parser(exps: argparse._SubParsersAction) -> None:
     lasa.add_argument("--mu", type=float, default=None,
                       help="safety factor of the invertibility bound (default: a schedule "
                       "0.8 -> 0.65 over the maps)")
+    lasa.add_argument("--arrival", type=float, default=None, metavar="F",
+                      help="fraction of its line-space distance a reproduction has left at the "
+                      "demonstrations' end: sets the DS's speed (default 0.001)")
     lasa.add_argument("--starts", type=positive_int, default=10_000, metavar="N",
                       help="random starts per shape for the convergence test (default 10000)")
     lasa.add_argument("--seed", type=nonnegative_int, default=0,
