@@ -16,8 +16,7 @@ protocol (:mod:`a2l.acquisition.protocol`): a strategy proposes trajectories
   interaction-dataset rows.
 """
 
-import importlib
-from typing import Any
+from a2l.lazy import lazy_exports
 
 # Names are imported from their module on first use (PEP 562): a worker process that
 # needs one module does not import the others (pgmpy, OpenCV: seconds per process).
@@ -78,14 +77,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

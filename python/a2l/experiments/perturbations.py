@@ -226,20 +226,15 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
 
 
 def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli import UsageError
+    from a2l.cli.args import option_errors
 
     def split(s: str | None) -> list[str] | None:
         return [x.strip() for x in s.split(",") if x.strip()] if s else None
 
-    try:
+    with option_errors():
         run_perturbations(args.out, split(args.skills), args.trials, args.seed, args.workers,
                           args.cluster, split(args.conditions) or CONDITIONS,
                           quiet=args.quiet, plots=not args.no_plots)
-    except ValueError as exc:
-        arg, _, msg = str(exc).partition(": ")
-        if not arg.startswith("--"):
-            raise
-        raise UsageError(arg, msg) from None
     return 0
 
 

@@ -154,18 +154,13 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
 
 
 def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli import UsageError
+    from a2l.cli.args import option_errors
 
     names = [x.strip() for x in args.tasks.split(",") if x.strip()] if args.tasks else None
     faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
-    try:
+    with option_errors():
         run_tasks(args.out, names, args.trials, args.seed, args.workers, faults,
                   args.planner, quiet=args.quiet, plots=not args.no_plots)
-    except ValueError as exc:
-        arg, _, msg = str(exc).partition(": ")
-        if not arg.startswith("--"):
-            raise
-        raise UsageError(arg, msg) from None
     return 0
 
 

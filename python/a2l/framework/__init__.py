@@ -33,8 +33,7 @@ loop imports the strategies).
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from a2l.lazy import lazy_exports
 
 __all__ = [
     "DIRECTED_TRY_CAP",
@@ -104,15 +103,4 @@ _HOME = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    home = _HOME.get(name)
-    if home is None:
-        raise AttributeError(f"module 'a2l.framework' has no attribute {name!r}")
-    module, attr = home if isinstance(home, tuple) else (home, name)
-    value = getattr(importlib.import_module(module), attr)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_HOME))
+__getattr__, __dir__ = lazy_exports(__name__, _HOME)
