@@ -38,6 +38,11 @@ def option_errors() -> Iterator[None]:
         raise UsageError(arg, msg) from None
 
 
+def comma_list(text: str | None) -> list[str] | None:
+    """Names given as ``"a, b,c"``: stripped, empty ones dropped; None when nothing was given."""
+    return [x.strip() for x in text.split(",") if x.strip()] if text else None
+
+
 def positive_int(text: str) -> int:
     """argparse type: an integer >= 1."""
     try:

@@ -196,6 +196,7 @@ def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
     """The run directory and the skills of an experiment's command line, checked
     (``--out`` not a file, ``--trials`` and ``--workers`` >= 1)."""
     from a2l.cli import UsageError
+    from a2l.cli.args import comma_list
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():
@@ -203,8 +204,7 @@ def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
     for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
         if v < 1:
             raise UsageError(opt, f"must be >= 1, got {v}")
-    skills = [s.strip() for s in args.skills.split(",") if s.strip()] if args.skills else None
-    return out, skills
+    return out, comma_list(args.skills)
 
 
 def _cmd(args: argparse.Namespace) -> int:

@@ -226,14 +226,11 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
 
 
 def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli.args import option_errors
-
-    def split(s: str | None) -> list[str] | None:
-        return [x.strip() for x in s.split(",") if x.strip()] if s else None
+    from a2l.cli.args import comma_list, option_errors
 
     with option_errors():
-        run_perturbations(args.out, split(args.skills), args.trials, args.seed, args.workers,
-                          args.cluster, split(args.conditions) or CONDITIONS,
+        run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
+                          args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
                           quiet=args.quiet, plots=not args.no_plots)
     return 0
 

@@ -154,9 +154,9 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
 
 
 def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli.args import option_errors
+    from a2l.cli.args import comma_list, option_errors
 
-    names = [x.strip() for x in args.tasks.split(",") if x.strip()] if args.tasks else None
+    names = comma_list(args.tasks)
     faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
     with option_errors():
         run_tasks(args.out, names, args.trials, args.seed, args.workers, faults,
