@@ -26,6 +26,7 @@ __all__ = [
     "plot_policy",
     "plot_scores",
     "plot_trajectories",
+    "movements_table",
     "results_table",
     "run_discretization_study",
     "run_push_experiment",
@@ -43,24 +44,33 @@ def _robot_entry(cfg: FrameworkConfig) -> dict[str, str] | None:
             "base_link": spec.base_link, "tip_link": spec.tip_link}
 
 
-def with_heldout(history: list[dict[str, Any]], heldout: list[dict[str, Any]]
+def with_heldout(history: list[dict[str, Any]], *records: list[dict[str, Any]]
                  ) -> list[dict[str, Any]]:
-    """The iterations' metrics with each one's held-out metrics (``heldout_score``,
-    ``heldout_success_rate``, ...) merged in, as ``metrics.json`` holds them."""
-    by_it = {h["iteration"]: h for h in heldout}
-    return [{**m, **{k: v for k, v in by_it.get(m["iteration"], {}).items()
-                     if k != "iteration"}} for m in history]
+    """The iterations' metrics with each one's other records merged in, as ``metrics.json``
+    holds them: the held-out metrics (``heldout_score``, ``heldout_success_rate``, ...)
+    and the robot movements (``robot_movements`` per phase, ``robot_movements_total``,
+    ``robot_movements_training``), each a list of dicts with an ``iteration`` key
+    (:func:`a2l.framework.run_framework`'s ``heldout`` and ``movements``)."""
+    out = [dict(m) for m in history]
+    for rec in records:
+        by_it = {h["iteration"]: h for h in rec}
+        for m in out:
+            m.update({k: v for k, v in by_it.get(m["iteration"], {}).items()
+                      if k != "iteration"})
+    return out
 
 
 def results_table(history: list[dict[str, Any]]) -> str:
     """Markdown table of the iterations' metrics (with a held-out score column when the
-    iterations have one)."""
+    iterations have one, and the robot movements made so far when they were counted)."""
     if not history:
         return "(no iteration)"
     effects = list(history[0]["success_rate"])
     held = all("heldout_score" in m for m in history)
+    moves = all("robot_movements_total" in m for m in history)
     head = ["iteration", "score", *(["held-out score"] if held else []), *effects,
-            "false positives", "movements/action", "dataset rows", "accepted", "wall (s)"]
+            "false positives", "movements/action", "dataset rows", "accepted",
+            *(["movements"] if moves else []), "wall (s)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for m in history:
         cells = [str(m["iteration"]), f"{m['score']:.1f}",
@@ -69,9 +79,37 @@ def results_table(history: list[dict[str, Any]]) -> str:
                  str(m["false_positives"]),
                  "—" if np.isnan(m["mean_movements"]) else f"{m['mean_movements']:.1f}",
                  str(m["dataset_size"]), "yes" if m["accepted"] else "no",
+                 *([f"{m['robot_movements_total']:,}"] if moves else []),
                  f"{m['wall_s']:.1f}"]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def movements_table(history: list[dict[str, Any]]) -> list[str]:
+    """Lines of the report's table of robot movements per iteration and phase (none when
+    they were not counted: a run resumed from a checkpoint older than the count)."""
+    from a2l.framework.loop import MOVEMENT_PHASES
+
+    if not history or not all("robot_movements" in m for m in history):
+        return []
+    last = history[-1]
+    lines = [
+        f"Robot movements: **{last['robot_movements_total']:,}** discrete movements in all "
+        f"({last['robot_movements_training']:,} for training, the rest from the held-out "
+        "starts, which only measure); every movement the scene executed, those of the "
+        "trajectories thrown away included (`metrics.json`: `robot_movements` per phase, "
+        "`robot_movements_total` and `robot_movements_training` cumulative).",
+        "",
+        "| iteration | " + " | ".join(f"`{p}`" for p in MOVEMENT_PHASES)
+        + " | total so far | training so far |",
+        "|" + "---|" * (len(MOVEMENT_PHASES) + 3),
+    ]
+    for m in history:
+        cells = [f"{m['robot_movements'][p]:,}" for p in MOVEMENT_PHASES]
+        lines.append(f"| {m['iteration']} | " + " | ".join(cells)
+                     + f" | {m['robot_movements_total']:,} | "
+                     f"{m['robot_movements_training']:,} |")
+    return [*lines, ""]
 
 
 def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
@@ -213,6 +251,7 @@ def _report(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
         *heldout_lines,
         results_table(history),
         "",
+        *movements_table(history),
         "![score per iteration](score.png)",
         "",
         "![validation trajectories](trajectories.png)",
@@ -307,7 +346,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     final = run_dir / "skills" / "push.a2lb"
     shutil.copyfile(result["bundle"], final)
     result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
-    history = with_heldout(result["iterations"], result["heldout"])
+    history = with_heldout(result["iterations"], result["heldout"], result["movements"])
     metrics = {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
         "seed": cfg.seed, "iterations": history,
@@ -345,16 +384,17 @@ def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
     """Iteration 0 by NovEB (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`); what it
     did goes into `log` (evaluations, interactions kept, robot movements, archive)."""
     from a2l.acquisition.noveb_rollouts import noveb_acquire
+    from a2l.acquisition.rollout import Interactions
 
     def first(cfg: FrameworkConfig, executor: Executor, _iteration: int, progress: Any
-              ) -> list[Any]:
+              ) -> Interactions:
         t = time.perf_counter()
         rollouts, noveb, movements = noveb_acquire(cfg, executor, evaluations,
                                                    progress=progress)
         log.update({"evaluations": evaluations, "interactions": len(rollouts),
                     "movements": movements, "archive_size": len(noveb.archive),
                     "wall_s": time.perf_counter() - t})
-        return rollouts
+        return Interactions(rollouts, movements)
 
     return first
 
