@@ -20,7 +20,7 @@ from a2l.lfd.execute import EFFECT_TESTS, run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial
 from a2l.lfd.skill import fit_fields
 from a2l.skills import load_bundle, load_ds_phases
-from a2l.skills.bundle import load_ds_bundle
+from a2l.skills.ds_bundle import load_ds_bundle
 
 HELD_OUT = range(1000, 1020)
 

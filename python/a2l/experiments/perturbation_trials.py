@@ -36,9 +36,9 @@ WINDOW = (1 / 3, 2 / 3)
 MOVE_RANGE = (0.03, 0.05)  # m
 HOLD_RANGE = (1.0, 2.0)    # s
 
-#: Two runs follow the same path when their end-effector positions agree within this (m):
-#: PyBullet replays a start to ~1e-15 m, not bitwise, after other episodes in the same
-#: world, and contacts can grow that to ~1e-4 m.
+#: Two runs follow the same path when their end-effector positions agree within this (m).
+#: Episode starts are bitwise the same whatever ran before (a2l.sim.bodies,
+#: tests/python/test_sim_exact_start.py); the tolerance is a margin.
 SAME_PATH = 1e-3
 
 _PERTURB_STREAM = 0x70657274  # perturbation draws apart from the trial's start draws
