@@ -130,7 +130,7 @@ def test_one_and_two_workers_give_identical_results(runs: dict[int, Path]) -> No
     exact = ["skill", "mode", "condition", "seed", "success", "stop", "movements", "after",
              "applied", "held_observed", "light_after", "same_as_none", "prefix_identical"]
     assert a[exact].equals(b[exact])
-    # positions: PyBullet replays a start to ~1e-15 m (not bitwise) after other episodes
+    # positions (bitwise-equal rollouts are test_sim_exact_start.py's subject): a margin
     num = ["displacement_m", "hold_s", "hold_drift_m"]
     assert np.allclose(a[num].to_numpy(float), b[num].to_numpy(float), atol=1e-6,
                        equal_nan=True)

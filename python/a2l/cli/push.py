@@ -63,7 +63,7 @@ def _cmd_experiment_push(args: argparse.Namespace) -> int:
 
 
 def _cmd_experiment_discretization(args: argparse.Namespace) -> int:
-    from a2l.experiments.push import run_discretization_study
+    from a2l.experiments.discretization import run_discretization_study
 
     options = {"scene": "scene", "effects": "n_effects", "seed": "seed",
                "iterations": "max_iterations"}
