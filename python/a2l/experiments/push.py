@@ -137,7 +137,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     final = run_dir / "skills" / "push.a2lb"
     shutil.copyfile(result["bundle"], final)
     result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
-    history = with_heldout(result["iterations"], result["heldout"])
+    history = with_heldout(result["iterations"], result["heldout"], result["movements"])
     metrics = {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
         "seed": cfg.seed, "iterations": history,
@@ -175,16 +175,17 @@ def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
     """Iteration 0 by NovEB (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`); what it
     did goes into `log` (evaluations, interactions kept, robot movements, archive)."""
     from a2l.acquisition.noveb_rollouts import noveb_acquire
+    from a2l.acquisition.rollout import Interactions
 
     def first(cfg: FrameworkConfig, executor: Executor, _iteration: int, progress: Any
-              ) -> list[Any]:
+              ) -> Interactions:
         t = time.perf_counter()
         rollouts, noveb, movements = noveb_acquire(cfg, executor, evaluations,
                                                    progress=progress)
         log.update({"evaluations": evaluations, "interactions": len(rollouts),
                     "movements": movements, "archive_size": len(noveb.archive),
                     "wall_s": time.perf_counter() - t})
-        return rollouts
+        return Interactions(rollouts, movements)
 
     return first
 

@@ -14,30 +14,40 @@ __all__ = [
     "plot_policy",
     "plot_scores",
     "plot_trajectories",
+    "movements_table",
     "report_markdown",
     "results_table",
     "with_heldout",
 ]
 
 
-def with_heldout(history: list[dict[str, Any]], heldout: list[dict[str, Any]]
+def with_heldout(history: list[dict[str, Any]], *records: list[dict[str, Any]]
                  ) -> list[dict[str, Any]]:
-    """The iterations' metrics with each one's held-out metrics (``heldout_score``,
-    ``heldout_success_rate``, ...) merged in, as ``metrics.json`` holds them."""
-    by_it = {h["iteration"]: h for h in heldout}
-    return [{**m, **{k: v for k, v in by_it.get(m["iteration"], {}).items()
-                     if k != "iteration"}} for m in history]
+    """The iterations' metrics with each one's other records merged in, as ``metrics.json``
+    holds them: the held-out metrics (``heldout_score``, ``heldout_success_rate``, ...)
+    and the robot movements (``robot_movements`` per phase, ``robot_movements_total``,
+    ``robot_movements_training``), each a list of dicts with an ``iteration`` key
+    (:func:`a2l.framework.run_framework`'s ``heldout`` and ``movements``)."""
+    out = [dict(m) for m in history]
+    for rec in records:
+        by_it = {h["iteration"]: h for h in rec}
+        for m in out:
+            m.update({k: v for k, v in by_it.get(m["iteration"], {}).items()
+                      if k != "iteration"})
+    return out
 
 
 def results_table(history: list[dict[str, Any]]) -> str:
     """Markdown table of the iterations' metrics (with a held-out score column when the
-    iterations have one)."""
+    iterations have one, and the robot movements made so far when they were counted)."""
     if not history:
         return "(no iteration)"
     effects = list(history[0]["success_rate"])
     held = all("heldout_score" in m for m in history)
+    moves = all("robot_movements_total" in m for m in history)
     head = ["iteration", "score", *(["held-out score"] if held else []), *effects,
-            "false positives", "movements/action", "dataset rows", "accepted", "wall (s)"]
+            "false positives", "movements/action", "dataset rows", "accepted",
+            *(["movements"] if moves else []), "wall (s)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for m in history:
         cells = [str(m["iteration"]), f"{m['score']:.1f}",
@@ -46,9 +56,37 @@ def results_table(history: list[dict[str, Any]]) -> str:
                  str(m["false_positives"]),
                  "—" if np.isnan(m["mean_movements"]) else f"{m['mean_movements']:.1f}",
                  str(m["dataset_size"]), "yes" if m["accepted"] else "no",
+                 *([f"{m['robot_movements_total']:,}"] if moves else []),
                  f"{m['wall_s']:.1f}"]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def movements_table(history: list[dict[str, Any]]) -> list[str]:
+    """Lines of the report's table of robot movements per iteration and phase (none when
+    they were not counted: a run resumed from a checkpoint older than the count)."""
+    from a2l.framework.loop import MOVEMENT_PHASES
+
+    if not history or not all("robot_movements" in m for m in history):
+        return []
+    last = history[-1]
+    lines = [
+        f"Robot movements: **{last['robot_movements_total']:,}** discrete movements in all "
+        f"({last['robot_movements_training']:,} for training, the rest from the held-out "
+        "starts, which only measure); every movement the scene executed, those of the "
+        "trajectories thrown away included (`metrics.json`: `robot_movements` per phase, "
+        "`robot_movements_total` and `robot_movements_training` cumulative).",
+        "",
+        "| iteration | " + " | ".join(f"`{p}`" for p in MOVEMENT_PHASES)
+        + " | total so far | training so far |",
+        "|" + "---|" * (len(MOVEMENT_PHASES) + 3),
+    ]
+    for m in history:
+        cells = [f"{m['robot_movements'][p]:,}" for p in MOVEMENT_PHASES]
+        lines.append(f"| {m['iteration']} | " + " | ".join(cells)
+                     + f" | {m['robot_movements_total']:,} | "
+                     f"{m['robot_movements_training']:,} |")
+    return [*lines, ""]
 
 
 def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
@@ -171,8 +209,8 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
 
 def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
                     history: list[dict[str, Any]]) -> str:
-    """The run directory's ``report.md``: final and held-out scores, the iterations' table
-    and the plots."""
+    """The run directory's ``report.md``: final and held-out scores, the iterations' table,
+    the robot movements per phase and the plots."""
     held = result.get("heldout_score")
     heldout_lines = [] if held is None else [
         f"Held-out score of the final skill: **{held:.1f}**, from {cfg.heldout_starts} "
@@ -192,6 +230,7 @@ def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
         *heldout_lines,
         results_table(history),
         "",
+        *movements_table(history),
         "![score per iteration](score.png)",
         "",
         "![validation trajectories](trajectories.png)",
