@@ -29,7 +29,7 @@ def _reference_evaluation(scene: Any, cfg: WorldConfig, genotype: np.ndarray) ->
     at 240 Hz, then every movement retraced physically back to the start before the image
     (the images and descriptor are left out: only the physics differs)."""
     from a2l.acquisition.trajectory import follow_waypoints
-    from a2l.sim.scene import DIRECTIONS
+    from a2l.sim.movement import DIRECTIONS
 
     up = np.array([0.0, 0.0, scene.config.table_z])
     start = np.asarray(cfg.start) + up

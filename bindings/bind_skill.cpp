@@ -1,17 +1,17 @@
-// Bindings of the skill runtime: Discretizer, PolicyTable, MovementRepertoire, Skill,
-// SkillState, step() and the bundle loader (skill.hpp, bundle.hpp and their parts).
+// Bindings of the skill runtime (skill.hpp, bundle.hpp): Smoothing, Skill, SkillState,
+// TraceRecord, StepOutput, step() and the bundle loader. Its parts have their own files:
+// bind_discretizer.cpp, bind_policy_table.cpp, bind_movement_repertoire.cpp (bound first).
 #include <pybind11/eigen.h>
-#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "a2l/bundle.hpp"
 #include "a2l/discretizer.hpp"
-#include "a2l/movement_repertoire.hpp"
-#include "a2l/policy_table.hpp"
 #include "a2l/skill.hpp"
 #include "common.hpp"
 
@@ -19,42 +19,6 @@ namespace py = pybind11;
 
 namespace a2l::bindings {
 namespace {
-
-std::vector<int> to_bins(const PolicyTable& t, const std::vector<int>& bins) {
-  if (static_cast<int>(bins.size()) != t.n_axes()) {
-    raise(Status::size_mismatch, "bins: expected " + std::to_string(t.n_axes()) +
-                                     " entries (one per variable), got " +
-                                     std::to_string(bins.size()));
-  }
-  return bins;
-}
-
-std::size_t checked_row(const PolicyTable& t, std::int64_t row) {
-  if (row < 0 || static_cast<std::uint64_t>(row) >= t.n_rows()) {
-    raise(Status::invalid_argument,
-          "row " + std::to_string(row) + " is outside [0, " + std::to_string(t.n_rows()) + ")");
-  }
-  return static_cast<std::size_t>(row);
-}
-
-std::vector<py::ssize_t> table_shape(const PolicyTable& t, bool with_moves) {
-  std::vector<py::ssize_t> s(t.shape().begin(), t.shape().end());
-  if (with_moves) s.push_back(t.n_moves());
-  return s;
-}
-
-// A read-only numpy view of a vector owned by `owner`.
-template <typename T>
-py::array view(const std::vector<T>& v, std::vector<py::ssize_t> shape, py::handle owner) {
-  std::vector<py::ssize_t> strides(shape.size(), static_cast<py::ssize_t>(sizeof(T)));
-  for (int i = static_cast<int>(shape.size()) - 2; i >= 0; --i) {
-    strides[static_cast<size_t>(i)] =
-        strides[static_cast<size_t>(i) + 1] * shape[static_cast<size_t>(i) + 1];
-  }
-  py::array a(py::dtype::of<T>(), shape, strides, v.data(), owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
-}
 
 py::dict trace_dict(const TraceRecord& r) {
   py::dict d;
@@ -85,192 +49,10 @@ int value_index(const py::handle& value, const Variable& v) {
 }  // namespace
 
 void bind_skill(py::module_& m) {
-  py::enum_<VariableKind>(m, "VariableKind", "What an evidence variable measures.")
-      .value("effect", VariableKind::effect)
-      .value("distance", VariableKind::distance)
-      .value("orientation", VariableKind::orientation)
-      .value("inclination", VariableKind::inclination)
-      .value("high_level", VariableKind::high_level)
-      .value("offset_x", VariableKind::offset_x)
-      .value("offset_y", VariableKind::offset_y);
-
   py::enum_<Smoothing>(m, "Smoothing", "Smoothing choice of a run (SkillState.smoothing).")
       .value("from_skill", Smoothing::from_skill)
       .value("off", Smoothing::off)
       .value("on", Smoothing::on);
-
-  py::class_<Variable>(m, "Variable", "One evidence variable (one axis of the policy table).")
-      .def_readonly("name", &Variable::name)
-      .def_readonly("kind", &Variable::kind)
-      .def_readonly("n_bins", &Variable::n_bins)
-      .def_readonly("low", &Variable::low)
-      .def_readonly("high", &Variable::high)
-      .def_readonly("values", &Variable::values)
-      .def("__repr__", [](const Variable& v) {
-        return "<a2l.Variable '" + v.name + "' " + variable_kind_name(v.kind) + ", " +
-               std::to_string(v.n_bins) + " bins>";
-      });
-
-  py::class_<Context>(m, "Context", R"doc(
-The situation at one instant, as step() sees it.
-
-Parameters
-----------
-eef, object : array_like, shape (3,)
-    End-effector position and object centre (m).
-effect : int
-    Index of the wanted effect among the skill's effect values.
-high_level : list of int, optional
-    Value index of each high-level variable, by axis (at most 16 entries; other axes
-    ignored). ``Skill.context`` builds it from names.
-effect_produced : bool
-    The caller observed that the object moved: the next step ends the run.
-)doc")
-      .def(py::init([](const Eigen::Vector3d& eef, const Eigen::Vector3d& object, int effect,
-                       const std::vector<int>& high_level, bool effect_produced) {
-             if (high_level.size() > static_cast<size_t>(kMaxVariables)) {
-               raise(Status::size_mismatch, "high_level: at most 16 entries");
-             }
-             Context c;
-             c.eef = eef;
-             c.object = object;
-             c.effect = effect;
-             for (size_t i = 0; i < high_level.size(); ++i) c.high_level[i] = high_level[i];
-             c.effect_produced = effect_produced;
-             return c;
-           }),
-           py::arg("eef") = Eigen::Vector3d::Zero(), py::arg("object") = Eigen::Vector3d::Zero(),
-           py::arg("effect") = 0, py::arg("high_level") = std::vector<int>(),
-           py::arg("effect_produced") = false)
-      .def_readwrite("eef", &Context::eef)
-      .def_readwrite("object", &Context::object)
-      .def_readwrite("effect", &Context::effect)
-      .def_readwrite("effect_produced", &Context::effect_produced)
-      .def_property(
-          "high_level",
-          [](const Context& c) {
-            return std::vector<int>(c.high_level.begin(), c.high_level.end());
-          },
-          [](Context& c, const std::vector<int>& v) {
-            if (v.size() > static_cast<size_t>(kMaxVariables)) {
-              raise(Status::size_mismatch, "high_level: at most 16 entries");
-            }
-            c.high_level.fill(0);
-            for (size_t i = 0; i < v.size(); ++i) c.high_level[i] = v[i];
-          });
-
-  py::class_<Discretizer>(m, "Discretizer", "Context -> bins (docs/bundle_format.md).")
-      .def_property_readonly("n_variables", &Discretizer::n_variables)
-      .def_property_readonly("variables", &Discretizer::variables)
-      .def_property_readonly("effect_axis", &Discretizer::effect_axis,
-                             "Axis of the effect variable, or -1.")
-      .def("find", &Discretizer::find, py::arg("name"), "Axis of a variable, or -1.")
-      .def_static("distance_bin", &Discretizer::distance_bin, py::arg("d"), py::arg("low"),
-                  py::arg("high"), py::arg("n"), "Saturating distance bin; -1 if not finite.")
-      .def_static("orientation_bin", &Discretizer::orientation_bin, py::arg("theta"), py::arg("n"),
-                  "Orientation bin (half-section offset); -1 if not finite.")
-      .def_static("inclination_bin", &Discretizer::inclination_bin, py::arg("phi"), py::arg("n"),
-                  "Inclination bin of phi in [0, pi]; -1 if not finite.")
-      .def(
-          "discretize",
-          [](const Discretizer& d, const Context& c) {
-            std::array<int, kMaxVariables> bins{};
-            const Status s = d.discretize(c, bins.data());
-            return py::make_tuple(s,
-                                  std::vector<int>(bins.begin(), bins.begin() + d.n_variables()));
-          },
-          py::arg("context"),
-          "(status, bins): bins of every variable (-1 = unknown), status ok or unknown_context.");
-
-  py::class_<PolicyTable>(m, "PolicyTable", "The compiled table P(move | evidence).")
-      .def_property_readonly("n_axes", &PolicyTable::n_axes)
-      .def_property_readonly("shape", &PolicyTable::shape, "Bins of each evidence axis.")
-      .def_property_readonly("strides", &PolicyTable::strides, "Row stride of each axis.")
-      .def_property_readonly("n_moves", &PolicyTable::n_moves)
-      .def_property_readonly("n_rows", &PolicyTable::n_rows)
-      .def(
-          "posterior",
-          [](const py::object& self) {
-            const auto& t = self.cast<const PolicyTable&>();
-            return view(t.posterior(), table_shape(t, true), self);
-          },
-          "The whole posterior, read-only, shape (*shape, n_moves).")
-      .def(
-          "argmax",
-          [](const py::object& self, const py::object& row) -> py::object {
-            const auto& t = self.cast<const PolicyTable&>();
-            if (row.is_none()) return view(t.argmax(), table_shape(t, false), self);
-            return py::int_(t.argmax(checked_row(t, row.cast<std::int64_t>())));
-          },
-          py::arg("row") = py::none(),
-          "argmax(row) -> int (-1 = uniform); argmax() -> int32 array, shape (*shape,).")
-      .def(
-          "posterior_row",
-          [](const PolicyTable& t, std::int64_t row) {
-            const double* p = t.posterior_row(checked_row(t, row));
-            return std::vector<double>(p, p + t.n_moves());
-          },
-          py::arg("row"), "P(move | evidence) of one row, length n_moves.")
-      .def(
-          "row_index",
-          [](const PolicyTable& t, const std::vector<int>& bins) {
-            const auto b = to_bins(t, bins);
-            if (!t.in_range(b.data())) raise(Status::invalid_argument, "bins: out of range");
-            return t.row_index(b.data());
-          },
-          py::arg("bins"), "Row of an evidence combination.")
-      .def(
-          "in_range",
-          [](const PolicyTable& t, const std::vector<int>& bins) {
-            return t.in_range(to_bins(t, bins).data());
-          },
-          py::arg("bins"))
-      .def(
-          "lookup",
-          [](const PolicyTable& t, const std::vector<int>& bins) {
-            return t.lookup(to_bins(t, bins).data());
-          },
-          py::arg("bins"), "Most probable movement of `bins`; -1 if uniform or out of range.");
-
-  py::enum_<MovementAction>(m, "MovementAction",
-                            "What a movement does besides a displacement (none for one).")
-      .value("none", MovementAction::none)
-      .value("open", MovementAction::open)
-      .value("close", MovementAction::close)
-      .value("stay", MovementAction::stay);
-  m.def("movement_action_name", &movement_action_name, py::arg("action"),
-        "The bundle name of an action ('open', 'close', 'stay'; 'none').");
-
-  py::class_<MovementRepertoire>(m, "MovementRepertoire",
-                                 "The movements of a skill: directions, then actions.")
-      .def_property_readonly("size", &MovementRepertoire::size)
-      .def_property_readonly("n_directions", &MovementRepertoire::n_directions)
-      .def_property_readonly("n_actions", &MovementRepertoire::n_actions)
-      .def_property_readonly(
-          "actions",
-          [](const MovementRepertoire& r) {
-            std::vector<std::string> names;
-            for (MovementAction a : r.actions()) names.emplace_back(movement_action_name(a));
-            return names;
-          },
-          "Names of the actions, in movement order (after the directions).")
-      .def("action", &MovementRepertoire::action, py::arg("i"),
-           "The action of movement i (MovementAction.none for a direction).")
-      .def("is_action", &MovementRepertoire::is_action, py::arg("i"))
-      .def_property_readonly("step", &MovementRepertoire::step, "Movement length (m).")
-      .def_property_readonly("labels", &MovementRepertoire::labels)
-      .def_property_readonly(
-          "directions",
-          [](const MovementRepertoire& r) {
-            Eigen::MatrixXi d(r.n_directions(), 3);
-            for (int i = 0; i < r.n_directions(); ++i) d.row(i) = r.direction(i).transpose();
-            return d;
-          },
-          "Sign vectors of the directions, shape (n_directions, 3).")
-      .def("displacement", &MovementRepertoire::displacement, py::arg("i"),
-           "Displacement of movement i, shape (3,): step * d / |d| (zero for an action).")
-      .def("label", &MovementRepertoire::label, py::arg("i"))
-      .def("__len__", &MovementRepertoire::size);
 
   py::class_<Skill>(m, "Skill", R"doc(
 A skill loaded from a bundle (immutable). Load with ``a2l._core.load_bundle(path)`` or

@@ -6,6 +6,9 @@ namespace py = pybind11;
 namespace a2l::bindings {
 void bind_status(py::module_& m);
 void bind_kinematics(py::module_& m);
+void bind_discretizer(py::module_& m);
+void bind_policy_table(py::module_& m);
+void bind_movement_repertoire(py::module_& m);
 void bind_skill(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_transit(py::module_& m);
@@ -20,7 +23,10 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = A2L_VERSION;
   a2l::bindings::bind_status(m);
   a2l::bindings::bind_kinematics(m);
-  a2l::bindings::bind_skill(m);
+  a2l::bindings::bind_discretizer(m);
+  a2l::bindings::bind_policy_table(m);
+  a2l::bindings::bind_movement_repertoire(m);
+  a2l::bindings::bind_skill(m);  // after its parts (discretizer, table, repertoire)
   a2l::bindings::bind_scene(m);
   a2l::bindings::bind_transit(m);
   a2l::bindings::bind_diffeo(m);

@@ -24,7 +24,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from a2l.framework import FrameworkConfig, _discretizers, _seed, directed_task  # noqa: E402
+from a2l.framework import FrameworkConfig, _discretizers, directed_task  # noqa: E402
+from a2l.framework.loop import _seed  # noqa: E402
 
 MODES = ("random", "waypoints")
 

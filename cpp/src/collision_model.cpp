@@ -1,20 +1,13 @@
 #include "a2l/collision_model.hpp"
 
 #if A2L_HAVE_BULLET
-#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
-#include <btBulletCollisionCommon.h>
-#include <urdf_model/model.h>
-#include <urdf_parser/urdf_parser.h>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
-#include <set>
 #include <sstream>
 
-#include "a2l/urdf_to_kdl.hpp"
 #include "collision_shapes.hpp"
+#include "collision_world.hpp"
 #endif
 
 namespace a2l {
@@ -25,141 +18,7 @@ bool collision_model_available() noexcept { return false; }
 bool collision_model_available() noexcept { return true; }
 
 using detail::kShapeMargin;
-using detail::make_shape;
 using detail::to_bt;
-
-namespace {
-
-// One node of the flattened kinematic tree.
-struct LinkNode {
-  std::string name;
-  int parent = -1;       // index in the node list, -1 for the root
-  KDL::Segment segment;  // joint + tip frame relative to the parent link
-  int arm_index = -1;    // index of the segment's joint in the arm's q, or -1
-  std::string joint;     // the segment's joint name (movable joints only)
-  bool moving = false;   // pose depends on the arm's joints
-  int last_arm = -1;     // the last arm joint between the root and this link (-1: none)
-  btTransform offset = btTransform::getIdentity();  // shape frame in the link frame
-  int object = -1;                                  // index in objects (links with geometry), or -1
-};
-
-// A pair-rule filter: Bullet asks it before creating a broadphase pair.
-struct PairFilter : public btOverlapFilterCallback {
-  const std::vector<std::vector<char> >* check = nullptr;
-  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
-    const auto* oa = static_cast<const btCollisionObject*>(a->m_clientObject);
-    const auto* ob = static_cast<const btCollisionObject*>(b->m_clientObject);
-    const size_t a_index = static_cast<size_t>(oa->getUserIndex());
-    const size_t b_index = static_cast<size_t>(ob->getUserIndex());
-    // objects added since the last rule update are tested until the rules are rebuilt
-    if (!check || a_index >= check->size() || b_index >= check->size()) return true;
-    return (*check)[a_index][b_index] != 0;
-  }
-};
-
-}  // namespace
-
-struct CollisionModel::Impl {
-  Kinematics kin;
-  std::vector<LinkNode> nodes;  // parents before children
-  int base_node = -1;
-  std::vector<double> fixed_q;  // per node: position of a movable non-arm joint
-  // Bullet
-  btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher{&config};
-  btDbvtBroadphase broadphase;
-  btCollisionWorld world{&dispatcher, &broadphase, &config};
-  PairFilter filter;
-  std::vector<std::unique_ptr<btCollisionShape> > shapes;    // owns every shape
-  std::vector<std::unique_ptr<btCollisionObject> > objects;  // links first, then obstacles
-  std::vector<std::string> object_names;
-  std::vector<char> object_moving;
-  int n_link_objects = 0;
-  std::vector<std::vector<char> > allowed;  // link x link
-  std::vector<std::vector<char> > check;    // object x object: the pair is tested
-  long long checks = 0;
-  std::vector<KDL::Frame> frames;  // per node, scratch
-
-  Impl() {
-    world.getPairCache()->setOverlapFilterCallback(&filter);
-    world.setForceUpdateAllAabbs(false);
-  }
-  ~Impl() {
-    for (auto& o : objects) world.removeCollisionObject(o.get());
-  }
-
-  void rebuild_check() {
-    const size_t n = objects.size();
-    check.assign(n, std::vector<char>(n, 0));
-    for (size_t i = 0; i < n; ++i)
-      for (size_t j = 0; j < n; ++j) {
-        if (i == j || (!object_moving[i] && !object_moving[j])) continue;
-        const bool links =
-            static_cast<int>(i) < n_link_objects && static_cast<int>(j) < n_link_objects;
-        check[i][j] = links ? !allowed[i][j] : 1;
-      }
-    filter.check = &check;
-  }
-
-  // Poses of every node in the base link's frame for arm configuration q.
-  void forward(const Eigen::Ref<const Eigen::VectorXd>& q) {
-    frames.resize(nodes.size());
-    for (size_t i = 0; i < nodes.size(); ++i) {
-      const LinkNode& n = nodes[i];
-      const double qi = n.arm_index >= 0 ? q[n.arm_index] : fixed_q[i];
-      const KDL::Frame local = n.segment.pose(qi);
-      frames[i] = n.parent < 0 ? local : frames[n.parent] * local;
-    }
-    const KDL::Frame base_inv = frames[base_node].Inverse();
-    for (auto& f : frames) f = base_inv * f;
-  }
-
-  void place(bool moving_only) {
-    for (const LinkNode& n : nodes) {
-      if (n.object < 0 || (moving_only && !n.moving)) continue;
-      btCollisionObject* o = objects[n.object].get();
-      o->setWorldTransform(to_bt(frames[&n - nodes.data()]) * n.offset);
-      if (!n.moving) world.updateSingleAabb(o);  // static objects are not updated per check
-    }
-  }
-
-  // Runs Bullet; calls `hit(a, b)` for every tested pair in contact; stops if it returns true.
-  void detect(const Eigen::Ref<const Eigen::VectorXd>& q,
-              const std::function<bool(int, int)>& hit) {
-    ++checks;
-    forward(q);
-    place(true);
-    world.performDiscreteCollisionDetection();
-    const int m = dispatcher.getNumManifolds();
-    for (int k = 0; k < m; ++k) {
-      const btPersistentManifold* man = dispatcher.getManifoldByIndexInternal(k);
-      const int a = man->getBody0()->getUserIndex();
-      const int b = man->getBody1()->getUserIndex();
-      if (!check[a][b]) continue;  // a pair allowed after Bullet created it (a rule change)
-      for (int c = 0; c < man->getNumContacts(); ++c) {
-        if (man->getContactPoint(c).getDistance() < 0.0) {
-          if (hit(a, b)) return;
-          break;
-        }
-      }
-    }
-  }
-
-  void add_object(std::unique_ptr<btCollisionShape> shape, const std::string& name, bool moving,
-                  const btTransform& pose = btTransform::getIdentity()) {
-    auto obj = std::make_unique<btCollisionObject>();
-    obj->setCollisionShape(shape.get());
-    obj->setWorldTransform(pose);
-    // only moving objects get their bounding boxes updated at every check
-    obj->forceActivationState(moving ? DISABLE_DEACTIVATION : ISLAND_SLEEPING);
-    obj->setUserIndex(static_cast<int>(objects.size()));
-    shapes.push_back(std::move(shape));
-    object_names.push_back(name);
-    object_moving.push_back(moving ? 1 : 0);
-    world.addCollisionObject(obj.get());
-    objects.push_back(std::move(obj));
-  }
-};
 
 namespace {
 
@@ -169,86 +28,6 @@ Result read_file(const std::string& path, std::string& text) {
   std::ostringstream ss;
   ss << in.rdbuf();
   text = ss.str();
-  return Result::success();
-}
-
-Result build(const std::string& xml, const std::string& source, const std::string& base_link,
-             const std::string& tip_link, const MeshVertices& meshes, CollisionModel::Impl& m) {
-  Result r = Kinematics::load_from_string(xml, base_link, tip_link, m.kin);
-  if (!r.ok()) return Result::failure(r.status, source + ": " + r.message);
-  KDL::Tree tree;
-  r = urdf_string_to_kdl_tree(xml, tree, source);
-  if (!r.ok()) return r;
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(xml);
-  if (!model) return Result::failure(Status::parse_error, source + ": cannot parse the URDF");
-  const auto& names = m.kin.joint_names();
-  // flatten the tree, parents first
-  std::function<void(KDL::SegmentMap::const_iterator, int)> visit =
-      [&](KDL::SegmentMap::const_iterator it, int parent) {
-        LinkNode n;
-        n.name = it->first;
-        n.parent = parent;
-        n.segment = GetTreeElementSegment(it->second);
-        const KDL::Joint& j = n.segment.getJoint();
-        if (j.getType() != KDL::Joint::None) {
-          n.joint = j.getName();
-          const auto a = std::find(names.begin(), names.end(), n.joint);
-          if (a != names.end()) n.arm_index = static_cast<int>(a - names.begin());
-        }
-        n.moving = n.arm_index >= 0 || (parent >= 0 && m.nodes[parent].moving);
-        n.last_arm = n.arm_index >= 0 ? n.arm_index : (parent >= 0 ? m.nodes[parent].last_arm : -1);
-        const int self = static_cast<int>(m.nodes.size());
-        m.nodes.push_back(n);
-        for (const auto& child : GetTreeElementChildren(it->second)) visit(child, self);
-      };
-  visit(tree.getRootSegment(), -1);
-  m.fixed_q.assign(m.nodes.size(), 0.0);
-  for (size_t i = 0; i < m.nodes.size(); ++i)
-    if (m.nodes[i].name == base_link) m.base_node = static_cast<int>(i);
-  // one compound shape per link with geometry
-  for (LinkNode& n : m.nodes) {
-    const urdf::LinkConstSharedPtr link = model->getLink(n.name);
-    if (!link || link->collision_array.empty()) continue;
-    std::vector<std::pair<btTransform, std::unique_ptr<btCollisionShape> > > parts;
-    for (const auto& col : link->collision_array) {
-      if (!col || !col->geometry) continue;
-      std::string error;
-      auto shape = make_shape(*col->geometry, meshes, n.name, error);
-      if (!shape) return Result::failure(Status::invalid_argument, source + ": " + error);
-      parts.emplace_back(to_bt(col->origin), std::move(shape));
-    }
-    if (parts.empty()) continue;
-    n.object = static_cast<int>(m.objects.size());
-    if (parts.size() == 1) {  // one shape: no compound, its origin goes into the link offset
-      n.offset = parts[0].first;
-      m.add_object(std::move(parts[0].second), n.name, n.moving);
-      continue;
-    }
-    auto compound = std::make_unique<btCompoundShape>();
-    for (auto& [origin, shape] : parts) {
-      compound->addChildShape(origin, shape.get());
-      m.shapes.push_back(std::move(shape));
-    }
-    m.add_object(std::move(compound), n.name, n.moving);
-  }
-  m.n_link_objects = static_cast<int>(m.objects.size());
-  const size_t L = m.objects.size();
-  m.allowed.assign(L, std::vector<char>(L, 0));
-  // adjacent: a link and its nearest ancestor with geometry
-  for (const LinkNode& n : m.nodes) {
-    if (n.object < 0) continue;
-    int a = n.parent;
-    while (a >= 0 && m.nodes[a].object < 0) a = m.nodes[a].parent;
-    if (a >= 0) m.allowed[n.object][m.nodes[a].object] = m.allowed[m.nodes[a].object][n.object] = 1;
-  }
-  // rigid: two moving links after the same last arm joint never move relative to each other
-  for (const LinkNode& a : m.nodes)
-    for (const LinkNode& b : m.nodes)
-      if (a.object >= 0 && b.object >= 0 && a.moving && b.moving && a.last_arm == b.last_arm)
-        m.allowed[a.object][b.object] = 1;
-  m.rebuild_check();
-  m.forward(JointVector::Zero(m.kin.n_joints()));
-  m.place(false);
   return Result::success();
 }
 
@@ -266,7 +45,7 @@ Result CollisionModel::load(const std::string& urdf_path, const std::string& bas
   Result r = read_file(urdf_path, xml);
   if (!r.ok()) return r;
   auto impl = std::make_unique<Impl>();
-  r = build(xml, "'" + urdf_path + "'", base_link, tip_link, meshes, *impl);
+  r = detail::build_collision_model(xml, "'" + urdf_path + "'", base_link, tip_link, meshes, *impl);
   if (r.ok()) out.impl_ = std::move(impl);
   return r;
 }
@@ -275,7 +54,8 @@ Result CollisionModel::load_from_string(const std::string& urdf_xml, const std::
                                         const std::string& tip_link, const MeshVertices& meshes,
                                         CollisionModel& out) {
   auto impl = std::make_unique<Impl>();
-  Result r = build(urdf_xml, "<string>", base_link, tip_link, meshes, *impl);
+  Result r =
+      detail::build_collision_model(urdf_xml, "<string>", base_link, tip_link, meshes, *impl);
   if (r.ok()) out.impl_ = std::move(impl);
   return r;
 }
@@ -303,7 +83,7 @@ Result CollisionModel::set_joint_positions(const std::map<std::string, double>& 
     const std::string& name = entry.first;
     const double value = entry.second;
     const auto it = std::find_if(m.nodes.begin(), m.nodes.end(),
-                                 [&](const LinkNode& n) { return n.joint == name; });
+                                 [&](const detail::LinkNode& n) { return n.joint == name; });
     if (it == m.nodes.end())
       return Result::failure(Status::invalid_argument,
                              "set_joint_positions: '" + name + "' is not a movable joint");
@@ -402,7 +182,7 @@ Result CollisionModel::link_pose(const Eigen::Ref<const Eigen::VectorXd>& q,
   if (q.size() != m.kin.n_joints())
     return Result::failure(Status::size_mismatch, "link_pose: q has the wrong size");
   const auto it = std::find_if(m.nodes.begin(), m.nodes.end(),
-                               [&](const LinkNode& n) { return n.name == link; });
+                               [&](const detail::LinkNode& n) { return n.name == link; });
   if (it == m.nodes.end())
     return Result::failure(Status::unknown_link, "link_pose: no link '" + link + "'");
   m.forward(q);

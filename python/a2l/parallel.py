@@ -58,7 +58,8 @@ class Executor:
                     f"cannot reach the Dask scheduler at {cluster!r}: {exc}") from exc
 
     def map(self, fn: Callable[[T], R], tasks: Iterable[T],
-            on_done: Callable[[int], None] | None = None) -> list[R]:
+            on_done: Callable[[int], None] | None = None,
+            batches: int | None = None) -> list[R]:
         """``[fn(t) for t in tasks]``, computed where the executor runs things.
 
         Parameters
@@ -69,9 +70,11 @@ class Executor:
             Its arguments, one per call.
         on_done : callable, optional
             Called with the number of finished tasks (progress bars): after each task in
-            this process, after each batch on workers or Dask.
+            this process, after each batch on workers or Dask, in task order.
+        batches : int, optional
+            As in :meth:`submit`.
         """
-        return self.submit(fn, tasks).result(on_done)
+        return self.submit(fn, tasks, batches).result(on_done)
 
     @property
     def in_process(self) -> bool:
@@ -79,29 +82,35 @@ class Executor:
         then runs only when its results are asked for."""
         return self._client is None and self.workers == 1
 
-    def submit(self, fn: Callable[[T], R], tasks: Iterable[T]) -> Pending[R]:
+    def submit(self, fn: Callable[[T], R], tasks: Iterable[T],
+               batches: int | None = None) -> Pending[R]:
         """Start ``[fn(t) for t in tasks]`` and return at once (:meth:`map` without the
         wait): the caller can submit the next tasks while these run, so that the workers
         do not wait for it between two maps.
 
         In this process (:attr:`in_process`) nothing runs before :meth:`Pending.result`.
+        Elsewhere the tasks travel in at most `batches` contiguous batches (default
+        :data:`BATCHES_PER_SLOT` per worker slot; ``len(tasks)`` for one task each, for
+        long tasks of uneven length).
         """
         items: Sequence[T] = list(tasks)
         if not items or self.in_process:
             return Pending(fn, items, [], None)
         # Elsewhere, tasks travel in batches: one round trip (and one pickled copy of what
         # the tasks share, such as the run's configuration) per batch, not per task.
-        batches = _batches(items, self.BATCHES_PER_SLOT * self._slots())
+        if batches is not None and batches < 1:
+            raise ValueError(f"batches must be >= 1, got {batches}")
+        cut = _batches(items, batches or self.BATCHES_PER_SLOT * self._slots())
         if self._client is not None:
-            futures = self._client.map(_run_batch, [(fn, b) for b in batches], pure=False)
-            return Pending(fn, items, futures, [len(b) for b in batches], self._client)
+            futures = self._client.map(_run_batch, [(fn, b) for b in cut], pure=False)
+            return Pending(fn, items, futures, [len(b) for b in cut], self._client)
         if self._pool is None:
             self._pool = ProcessPoolExecutor(
                 max_workers=self.workers, mp_context=mp.get_context("spawn"),
                 initializer=_limit_threads,
             )
-        futures = [self._pool.submit(_run_batch, (fn, b)) for b in batches]
-        return Pending(fn, items, futures, [len(b) for b in batches])
+        futures = [self._pool.submit(_run_batch, (fn, b)) for b in cut]
+        return Pending(fn, items, futures, [len(b) for b in cut])
 
     def _slots(self) -> int:
         """How many tasks can run at once where this executor runs them."""

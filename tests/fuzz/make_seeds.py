@@ -15,7 +15,8 @@ import numpy as np
 
 from a2l.atomic import atomic_write_bytes
 from a2l.skills import SkillSpec, VariableSpec, save_bundle
-from a2l.skills.bundle import DSArrays, bundle_bytes, save_ds_bundle
+from a2l.skills.bundle import bundle_bytes
+from a2l.skills.ds_bundle import DSArrays, save_ds_bundle
 from a2l.skills.phases import DSPhase
 
 _BOUND = float(np.sqrt(np.e / 2.0))

@@ -14,14 +14,8 @@ import pytest
 from a2l import BundleError, _core
 from a2l.errors import A2LFileNotFoundError
 from a2l.skills import SkillSpec, VariableSpec, load_bundle
-from a2l.skills.bundle import (
-    BUNDLE_MAGIC,
-    DSArrays,
-    bundle_bytes,
-    ds_bundle_bytes,
-    load_ds_bundle,
-    save_ds_bundle,
-)
+from a2l.skills.bundle import BUNDLE_MAGIC, bundle_bytes
+from a2l.skills.ds_bundle import DSArrays, ds_bundle_bytes, load_ds_bundle, save_ds_bundle
 
 BOUND = float(np.sqrt(np.e / 2.0))
 

@@ -103,3 +103,40 @@ def test_sweep_bad_arguments(args: list[str], message: str, tmp_path: Path,
     assert exc.value.code == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "s").exists()
+
+
+def _seed_outcome(run: Path) -> tuple[str, bytes]:
+    """A seed's metrics (but wall times and the workers it ran on) and final bundle."""
+    m = json.loads((run / "metrics.json").read_text())
+    its = [{k: v for k, v in it.items() if k not in ("wall_s", "heldout_wall_s")}
+           for it in m["iterations"]]
+    return json.dumps([its, m["final_score"]], sort_keys=True), \
+        (run / "skills" / "push.a2lb").read_bytes()
+
+
+def test_seeds_run_at_once_give_the_results_of_seeds_one_by_one(tmp_path: Path) -> None:
+    """With 2 workers, 2 seeds run at once, each in a worker process of its own: every
+    seed's metrics, bundle and row are those of the sweep run one seed after the other; a
+    sweep continued at once (a finished seed read back, two run) gives them again."""
+    one, two = tmp_path / "one", tmp_path / "two"
+    args = ["experiment", "sweep", *SMALL, "--seeds", "0-2"]
+    assert main([*args, "--out", str(one)]) == 0
+    assert main([*args, "--workers", "2", "--out", str(two)]) == 0
+
+    def rows(d: Path) -> list[dict]:
+        return [{k: v for k, v in r.items() if k != "wall_s"}
+                for r in json.loads((d / "metrics.json").read_text())["rows"]]
+
+    assert rows(two) == rows(one) and [r["seed"] for r in rows(one)] == [0, 1, 2]
+    for seed in (0, 1, 2):
+        sub = f"seed_{seed:03d}"
+        assert _seed_outcome(two / sub) == _seed_outcome(one / sub)
+        assert json.loads((two / sub / "metrics.json").read_text())["workers"] == 1
+    # seeds 0 and 2 left unfinished (their metrics gone): resumed at once, seed 1 read back
+    for seed in (0, 2):
+        (two / f"seed_{seed:03d}" / "metrics.json").unlink()
+    assert main([*args, "--workers", "2", "--out", str(two)]) == 0
+    assert rows(two) == rows(one)
+    for seed in (0, 1, 2):
+        sub = f"seed_{seed:03d}"
+        assert _seed_outcome(two / sub) == _seed_outcome(one / sub)

@@ -11,7 +11,12 @@ import numpy as np
 import pytest
 
 from a2l.acquisition.protocol import drive, drive_ahead
-from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task, directed_task
+from a2l.acquisition.waypoints import (
+    EffectDirected,
+    Missed,
+    directed_outcome_task,
+    directed_task,
+)
 from a2l.framework import FrameworkConfig, make_env, run_framework
 from a2l.framework.loop import _seed
 from a2l.framework.validation import heldout_task
@@ -178,8 +183,8 @@ def test_directed_pairs_driven_together_find_what_they_find_one_by_one() -> None
         assert a.tried == t.tried
         assert [r.moves for r in a.found] == [r.moves for r in t.found]
     kept = sum(len(t.found) for t in light)
-    assert sum(not isinstance(o, int) for o in sent) >= kept
-    assert sum(isinstance(o, int) for o in sent) > kept     # most come back as an index
+    assert sum(not isinstance(o, Missed) for o in sent) >= kept
+    assert sum(isinstance(o, Missed) for o in sent) > kept  # most come back light
 
 
 @pytest.mark.parametrize("ahead", [1, 3])

@@ -184,5 +184,7 @@ def test_report(run: Path, metrics: dict[str, Any]) -> None:
     assert "| iteration | score | held-out score |" in text
     rows = [line for line in text.splitlines() if line.startswith("| ") and
             line.split("|")[1].strip().isdigit()]
-    assert len(rows) == len(metrics["iterations"])
+    # the results table, then the robot movements per phase: a row per iteration each
+    assert len(rows) == 2 * len(metrics["iterations"])
+    assert "| iteration | `acquire` | `extend` | `validate` | `validate_heldout` |" in text
     assert "config.json" in text

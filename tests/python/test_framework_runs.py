@@ -158,14 +158,14 @@ def test_dask_worker_threads_do_not_share_a_scene(tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=3)
     bundle = tmp_path / "iter_000.a2lb"
     with Executor(workers=1) as local:
-        babbled = acquire(cfg, local, 0)
+        babbled = acquire(cfg, local, 0).rollouts
         generate_skill(cfg, rollouts_to_frame(babbled, discretizers(cfg)), bundle)
         validated = validate(cfg, local, bundle)
     cluster = LocalCluster(n_workers=1, threads_per_worker=2, processes=True,
                            host="127.0.0.1", dashboard_address=None)
     try:
         with Executor(cluster=cluster.scheduler_address) as remote:
-            babbled_d = acquire(cfg, remote, 0)
+            babbled_d = acquire(cfg, remote, 0).rollouts
             validated_d = validate(cfg, remote, bundle)
     finally:
         cluster.close()

@@ -275,11 +275,12 @@ def test_directed_budget_grows_while_a_pair_stays_stuck(stuck_for: int, growth: 
                                                         expected: int) -> None:
     cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, directed_growth=growth, seed=4)
     start, effect = 4, 2         # behind the box for "close": the walk must go around it
-    out = extend(cfg, Executor(workers=1), 1, [], {(start, effect): stuck_for, (0, 0): 0})
+    out = extend(cfg, Executor(workers=1), 1, [], {(start, effect): stuck_for, (0, 0): 0}
+                 ).rollouts
     assert len(out) == expected
     assert all(r.start == start and r.effect == effect and r.moved for r in out)
     # The same seeds: a larger budget keeps what a smaller one found, and adds to it.
-    base = extend(cfg, Executor(workers=1), 1, [], {(start, effect): 1})
+    base = extend(cfg, Executor(workers=1), 1, [], {(start, effect): 1}).rollouts
     assert [r.moves for r in out[: len(base)]] == [r.moves for r in base]
 
 

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.lfd.execute import light_test, run_skill
+from a2l.lfd.effect_tests import light_test
+from a2l.lfd.execute import run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial, skill_config
 from a2l.lfd.manipulation import GRASP_POINT, demonstrate
 from a2l.lfd.manipulation_skills import (

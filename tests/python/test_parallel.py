@@ -28,6 +28,13 @@ def test_two_workers_give_the_in_process_results_in_order() -> None:
     assert out == [math.sqrt(t) for t in tasks]
     assert seen == sorted(seen) and seen[-1] == len(tasks)
     assert Executor(workers=1).map(math.sqrt, tasks) == out
+    # one task per batch (a sweep's seeds): the same results, one progress call per task
+    seen.clear()
+    with Executor(workers=2) as ex:
+        assert ex.map(math.sqrt, tasks, on_done=seen.append, batches=len(tasks)) == out
+        with pytest.raises(ValueError, match="batches"):
+            ex.submit(math.sqrt, tasks, batches=0)
+    assert seen == list(range(1, len(tasks) + 1))
 
 
 def test_a_task_error_reaches_the_caller() -> None:

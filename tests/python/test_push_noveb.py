@@ -12,15 +12,24 @@ from a2l.acquisition import rollouts_to_frame
 from a2l.acquisition.noveb_rollouts import noveb_acquire
 from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.framework import FrameworkConfig, discretizers
+from a2l.framework.env import scene_env
 from a2l.parallel import Executor
 
 
-def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved() -> None:
+def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved(
+        monkeypatch: pytest.MonkeyPatch) -> None:
     cfg = FrameworkConfig(scene="baxter", n_effects=4, seed=0, n_starts=4)
+    scene = scene_env(cfg).scene        # the scene the tasks of this thread play in
+    executed = []
+    orig = type(scene).execute
+    monkeypatch.setattr(type(scene), "execute",
+                        lambda self, d: executed.append(d) or orig(self, d))
     with Executor(workers=1) as ex:
         rollouts, noveb, movements = noveb_acquire(cfg, ex, evaluations=8, generation_size=4)
     assert noveb.told == 8 and noveb.generation == 2
-    assert movements > 8
+    # the count (iteration 0's "acquire" movements with --acquisition noveb) is what the
+    # scene executed
+    assert movements == len(executed) > 8
     assert rollouts, "no NovEB trajectory moved the box (at push height, most do)"
     disc = discretizers(cfg)
     for r in rollouts:

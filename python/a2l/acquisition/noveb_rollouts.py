@@ -64,7 +64,7 @@ def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]
     descriptor, path, out = play_and_look(env.scene, (*NOVEB_START, z), points, max_moves,
                                           observe=observe, on_reset=observe)
     made = len(path) - 1
-    from a2l.sim.scene import DIRECTIONS
+    from a2l.sim.movement import DIRECTIONS
 
     repertoire = {tuple(int(s) for s in d): i
                   for i, d in enumerate(disc.movements.directions)}

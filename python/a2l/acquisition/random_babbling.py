@@ -84,6 +84,8 @@ class RandomBabbling:
         #: Candidates asked so far (ahead of `tried` while outcomes are on their way).
         self.asked = 0
         self.kept: list[Rollout] = []
+        #: Discrete movements of every trajectory told (:attr:`Rollout.executed`).
+        self.movements = 0
 
     @property
     def done(self) -> bool:
@@ -102,8 +104,10 @@ class RandomBabbling:
                  self.seed_of(first + i), self.cfg.max_babble_steps) for i in range(n)]
 
     def tell(self, asked: Sequence[BabbleTask], outcomes: Sequence[Rollout]) -> None:
-        """Keep, in order, the trajectories that moved the object (up to the target)."""
+        """Keep, in order, the trajectories that moved the object (up to the target); count
+        the movements of all."""
         for r in outcomes:
             self.tried += 1
+            self.movements += r.executed
             if r.moved and len(self.kept) < self.target:
                 self.kept.append(r)

@@ -18,7 +18,7 @@ import pandas as pd
 from a2l import _core
 from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 
-__all__ = ["Rollout", "effect_of", "erase_loops", "play", "rollouts_to_frame"]
+__all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "play", "rollouts_to_frame"]
 
 
 @dataclass
@@ -44,6 +44,11 @@ class Rollout:
     stop : str
         Why the rollout ended (``moved``, ``step_cap``, ``unknown_context``,
         ``unreachable``, ``exhausted``).
+    executed : int
+        Discrete movements the scene was asked to execute to play it (:func:`play`): the
+        moves, plus the one that could not be carried out (``stop == "unreachable"``),
+        plus those :func:`erase_loops` cut out; 0 when not recorded (a rollout read back
+        from a checkpoint).
     """
 
     start: int
@@ -54,12 +59,33 @@ class Rollout:
     wanted: int = -1
     outcome: str = ""
     stop: str = ""
+    executed: int = 0
 
     @property
     def moved(self) -> bool:
         """True if the object moved (an effect was observed)."""
         return self.effect >= 0
 
+
+@dataclass
+class Interactions:
+    """What an acquisition phase gathered: its rollouts, and the robot movements it took.
+
+    Attributes
+    ----------
+    rollouts : list of Rollout
+        The interactions kept (those that moved the object, or, in the framework's
+        extension, the validation trajectories reused).
+    movements : int
+        Discrete movements the robot executed for them, those of the tries that were
+        thrown away included: the sum, over every trajectory the phase's strategy was told
+        (:mod:`a2l.acquisition.protocol`), of the movements played for it. A round run
+        ahead on workers and dropped (:func:`~a2l.acquisition.protocol.drive_ahead`) is not
+        told, so the count is what a run with one worker executes.
+    """
+
+    rollouts: list[Rollout]
+    movements: int
 
 
 def effect_of(disc: Any, displacement: np.ndarray) -> int:
@@ -82,11 +108,13 @@ def play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[i
     eefs, objs, moves = [env.eef().copy()], [obj0.copy()], []
     stop = "exhausted"
     effect = -1
+    executed = 0
     for i in range(max_steps):
         move = prefix[i] if i < len(prefix) else choose(eefs[-1], objs[-1])
         if move is None:
             stop = "stopped"
             break
+        executed += 1
         if not env.execute(tuple(int(s) for s in disc.movements.directions[move])):
             stop = "unreachable"
             break
@@ -97,7 +125,8 @@ def play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[i
         if effect >= 0:
             stop = "moved"
             break
-    return Rollout(start, moves, np.array(eefs), np.array(objs), effect=effect, stop=stop)
+    return Rollout(start, moves, np.array(eefs), np.array(objs), effect=effect, stop=stop,
+                   executed=executed)
 
 
 def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:
@@ -123,7 +152,7 @@ def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:
         keep_o.append(r.obj[k + 1])
         keep_m.append(r.moves[k])
     return Rollout(r.start, keep_m, np.array(keep_e), np.array(keep_o), effect=r.effect,
-                   wanted=r.wanted, outcome=r.outcome, stop=r.stop)
+                   wanted=r.wanted, outcome=r.outcome, stop=r.stop, executed=r.executed)
 
 
 

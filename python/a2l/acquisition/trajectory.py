@@ -168,10 +168,10 @@ def play_and_look(scene: Any, start: ArrayLike, points: NDArray[np.float64], max
     path : ndarray, shape (m + 1, 3)
         End-effector positions at the start and after each movement tried.
     out : list of int
-        Indices into ``a2l.sim.scene.DIRECTIONS`` of the movements carried out.
+        Indices into ``a2l.sim.movement.DIRECTIONS`` of the movements carried out.
     """
     from a2l.acquisition.images import image_descriptor
-    from a2l.sim.scene import DIRECTIONS
+    from a2l.sim.movement import DIRECTIONS
 
     start = np.asarray(start, dtype=float)
     scene.reset(eef=start)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import asdict
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -17,8 +17,8 @@ from a2l.acquisition.rollout import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.env import scene_env
 
-__all__ = ["DirectedTask", "EffectDirected", "directed_task", "heading_chooser",
-           "random_waypoints"]
+__all__ = ["DirectedTask", "EffectDirected", "Missed", "directed_outcome_task", "directed_task",
+           "heading_chooser", "random_waypoints"]
 
 #: One effect-directed trajectory: ``(config as a dict, start index, seed, most movements)``.
 DirectedTask = tuple[dict[str, Any], int, int, int]
@@ -108,16 +108,26 @@ def directed_task(task: DirectedTask) -> Rollout:
     return erase_loops(r) if cfg.erase_loops else r
 
 
-def directed_outcome_task(task: tuple[DirectedTask, int]) -> Rollout | int:
+class Missed(NamedTuple):
+    """What comes back of an effect-directed trajectory that did not produce the wanted
+    effect (:func:`directed_outcome_task`)."""
+
+    #: Its effect index (-1: nothing moved).
+    effect: int
+    #: The discrete movements played for it (:attr:`Rollout.executed`).
+    movements: int
+
+
+def directed_outcome_task(task: tuple[DirectedTask, int]) -> Rollout | Missed:
     """:func:`directed_task` for a wanted effect: ``(directed task, wanted effect)``.
 
     Returns the rollout only when it produced the wanted effect, else just its effect index
-    (-1: nothing moved): all :meth:`EffectDirected.tell` needs, so a worker does not send
-    back the many trajectories that are thrown away.
+    and movement count (:class:`Missed`): all :meth:`EffectDirected.tell` needs, so a worker
+    does not send back the many trajectories that are thrown away.
     """
     t, wanted = task
     r = directed_task(t)
-    return r if r.effect == wanted else r.effect
+    return r if r.effect == wanted else Missed(r.effect, r.executed)
 
 
 class EffectDirected:
@@ -155,6 +165,8 @@ class EffectDirected:
         #: Candidates asked so far (ahead of `tried` while outcomes are on their way).
         self.asked = 0
         self.found: list[Rollout] = []
+        #: Discrete movements of every trajectory told.
+        self.movements = 0
 
     @property
     def done(self) -> bool:
@@ -172,17 +184,21 @@ class EffectDirected:
         return [(self._cfg_d, self.start, self.seed_of(first + i), self.cfg.directed_steps)
                 for i in range(n)]
 
-    def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout | int]) -> None:
-        """Keep, in order, the trajectories that produced the effect (up to `want`).
+    def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout | Missed]
+             ) -> None:
+        """Keep, in order, the trajectories that produced the effect (up to `want`); count
+        the movements of all.
 
-        An outcome is a :class:`Rollout` (:func:`directed_task`), or the effect index of a
-        trajectory that did not produce the wanted effect (:func:`directed_outcome_task`).
+        An outcome is a :class:`Rollout` (:func:`directed_task`), or the :class:`Missed`
+        record of a trajectory that did not produce the wanted effect
+        (:func:`directed_outcome_task`).
         """
         for r in outcomes:
             self.tried += 1
-            effect = r if isinstance(r, int) else r.effect
-            if effect == self.effect and len(self.found) < self.want:
-                if isinstance(r, int):
-                    raise ValueError(f"the outcome of a trajectory with effect {effect} must "
-                                     "be its Rollout")
+            light = isinstance(r, Missed)
+            self.movements += r.movements if light else r.executed
+            if r.effect == self.effect and len(self.found) < self.want:
+                if light:
+                    raise ValueError(f"the outcome of a trajectory with effect {r.effect} "
+                                     "must be its Rollout")
                 self.found.append(r)

@@ -63,7 +63,7 @@ def _cmd_experiment_push(args: argparse.Namespace) -> int:
 
 
 def _cmd_experiment_discretization(args: argparse.Namespace) -> int:
-    from a2l.experiments.push import run_discretization_study
+    from a2l.experiments.discretization import run_discretization_study
 
     options = {"scene": "scene", "effects": "n_effects", "seed": "seed",
                "iterations": "max_iterations"}
@@ -202,6 +202,8 @@ def add_sweep_parser(exps: argparse._SubParsersAction) -> None:
     sweep.add_argument("--starts", type=positive_int, default=None, metavar="N",
                        help="start positions around the object (default 8)")
     sweep.add_argument("--workers", type=positive_int, default=1, metavar="N",
-                       help="local worker processes for each run's rollouts (default 1)")
+                       help="local worker processes (default 1): with at least N seeds "
+                       "to run, N seeds at once, each in its own process; with fewer, the "
+                       "runs share them as rollout workers")
     sweep.add_argument("--quiet", action="store_true", help="no line per seed")
     sweep.set_defaults(func=_cmd_experiment_sweep)

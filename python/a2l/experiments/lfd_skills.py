@@ -44,7 +44,8 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         The worker imported another copy of a2l than the parent (``package``): its results
         would not be the code under test's.
     """
-    from a2l.lfd.execute import light_test, run_skill
+    from a2l.lfd.effect_tests import light_test
+    from a2l.lfd.execute import run_skill
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
 
     if task.get("package") and task["package"] != _package_dir():

@@ -36,9 +36,9 @@ WINDOW = (1 / 3, 2 / 3)
 MOVE_RANGE = (0.03, 0.05)  # m
 HOLD_RANGE = (1.0, 2.0)    # s
 
-#: Two runs follow the same path when their end-effector positions agree within this (m):
-#: PyBullet replays a start to ~1e-15 m, not bitwise, after other episodes in the same
-#: world, and contacts can grow that to ~1e-4 m.
+#: Two runs follow the same path when their end-effector positions agree within this (m).
+#: Episode starts are bitwise the same whatever ran before (a2l.sim.bodies,
+#: tests/python/test_sim_exact_start.py); the tolerance is a margin.
 SAME_PATH = 1e-3
 
 _PERTURB_STREAM = 0x70657274  # perturbation draws apart from the trial's start draws
@@ -135,7 +135,7 @@ def light_effects(recipe: Any, cfg: LfDConfig) -> dict[str, str] | None:
 
 def _effect_test(effect: str) -> Callable[[Any], tuple[bool, bool]]:
     """The test of a light-independent skill's effect, blind to the light."""
-    from a2l.lfd.execute import EFFECT_TESTS, scene_test
+    from a2l.lfd.effect_tests import EFFECT_TESTS, scene_test
     from a2l.sim.outcomes import EFFECT_TESTS as SCENE_TESTS
 
     if effect == "pressed":  # pressed by the robot: the toggle alone is no press
@@ -154,8 +154,8 @@ def skill_test(recipe: Any, by_light: dict[str, str] | None
                ) -> Callable[[Any], tuple[bool, bool]]:
     """The effect test of a trial: a light-independent skill's ignores the light; a
     light-dependent skill's is the test of ``by_light[light]`` for the light seen at each
-    step (:func:`a2l.lfd.execute.light_test`)."""
-    from a2l.lfd.execute import light_test
+    step (:func:`a2l.lfd.effect_tests.light_test`)."""
+    from a2l.lfd.effect_tests import light_test
 
     if by_light is None:
         return _effect_test(recipe.effect)

@@ -7,6 +7,12 @@ configuration, the overrides, the seeds and the command), one push run directory
 (``seed_NNN/``), ``metrics.json`` (one row per seed and the summary) and ``report.md``. A
 sweep interrupted between seeds continues where it stopped when run again with the same
 ``--out`` (finished seeds are read back, an unfinished one is resumed).
+
+With several workers, seeds run at once, each in its own worker process with its rollouts
+in that process (:func:`seed_run`): a run's skill learning and bookkeeping, serial in its
+process, then overlap another seed's, where one run on several workers leaves the workers
+waiting for them. A run does not depend on where it runs (the framework's results do not
+depend on the number of workers), so the rows are those of the seeds run one by one.
 """
 
 from __future__ import annotations
@@ -25,7 +31,7 @@ from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
 
 __all__ = ["iterations_to_full_score", "parse_overrides", "parse_seeds", "run_seed_sweep",
-           "summarize_sweep"]
+           "seed_run", "summarize_sweep"]
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -141,6 +147,46 @@ def _table(rows: Sequence[dict[str, Any]], summary: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+#: One seed of a sweep: ``(configuration as a dict, seed, run directory, workers, executor,
+#: announce)``.
+SeedJob = tuple[dict[str, Any], int, str, int, Executor | None, bool]
+
+
+def seed_run(job: SeedJob) -> dict[str, Any]:
+    """One seed of a sweep (:data:`SeedJob`): its run directory's ``metrics.json`` read
+    back when it is finished, the run resumed when it was started, else run (quietly,
+    without plots) on `executor` when one is given, else on `workers` local worker
+    processes; with `announce`, a line saying how it ended is printed (by the process that
+    ran it, as it ends).
+
+    Returns
+    -------
+    dict
+        The row of the sweep's table: ``seed``, ``iterations_to_100``, ``final_score``,
+        ``iterations_run``, ``wall_s``.
+    """
+    cfg_d, seed, sub_s, workers, executor, announce = job
+    sub = Path(sub_s)
+    opts: dict[str, Any] = {"quiet": True, "plots": False}
+    opts.update({"executor": executor} if executor is not None else {"workers": workers})
+    if (sub / "metrics.json").is_file():
+        m = read_json(sub / "metrics.json")
+    elif (sub / "config.json").is_file():
+        m = run_push_experiment(resume=sub, **opts)
+    else:
+        cfg = FrameworkConfig.from_dict({**cfg_d, "seed": seed})
+        m = run_push_experiment(cfg, out=sub, **opts)
+    row = {"seed": seed, "iterations_to_100": iterations_to_full_score(m["iterations"]),
+           "final_score": float(m["final_score"]), "iterations_run": len(m["iterations"]),
+           "wall_s": float(m["wall_s"])}
+    if announce:
+        n = row["iterations_to_100"]
+        print(f"seed {seed:3d}: score {row['final_score']:.1f} after "
+              f"{row['iterations_run']} iteration(s); "
+              f"{'not 100' if n is None else f'100 at iteration {n - 1}'}", flush=True)
+    return row
+
+
 def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = range(30),
                    overrides: dict[str, Any] | None = None, out: str | Path | None = None,
                    workers: int = 1, quiet: bool = False, command: str | None = None
@@ -159,7 +205,10 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
         Sweep directory (default ``runs/sweep-<timestamp>``); rerunning with the same one
         continues an interrupted sweep (it must hold the same configuration).
     workers : int
-        Local worker processes of each run.
+        Local worker processes. With as many seeds left to run, that many seeds run at once,
+        each in one worker process with its rollouts in that process; with fewer, the
+        workers are shared out among them as their rollout workers; 1: everything in this
+        process.
     quiet : bool
         No line per seed.
     command : str, optional
@@ -191,28 +240,25 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
                              "seeds; choose another --out")
     else:
         write_json(run_dir / "config.json", config)
-    rows = []
-    with Executor(workers=workers) as executor:  # one worker pool for every seed
-        for seed in seeds:
-            sub = run_dir / f"seed_{seed:03d}"
-            if (sub / "metrics.json").is_file():
-                m = read_json(sub / "metrics.json")
-            elif (sub / "config.json").is_file():
-                m = run_push_experiment(resume=sub, quiet=True, plots=False, executor=executor)
-            else:
-                m = run_push_experiment(dataclasses.replace(cfg0, seed=seed), out=sub,
-                                        quiet=True, plots=False, executor=executor)
-            row = {"seed": seed,
-                   "iterations_to_100": iterations_to_full_score(m["iterations"]),
-                   "final_score": float(m["final_score"]),
-                   "iterations_run": len(m["iterations"]), "wall_s": float(m["wall_s"])}
-            rows.append(row)
-            if not quiet:
-                n = row["iterations_to_100"]
-                print(f"seed {seed:3d}: score {row['final_score']:.1f} after "
-                      f"{row['iterations_run']} iteration(s); "
-                      f"{'not 100' if n is None else f'100 at iteration {n - 1}'}",
-                      flush=True)
+    cfg_d = dataclasses.asdict(cfg0)
+    subs = {seed: str(run_dir / f"seed_{seed:03d}") for seed in seeds}
+    todo = [seed for seed in seeds if not (Path(subs[seed]) / "metrics.json").is_file()]
+    at_once = max(1, min(workers, len(todo)))
+    if at_once == 1:
+        # one run at a time in this process, all on one pool of `workers` rollout workers
+        with Executor(workers=workers) as executor:
+            rows = [seed_run((cfg_d, seed, subs[seed], workers, executor, not quiet))
+                    for seed in seeds]
+    else:
+        # `at_once` runs at a time, each in a worker process of its own (one seed per task)
+        per_run = max(1, workers // at_once)
+        by_seed = {seed: seed_run((cfg_d, seed, subs[seed], 1, None, not quiet))
+                   for seed in seeds if seed not in todo}
+        with Executor(workers=at_once) as pool:
+            ran = pool.map(seed_run, [(cfg_d, seed, subs[seed], per_run, None, not quiet)
+                                      for seed in todo], batches=len(todo))
+        by_seed.update(zip(todo, ran, strict=True))
+        rows = [by_seed[seed] for seed in seeds]
     summary = summarize_sweep(rows)
     table = _table(rows, summary)
     write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary})

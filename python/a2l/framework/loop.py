@@ -19,7 +19,7 @@ import pandas as pd
 
 from a2l.acquisition.protocol import drive_ahead
 from a2l.acquisition.random_babbling import RandomBabbling, babble_task
-from a2l.acquisition.rollout import Rollout, rollouts_to_frame
+from a2l.acquisition.rollout import Interactions, Rollout, rollouts_to_frame
 from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task
 from a2l.experiments.rundir import latest_checkpoint, save_checkpoint
 from a2l.framework.config import FrameworkConfig, discretizers
@@ -34,7 +34,11 @@ from a2l.framework.scoring import (
 from a2l.framework.validation import validate, validate_heldout
 from a2l.parallel import Executor
 
-__all__ = ["acquire", "extend", "generate_skill", "run_framework"]
+__all__ = ["MOVEMENT_PHASES", "acquire", "extend", "generate_skill", "run_framework"]
+
+#: The phases of an iteration that move the robot, as ``metrics.json`` names them
+#: (``robot_movements``).
+MOVEMENT_PHASES = ("acquire", "extend", "validate", "validate_heldout")
 
 
 def _seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
@@ -45,12 +49,13 @@ def _seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
 
 
 def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
-            progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
+            progress: Callable[[str, int, int], None] | None = None) -> Interactions:
     """Random babbling until ``n_starts · n_effects`` trajectories moved the object.
 
     Tries are made in batches (in parallel) and cut, in try order, at the point where the
     target count is reached (:class:`a2l.acquisition.RandomBabbling`): the result is the
-    same for any number of workers.
+    same for any number of workers. The movements are those of every try of the rounds
+    told (rounds of ``max(16, 8 · workers)`` tries: the same count with 1 and 2 workers).
     """
     target = cfg.n_starts * cfg.n_effects
     babbling = RandomBabbling(cfg, lambda i: _seed(cfg, iteration, 0, i), target, cfg.try_cap)
@@ -61,7 +66,7 @@ def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
 
     drive_ahead([babbling], lambda pairs: executor.submit(babble_task, [c for _, c in pairs]),
                 batch=max(16, 8 * executor.workers), ahead=_ahead(executor), on_round=report)
-    return babbling.kept
+    return Interactions(babbling.kept, babbling.movements)
 
 
 #: Rounds of babbling submitted to workers beyond the one waited for
@@ -77,7 +82,7 @@ def _ahead(executor: Executor) -> int:
 
 
 def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
-           validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> list[Rollout]:
+           validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> Interactions:
     """New trajectories for iteration `iteration` (METHOD.md's dataset extension).
 
     - successful and false-positive validation trajectories (themselves, with
@@ -90,6 +95,9 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
       iterations is ``k + 1`` times that (trajectories and tries), at most
       ``directed_growth`` times: a pair whose failing context cells are outvoted by the
       rest of the dataset gets more votes each iteration.
+
+    The movements are those of the extensions and of every effect-directed try told (the
+    validation trajectories reused are not played again).
     """
     cfg_d = asdict(cfg)
     tasks = []
@@ -102,7 +110,9 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
         tasks.append((cfg_d, r.start, prefix, _seed(cfg, iteration, 1, i),
                       cfg.max_babble_steps))
     out = list(moved) if cfg.keep_validation else []
-    out += [r for r in executor.map(babble_task, tasks) if r.moved]
+    extended = executor.map(babble_task, tasks)
+    movements = sum(r.executed for r in extended)
+    out += [r for r in extended if r.moved]
     pairs = sorted(p for p, n in stuck.items() if n >= cfg.stuck_after)
     directed = []
     for j, (start, effect) in enumerate(pairs):
@@ -116,7 +126,8 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
         batch=32, ahead=_ahead(executor))
     for d in directed:
         out.extend(d.found)
-    return out
+        movements += d.movements
+    return Interactions(out, movements)
 
 
 def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,
@@ -168,9 +179,9 @@ def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
     return out
 
 
-#: A first acquisition: ``(config, executor, iteration, progress) -> rollouts``.
+#: A first acquisition: ``(config, executor, iteration, progress) -> interactions``.
 FirstAcquisition = Callable[[FrameworkConfig, Executor, int,
-                             Callable[[str, int, int], None] | None], list[Rollout]]
+                             Callable[[str, int, int], None] | None], Interactions]
 
 
 def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
@@ -196,7 +207,7 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         Robot entry of the bundles.
     first_acquisition : callable, optional
         Where iteration 0's interactions come from (default :func:`acquire`, random
-        babbling around the object); e.g. NovEB
+        babbling around the object), with the robot movements they took; e.g. NovEB
         (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`).
 
     Returns
@@ -204,13 +215,19 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     dict
         ``{"iterations": [...], "final_score": float, "bundle": str, "validation":
         DataFrame of the accepted iteration's rollouts, "heldout": [...],
-        "heldout_score": float or None, "heldout_validation": DataFrame}``.
+        "heldout_score": float or None, "heldout_validation": DataFrame,
+        "movements": [...]}``.
         ``heldout`` holds each iteration's held-out metrics (:func:`heldout_metrics`,
         plus ``heldout_wall_s``), apart from ``iterations``: the held-out rollouts
         (``cfg.heldout_starts`` starts, :func:`validate_heldout`) run after the
         iteration's own metrics are taken and decide nothing (no acceptance, no stuck
         pair, no draw of training). ``heldout_score`` and ``heldout_validation`` are those
         of the accepted skill (None and an empty table without held-out starts).
+        ``movements`` holds, apart from ``iterations`` too, each iteration's robot
+        movements (:func:`_movement_record`): the discrete movements the scene executed in
+        each phase (:data:`MOVEMENT_PHASES`), counted from the rollouts told to the run
+        (:attr:`a2l.acquisition.Interactions.movements`), so the same with 1 and 2 workers,
+        and the cumulative totals.
     """
     cfg.validate()
     skills_dir = run_dir / "skills"
@@ -223,6 +240,8 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         best_val = _frame_rollouts(frames["validation"])
         history = state["iterations"]
         heldout = state.get("heldout", [])
+        # None: a checkpoint written before movements were counted (totals unknown)
+        movement_log = state.get("movements", None if history else [])
         best_held = _frame_rollouts(frames["heldout"]) if "heldout" in frames else []
         best_score = float(state["best_score"])
         stuck = {(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
@@ -231,22 +250,27 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     else:
         dataset, best_val, history, best_score, stuck, start_it = None, [], [], -1.0, {}, 0
         heldout, best_held = [], []
+        movement_log = []
     for it in range(start_it, cfg.max_iterations):
         if best_score >= 100.0:
             break
         t0 = time.perf_counter()
+        phase_moves = dict.fromkeys(MOVEMENT_PHASES, 0)
         if dataset is None:
             first = first_acquisition or acquire
-            new = rollouts_to_frame(first(cfg, executor, it, progress), disc)
-            candidate = new
+            got = first(cfg, executor, it, progress)
+            phase_moves["acquire"] = got.movements
+            candidate = rollouts_to_frame(got.rollouts, disc)
         else:
             extra = extend(cfg, executor, it, best_val, stuck)
+            phase_moves["extend"] = extra.movements
             first = int(dataset["episode"].max()) + 1 if len(dataset) else 0
-            candidate = pd.concat([dataset, rollouts_to_frame(extra, disc, first)],
+            candidate = pd.concat([dataset, rollouts_to_frame(extra.rollouts, disc, first)],
                                   ignore_index=True)
         bundle = skills_dir / f"iter_{it:03d}.a2lb"
         generate_skill(cfg, candidate, bundle, robot)
         val = validate(cfg, executor, bundle, progress)
+        phase_moves["validate"] = sum(r.executed for r in val)
         score = score_of(val, cfg.n_effects, cfg.n_starts)
         accepted = score >= best_score
         if accepted:
@@ -260,13 +284,18 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         if cfg.heldout_starts:
             t1 = time.perf_counter()
             held = validate_heldout(cfg, executor, bundle, progress)
+            phase_moves["validate_heldout"] = sum(r.executed for r in held)
             heldout.append({**heldout_metrics(cfg, it, held),
                             "heldout_wall_s": time.perf_counter() - t1})
             if accepted:
                 best_held = held
+        if movement_log is not None:
+            movement_log.append(_movement_record(it, phase_moves,
+                                                 movement_log[-1] if movement_log else None))
         save_checkpoint(run_dir, it, {
             "iterations": history, "best_score": best_score,
             "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()}, "heldout": heldout,
+            **({"movements": movement_log} if movement_log is not None else {}),
         }, {"dataset": dataset, "validation": _rollouts_frame(best_val),
             "heldout": _rollouts_frame(best_held)})
         if on_iteration:
@@ -278,4 +307,19 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
             "bundle": str(skills_dir / accepted_name), "dataset": dataset,
             "validation": _rollouts_frame(best_val), "heldout": heldout,
             "heldout_score": final_held[0]["heldout_score"] if final_held else None,
-            "heldout_validation": _rollouts_frame(best_held)}
+            "heldout_validation": _rollouts_frame(best_held), "movements": movement_log or []}
+
+
+def _movement_record(it: int, phases: dict[str, int], last: dict[str, Any] | None
+                     ) -> dict[str, Any]:
+    """Iteration `it`'s robot movements: ``{"iteration", "robot_movements": {phase: n},
+    "robot_movements_total", "robot_movements_training"}``, the totals cumulative since
+    iteration 0 (`last` is the previous iteration's record), the training one without the
+    held-out rollouts (they only measure)."""
+    total = sum(phases.values())
+    training = total - phases["validate_heldout"]
+    if last is not None:
+        total += last["robot_movements_total"]
+        training += last["robot_movements_training"]
+    return {"iteration": it, "robot_movements": dict(phases),
+            "robot_movements_total": total, "robot_movements_training": training}

@@ -114,7 +114,7 @@ class DiffeoDS:
     # --- files --------------------------------------------------------------------------------
     def save(self, path: str | os.PathLike[str], name: str = "ds") -> Path:
         """Write a skill bundle (kind ``"ds"``) holding this DS and its metadata, atomically."""
-        from a2l.skills.bundle import DSArrays, save_ds_bundle
+        from a2l.skills.ds_bundle import DSArrays, save_ds_bundle
 
         arrays = DSArrays(self.target, self.centers, self.vectors, self.rhos, self.speed)
         return save_ds_bundle(path, arrays, name=name, metadata=self.metadata)
@@ -128,7 +128,7 @@ class DiffeoDS:
         a2l.BundleError
             A malformed bundle or a map breaking the bound (named by its index).
         """
-        from a2l.skills.bundle import load_ds_bundle
+        from a2l.skills.ds_bundle import load_ds_bundle
 
         core, meta = load_ds_bundle(path)
         return cls(core, meta)

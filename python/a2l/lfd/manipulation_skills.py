@@ -34,7 +34,7 @@ then never knows when to close).
 Effect tests: ``grasped`` (the block >= 5 cm up in the closed gripper) and ``pressed``
 are the scene's (:mod:`a2l.sim.outcomes`); ``grasp_light`` wants ``grasped`` with the light
 off and ``away`` with it on (:data:`EFFECT_BY_LIGHT`, in the recipe's ``extra``;
-:func:`a2l.lfd.execute.light_test`): the end-effector at the retreat pose
+:func:`a2l.lfd.effect_tests.light_test`): the end-effector at the retreat pose
 (:data:`a2l.sim.outcomes.RETREAT`, within 4 cm) without having moved the block
 (:func:`away_test`, registered for ``away``).
 """
@@ -52,7 +52,7 @@ from scipy.spatial import cKDTree
 from a2l.lfd.config import LfDConfig
 from a2l.lfd.dataset import dataset_frame
 from a2l.lfd.demonstration import Demonstration
-from a2l.lfd.execute import Progress, register_effect_test
+from a2l.lfd.effect_tests import Progress, register_effect_test
 from a2l.lfd.library import SkillRecipe, register_skill
 from a2l.lfd.manipulation import GRASP_POINT, PRESS_POINT, SKILL_OBJECTS, _start, demonstrate
 from a2l.lfd.skill import Behaviour

@@ -135,7 +135,8 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         or a dataset with no usable row.
     """
     from a2l.skills import compile_policy, learn_network, make_skill_spec
-    from a2l.skills.bundle import DSArrays, bundle_bytes
+    from a2l.skills.bundle import bundle_bytes
+    from a2l.skills.ds_bundle import DSArrays
     from a2l.skills.phases import DSPhase
 
     if not behaviours:

@@ -31,7 +31,8 @@ from a2l.sim.config import (
 )
 from a2l.sim.context import Context, ObjectContext, low_level_state
 from a2l.sim.effects import PUSH_EFFECTS_4, PUSH_EFFECTS_8, push_effect
-from a2l.sim.scene import DIRECTIONS, MoveResult, Scene
+from a2l.sim.movement import DIRECTIONS, MoveResult
+from a2l.sim.scene import Scene
 
 __all__ = [
     "DIRECTIONS",

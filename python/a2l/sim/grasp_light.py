@@ -12,9 +12,9 @@ from __future__ import annotations
 from dataclasses import replace
 
 from a2l.sim.bullet import GraspScene
-from a2l.sim.config import GraspLightConfig
 from a2l.sim.lamp import LampMixin
-from a2l.sim.scene import Observation
+from a2l.sim.object_configs import GraspLightConfig
+from a2l.sim.observation import Observation
 
 __all__ = ["GraspLightScene"]
 

@@ -1,10 +1,13 @@
-"""The scene interface shared by the PyBullet scenes and the virtual scene."""
+"""The scene interface shared by the PyBullet scenes and the virtual scene.
+
+The movement vocabulary (:data:`DIRECTIONS`, :class:`MoveResult`) lives in
+:mod:`a2l.sim.movement`, observations and their effects in :mod:`a2l.sim.observation`;
+both are re-exported here.
+"""
 
 from __future__ import annotations
 
-import itertools
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -12,74 +15,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l.errors import A2LValueError
 from a2l.sim.context import Context, low_level_state
-from a2l.sim.effects import push_effect
+from a2l.sim.movement import DIRECTIONS, MoveResult, as_direction
+from a2l.sim.observation import Observation, observed_effect
 from a2l.skills.spec import ACTIONS
 
 __all__ = ["DIRECTIONS", "MoveResult", "Observation", "Scene", "as_direction"]
-
-#: The 26 discrete movement directions of METHOD.md: every sign vector but (0, 0, 0),
-#: in lexicographic order.
-DIRECTIONS: tuple[tuple[int, int, int], ...] = tuple(
-    d for d in itertools.product((-1, 0, 1), repeat=3) if d != (0, 0, 0)  # type: ignore[misc]
-)
-
-
-def as_direction(movement: Any) -> NDArray[np.float64]:
-    """Validate a movement (3 signs in {-1, 0, 1}, not all 0); return it as floats (3,)."""
-    try:
-        d = tuple(movement)
-    except TypeError as exc:
-        raise A2LValueError(f"a movement is a 3-tuple of signs in {{-1, 0, 1}}, got "
-                            f"{movement!r}") from exc
-    if len(d) != 3 or any(v not in (-1, 0, 1) for v in d) or d == (0, 0, 0):
-        raise A2LValueError(f"a movement is a 3-tuple of signs in {{-1, 0, 1}}, not all 0; "
-                            f"got {movement!r}")
-    return np.asarray(d, dtype=float)
-
-
-@dataclass(frozen=True)
-class MoveResult:
-    """Outcome of :meth:`Scene.execute`; true when the movement was carried out.
-
-    Attributes
-    ----------
-    carried_out : bool
-        The end-effector reached the target within the tolerance.
-    status : str
-        ``"ok"``, ``"unreachable"`` (no IK solution within the joint limits or the arm
-        would swing around), ``"joint_limit"``, ``"workspace_limit"`` (target outside the
-        workspace bounds: nothing moved), ``"blocked"`` (the arm moved but something
-        stopped it short of the target) or ``"held"`` (a hold perturbation kept it still).
-    message : str
-        Why, for a human; empty when ``ok``.
-    target : ndarray, shape (3,)
-        Where the end-effector was sent.
-    reached : ndarray, shape (3,)
-        Where it is after the movement.
-    """
-
-    carried_out: bool
-    status: str
-    message: str
-    target: NDArray[np.float64]
-    reached: NDArray[np.float64]
-
-    def __bool__(self) -> bool:
-        return self.carried_out
-
-
-@dataclass
-class Observation:
-    """Object positions and high-level states at one instant (perceived or true)."""
-
-    objects: dict[str, tuple[float, float, float]] = field(default_factory=dict)
-    states: dict[str, str] = field(default_factory=dict)
-    eef: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
-    gripper_closed: bool = False
-
-    def as_dict(self) -> dict[str, dict[str, Any]]:
-        return {"objects": dict(self.objects), "states": dict(self.states)}
-
 
 _PERTURB_PARAMS: dict[str, set[str]] = {
     "move_object": {"delta", "name"},
@@ -338,24 +278,7 @@ class Scene(ABC):
         return self._effect(start, self._observe(src))
 
     def _effect(self, before: Observation, after: Observation) -> str:
-        cfg = self.config
-        if "light" in before.states and before.states.get("light") != after.states.get("light"):
-            return "pressed"
-        best, best_d = None, -1.0
-        for name in self._movable_names():
-            if name not in before.objects or name not in after.objects:
-                continue
-            b = np.asarray(before.objects[name])
-            a = np.asarray(after.objects[name])
-            if (a[2] - b[2] > getattr(cfg, "lift_threshold", np.inf) and after.gripper_closed
-                    and np.linalg.norm(a - after.eef) < 0.08):
-                return "grasped"
-            dist = float(np.hypot(*(a - b)[:2]))
-            if dist > best_d:
-                best, best_d = a - b, dist
-        if best is None:
-            return "none"
-        return push_effect(best, cfg.n_push_effects, cfg.effect_threshold, cfg.effect_ratio)
+        return observed_effect(before, after, self._movable_names(), self.config)
 
     def _movable_names(self) -> list[str]:
         return [n for n in self._object_names() if n != "button"]

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from a2l.sim.bullet import PressScene
-from a2l.sim.config import GraspConfig, PressConfig
+from a2l.sim.object_configs import GraspConfig, PressConfig
 
 __all__ = ["TaskConfig", "TaskScene"]
 

@@ -15,8 +15,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l import _core
 from a2l.errors import A2LError, A2LValueError
-from a2l.sim.config import VirtualConfig
-from a2l.sim.scene import MoveResult, Observation, Scene
+from a2l.sim.movement import MoveResult
+from a2l.sim.observation import Observation
+from a2l.sim.scene import Scene
+from a2l.sim.virtual_config import VirtualConfig
 
 __all__ = ["VirtualScene"]
 

@@ -1,25 +1,22 @@
 """Skill bundles: writing and reading the one-file format of ``docs/bundle_format.md``.
 
-Writing builds the header, the JSON manifest and the arrays, has the C++ loader validate the
-bytes, then writes them atomically (temporary file in the same directory, then
-:func:`os.replace`). Reading hands the bytes to the same C++ loader
-(:func:`a2l._core.load_bundle_from_memory`), so there is a single validator of the format,
-then decodes the manifest and the arrays into a :class:`~a2l.skills.spec.SkillSpec`.
+Writing builds the JSON manifest and the arrays, packs them
+(:mod:`a2l.skills.bundle_format`), has the C++ loader validate the bytes, then writes them
+atomically (temporary file in the same directory, then :func:`os.replace`). Reading hands
+the bytes to the same C++ loader (:func:`a2l._core.load_bundle_from_memory`), so there is a
+single validator of the format, then decodes the manifest and the arrays into a
+:class:`~a2l.skills.spec.SkillSpec`.
 
-A bundle may also hold a diffeomorphic DS (section ``ds``): alone (kind ``"ds"``,
-:func:`save_ds_bundle`) or beside a skill table (``bundle_bytes(spec, ds=...)``). Its maps are
-validated by the same C++ loader (:func:`a2l._core.load_ds`), which names a bad map's index.
+A bundle may also hold a diffeomorphic DS (section ``ds``, :mod:`a2l.skills.ds_bundle`,
+whose names are re-exported here): alone (kind ``"ds"``, :func:`save_ds_bundle`) or beside a
+skill table (``bundle_bytes(spec, ds=...)``).
 A skill bundle may hold DS phases (section ``ds_phases``, :mod:`a2l.skills.phases`).
 """
 
 from __future__ import annotations
 
-import json
 import os
-import struct
-import zlib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +25,14 @@ import numpy as np
 from a2l import _core
 from a2l.atomic import atomic_write_bytes
 from a2l.errors import A2LFileNotFoundError, BundleError
+from a2l.skills.bundle_format import (
+    BUNDLE_MAGIC,
+    bundle_array,
+    created_by,
+    pack_bundle,
+    read_manifest,
+)
+from a2l.skills.ds_bundle import DSArrays, ds_bundle_bytes, load_ds_bundle, save_ds_bundle
 from a2l.skills.phases import DSPhase, ds_phases_section
 from a2l.skills.spec import (
     BUNDLE_SCHEMA_VERSION,
@@ -47,100 +52,6 @@ __all__ = [
     "save_bundle",
     "save_ds_bundle",
 ]
-
-#: The 8 bytes every bundle starts with.
-BUNDLE_MAGIC = b"A2LBNDL\x00"
-_HEADER = struct.Struct("<8sIIII")  # magic, version, manifest length, manifest CRC, reserved
-
-
-def _ceil8(n: int) -> int:
-    return (n + 7) // 8 * 8
-
-
-def _created_by() -> str:
-    return f"a2l {_core.__version__}"
-
-
-@dataclass(frozen=True)
-class DSArrays:
-    """The maps of a diffeomorphic DS as a bundle stores them (``docs/bundle_format.md``).
-
-    Attributes
-    ----------
-    target : ndarray, shape (d,)
-        The attractor, d in {2, 3}.
-    centers, vectors : ndarray, shape (K, d)
-        Centers and displacements of the K maps, in application order.
-    rhos : ndarray, shape (K,)
-        Inverse widths, rho_i * ||v_i|| < sqrt(e/2).
-    speed : float
-        Gain of the line-space system (> 0).
-    """
-
-    target: np.ndarray
-    centers: np.ndarray
-    vectors: np.ndarray
-    rhos: np.ndarray
-    speed: float = 1.0
-
-    def section(self) -> tuple[dict[str, Any], list[tuple[str, np.ndarray]]]:
-        """The manifest's ``ds`` entry and the arrays (name, float64 array) it needs.
-
-        Raises
-        ------
-        a2l.BundleError
-            Shapes that do not fit together (the loader checks the values).
-        """
-        target = np.asarray(self.target, dtype=np.float64)
-        centers = np.asarray(self.centers, dtype=np.float64)
-        vectors = np.asarray(self.vectors, dtype=np.float64)
-        rhos = np.asarray(self.rhos, dtype=np.float64)
-        if target.ndim != 1 or target.shape[0] not in (2, 3):
-            raise BundleError(f"ds.target: shape must be (2,) or (3,), got {target.shape}")
-        d, k = target.shape[0], (rhos.shape[0] if rhos.ndim == 1 else -1)
-        if k < 0:
-            raise BundleError(f"arrays.ds_rhos: shape must be (K,), got {rhos.shape}")
-        for name, a in (("ds_centers", centers), ("ds_vectors", vectors)):
-            if a.shape != (k, d):
-                raise BundleError(f"arrays.{name}: shape must be ({k}, {d}), got {a.shape}")
-        try:
-            speed = float(self.speed)
-            entry = {"dim": d, "n_maps": k, "speed": speed, "target": [float(x) for x in target]}
-            json.dumps(entry, allow_nan=False)
-        except (TypeError, ValueError) as exc:
-            raise BundleError(f"ds: target and speed must be finite numbers ({exc})") from exc
-        return entry, [("ds_centers", centers), ("ds_vectors", vectors), ("ds_rhos", rhos)]
-
-
-def _pack(manifest: dict[str, Any], arrays: list[tuple[str, np.ndarray]]) -> bytes:
-    """Header + manifest (with its ``arrays`` entry filled in) + padding + arrays."""
-    blobs, entries, offset = [], {}, 0
-    for name, a in arrays:
-        dtype = {"f": "float64", "i": "int32"}[a.dtype.kind]
-        data = np.ascontiguousarray(a, dtype="<f8" if dtype == "float64" else "<i4").tobytes()
-        offset = _ceil8(offset)
-        entries[name] = {
-            "dtype": dtype,
-            "shape": [int(x) for x in a.shape],
-            "offset": offset,
-            "nbytes": len(data),
-            "crc32": zlib.crc32(data),
-        }
-        blobs.append((offset, data))
-        offset += len(data)
-    manifest = {**manifest, "arrays": entries}
-    try:
-        text = json.dumps(manifest, allow_nan=False, ensure_ascii=False).encode("utf-8")
-    except (TypeError, ValueError) as exc:
-        raise BundleError(f"manifest: cannot be written as JSON ({exc})") from exc
-    header = _HEADER.pack(BUNDLE_MAGIC, BUNDLE_SCHEMA_VERSION, len(text), zlib.crc32(text), 0)
-    out = bytearray(header + text)
-    out += b"\x00" * (_ceil8(len(out)) - len(out))
-    blob = len(out)
-    for off, data in blobs:
-        out += b"\x00" * (blob + off - len(out))
-        out += data
-    return bytes(out)
 
 
 def _variable_json(v: VariableSpec, i: int) -> dict[str, Any]:
@@ -198,7 +109,7 @@ def bundle_bytes(
         "schema_version": BUNDLE_SCHEMA_VERSION,
         "kind": "skill",
         "name": spec.name,
-        "created_by": _created_by(),
+        "created_by": created_by(),
         "robot": None
         if spec.robot is None
         else {k: str(spec.robot[k]) for k in ("name", "urdf_sha256", "base_link", "tip_link")},
@@ -224,115 +135,9 @@ def bundle_bytes(
     if ds_phases:
         manifest["ds_phases"], phase_arrays = ds_phases_section(ds_phases, spec, ds_states)
         arrays += phase_arrays
-    data = _pack(manifest, arrays)
+    data = pack_bundle(manifest, arrays)
     _core.load_bundle_from_memory(data, f"<bundle of skill '{spec.name}'>")  # the validator
     return data
-
-
-def ds_bundle_bytes(
-    ds: DSArrays, name: str = "ds", metadata: dict[str, Any] | None = None
-) -> bytes:
-    """The bytes of a bundle holding only a diffeomorphic DS (kind ``"ds"``).
-
-    Parameters
-    ----------
-    ds : DSArrays
-        The maps (target (d,), centers and vectors (K, d), rhos (K,), speed).
-    name : str
-        The bundle's name.
-    metadata : dict, optional
-        JSON-serialisable data stored as the manifest's ``extra`` (e.g. the fitting
-        parameters, the demonstrations' frame).
-
-    Returns
-    -------
-    bytes
-        The bundle, validated by the C++ loader.
-
-    Raises
-    ------
-    a2l.BundleError
-        Shapes that do not fit, non-finite values, or a map breaking the invertibility bound
-        (the message names the map's index).
-    """
-    entry, arrays = ds.section()
-    manifest: dict[str, Any] = {
-        "schema_version": BUNDLE_SCHEMA_VERSION,
-        "kind": "ds",
-        "name": str(name),
-        "created_by": _created_by(),
-        "ds": entry,
-        "extra": dict(metadata or {}),
-    }
-    data = _pack(manifest, arrays)
-    _core.load_ds_from_memory(data, f"<bundle of DS '{name}'>")  # the validator
-    return data
-
-
-def save_ds_bundle(
-    path: str | os.PathLike[str],
-    ds: DSArrays,
-    name: str = "ds",
-    metadata: dict[str, Any] | None = None,
-) -> Path:
-    """Write a bundle holding only a diffeomorphic DS, atomically.
-
-    Parameters
-    ----------
-    path : str or PathLike
-        Destination file (missing parent directories are created).
-    ds : DSArrays
-        The maps.
-    name : str
-        The bundle's name.
-    metadata : dict, optional
-        JSON-serialisable data stored as the manifest's ``extra``.
-
-    Returns
-    -------
-    Path
-        The written file.
-
-    Raises
-    ------
-    a2l.BundleError
-        The DS does not make a valid bundle; nothing is written.
-    """
-    return atomic_write_bytes(path, ds_bundle_bytes(ds, name=name, metadata=metadata))
-
-
-def load_ds_bundle(path: str | os.PathLike[str]) -> tuple[Any, dict[str, Any]]:
-    """Read the DS of a bundle (kind ``"ds"``, or a skill bundle holding one).
-
-    Parameters
-    ----------
-    path : str or PathLike
-        The bundle file.
-
-    Returns
-    -------
-    ds : a2l._core.DiffeoDS
-        The DS, loaded and validated by the C++ loader.
-    metadata : dict
-        The manifest's ``extra`` (empty if absent).
-
-    Raises
-    ------
-    a2l.BundleError
-        Malformed, corrupted, of another schema version, without a DS, or with a map breaking
-        the invertibility bound (the message names the field or the map's index).
-    a2l.A2LFileNotFoundError
-        The file does not exist or cannot be read.
-    """
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise A2LFileNotFoundError(f"skill bundle '{path}': cannot read ({exc})") from exc
-    ds = _core.load_ds_from_memory(data, str(path))
-    (_, _, mlen, _, _) = _HEADER.unpack_from(data, 0)
-    extra = json.loads(data[_HEADER.size : _HEADER.size + mlen].decode("utf-8")).get("extra")
-    return ds, dict(extra) if isinstance(extra, dict) else {}
 
 
 def save_bundle(
@@ -403,17 +208,10 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
     except OSError as exc:
         raise A2LFileNotFoundError(f"skill bundle '{path}': cannot read ({exc})") from exc
     _core.load_bundle_from_memory(data, str(path))  # raises BundleError naming the check
-    (_, _, mlen, _, _) = _HEADER.unpack_from(data, 0)
-    manifest = json.loads(data[_HEADER.size : _HEADER.size + mlen].decode("utf-8"))
-    blob = _ceil8(_HEADER.size + mlen)
+    manifest, blob = read_manifest(data)
 
     def array(name: str, dtype: str) -> np.ndarray:
-        a = manifest["arrays"][name]
-        start = blob + int(a["offset"])
-        flat = np.frombuffer(
-            data, dtype=dtype, count=int(a["nbytes"]) // np.dtype(dtype).itemsize, offset=start
-        )
-        return flat.reshape([int(s) for s in a["shape"]]).copy()
+        return bundle_array(data, manifest, blob, name, dtype)
 
     variables = []
     for v in manifest["variables"]:

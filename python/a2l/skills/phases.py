@@ -41,7 +41,7 @@ class DSPhase:
     ds : a2l.lfd.DiffeoDS
         3-D DS expressed relative to the object (x = eef - object; its target relative to the
         object). Anything with ``target`` (3,), ``centers`` and ``vectors`` (K, 3), ``rhos``
-        (K,) and ``speed`` will do (e.g. :class:`a2l.skills.bundle.DSArrays`).
+        (K,) and ``speed`` will do (e.g. :class:`a2l.skills.ds_bundle.DSArrays`).
     when : dict of str to str
         High-level state values the phase applies under; ``{}`` = always.
     end_action : str or None
@@ -114,7 +114,7 @@ def ds_phases_section(
         unknown, or DS arrays of the wrong shapes (the C++ loader checks the rest, naming the
         phase and the field).
     """
-    from a2l.skills.bundle import DSArrays
+    from a2l.skills.ds_bundle import DSArrays
 
     values = _state_values(phases, spec, states)
     entries, arrays = [], []

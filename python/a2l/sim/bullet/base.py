@@ -16,9 +16,10 @@ from a2l.sim.bodies import BodyCache
 from a2l.sim.bullet.build import _FLOOR_Z, _PARK, BuildMixin, _Object
 from a2l.sim.bullet.motion import MotionMixin
 from a2l.sim.bullet.transit import TransitMixin
-from a2l.sim.config import SceneConfig
+from a2l.sim.observation import Observation
 from a2l.sim.perception import Camera, ColorTarget, Perception
-from a2l.sim.scene import Observation, Scene
+from a2l.sim.scene import Scene
+from a2l.sim.scene_config import SceneConfig
 
 __all__ = ["BulletScene"]
 

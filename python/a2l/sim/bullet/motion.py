@@ -14,7 +14,7 @@ import a2l
 from a2l.errors import A2LValueError
 from a2l.sim._pybullet import p
 from a2l.sim.bullet.build import _FINGER_OPEN
-from a2l.sim.scene import MoveResult
+from a2l.sim.movement import MoveResult
 
 __all__ = ["GRIPPER_DOWN", "MotionMixin"]
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 from a2l.sim._pybullet import p
 from a2l.sim.bullet.base import BulletScene
 from a2l.sim.bullet.build import _Object
-from a2l.sim.config import GraspConfig, PressConfig, PushConfig
 from a2l.sim.lamp import LampMixin
+from a2l.sim.object_configs import GraspConfig, PressConfig, PushConfig
 
 __all__ = ["GraspScene", "PressScene", "PushScene"]
 

@@ -1,0 +1,165 @@
+//! \file collision_world.hpp
+//! \brief Private to the core: the Bullet world of a CollisionModel (its flattened link tree,
+//! collision objects, pair rules and contact detection) and building it from a URDF
+//! (collision_build.cpp). Only built with Bullet (A2L_HAVE_BULLET).
+#pragma once
+
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+#include <btBulletCollisionCommon.h>
+
+#include <Eigen/Core>
+#include <functional>
+#include <kdl/segment.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "a2l/collision_model.hpp"
+#include "a2l/kinematics.hpp"
+#include "collision_shapes.hpp"
+
+namespace a2l {
+namespace detail {
+
+// One node of the flattened kinematic tree.
+struct LinkNode {
+  std::string name;
+  int parent = -1;       // index in the node list, -1 for the root
+  KDL::Segment segment;  // joint + tip frame relative to the parent link
+  int arm_index = -1;    // index of the segment's joint in the arm's q, or -1
+  std::string joint;     // the segment's joint name (movable joints only)
+  bool moving = false;   // pose depends on the arm's joints
+  int last_arm = -1;     // the last arm joint between the root and this link (-1: none)
+  btTransform offset = btTransform::getIdentity();  // shape frame in the link frame
+  int object = -1;                                  // index in objects (links with geometry), or -1
+};
+
+// A pair-rule filter: Bullet asks it before creating a broadphase pair.
+struct PairFilter : public btOverlapFilterCallback {
+  const std::vector<std::vector<char> >* check = nullptr;
+  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+    const auto* oa = static_cast<const btCollisionObject*>(a->m_clientObject);
+    const auto* ob = static_cast<const btCollisionObject*>(b->m_clientObject);
+    const size_t a_index = static_cast<size_t>(oa->getUserIndex());
+    const size_t b_index = static_cast<size_t>(ob->getUserIndex());
+    // objects added since the last rule update are tested until the rules are rebuilt
+    if (!check || a_index >= check->size() || b_index >= check->size()) return true;
+    return (*check)[a_index][b_index] != 0;
+  }
+};
+
+}  // namespace detail
+
+struct CollisionModel::Impl {
+  Kinematics kin;
+  std::vector<detail::LinkNode> nodes;  // parents before children
+  int base_node = -1;
+  std::vector<double> fixed_q;  // per node: position of a movable non-arm joint
+  // Bullet
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world{&dispatcher, &broadphase, &config};
+  detail::PairFilter filter;
+  std::vector<std::unique_ptr<btCollisionShape> > shapes;    // owns every shape
+  std::vector<std::unique_ptr<btCollisionObject> > objects;  // links first, then obstacles
+  std::vector<std::string> object_names;
+  std::vector<char> object_moving;
+  int n_link_objects = 0;
+  std::vector<std::vector<char> > allowed;  // link x link
+  std::vector<std::vector<char> > check;    // object x object: the pair is tested
+  long long checks = 0;
+  std::vector<KDL::Frame> frames;  // per node, scratch
+
+  Impl() {
+    world.getPairCache()->setOverlapFilterCallback(&filter);
+    world.setForceUpdateAllAabbs(false);
+  }
+  ~Impl() {
+    for (auto& o : objects) world.removeCollisionObject(o.get());
+  }
+
+  void rebuild_check() {
+    const size_t n = objects.size();
+    check.assign(n, std::vector<char>(n, 0));
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n; ++j) {
+        if (i == j || (!object_moving[i] && !object_moving[j])) continue;
+        const bool links =
+            static_cast<int>(i) < n_link_objects && static_cast<int>(j) < n_link_objects;
+        check[i][j] = links ? !allowed[i][j] : 1;
+      }
+    filter.check = &check;
+  }
+
+  // Poses of every node in the base link's frame for arm configuration q.
+  void forward(const Eigen::Ref<const Eigen::VectorXd>& q) {
+    frames.resize(nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      const detail::LinkNode& n = nodes[i];
+      const double qi = n.arm_index >= 0 ? q[n.arm_index] : fixed_q[i];
+      const KDL::Frame local = n.segment.pose(qi);
+      frames[i] = n.parent < 0 ? local : frames[n.parent] * local;
+    }
+    const KDL::Frame base_inv = frames[base_node].Inverse();
+    for (auto& f : frames) f = base_inv * f;
+  }
+
+  void place(bool moving_only) {
+    for (const detail::LinkNode& n : nodes) {
+      if (n.object < 0 || (moving_only && !n.moving)) continue;
+      btCollisionObject* o = objects[n.object].get();
+      o->setWorldTransform(detail::to_bt(frames[&n - nodes.data()]) * n.offset);
+      if (!n.moving) world.updateSingleAabb(o);  // static objects are not updated per check
+    }
+  }
+
+  // Runs Bullet; calls `hit(a, b)` for every tested pair in contact; stops if it returns true.
+  void detect(const Eigen::Ref<const Eigen::VectorXd>& q,
+              const std::function<bool(int, int)>& hit) {
+    ++checks;
+    forward(q);
+    place(true);
+    world.performDiscreteCollisionDetection();
+    const int m = dispatcher.getNumManifolds();
+    for (int k = 0; k < m; ++k) {
+      const btPersistentManifold* man = dispatcher.getManifoldByIndexInternal(k);
+      const int a = man->getBody0()->getUserIndex();
+      const int b = man->getBody1()->getUserIndex();
+      if (!check[a][b]) continue;  // a pair allowed after Bullet created it (a rule change)
+      for (int c = 0; c < man->getNumContacts(); ++c) {
+        if (man->getContactPoint(c).getDistance() < 0.0) {
+          if (hit(a, b)) return;
+          break;
+        }
+      }
+    }
+  }
+
+  void add_object(std::unique_ptr<btCollisionShape> shape, const std::string& name, bool moving,
+                  const btTransform& pose = btTransform::getIdentity()) {
+    auto obj = std::make_unique<btCollisionObject>();
+    obj->setCollisionShape(shape.get());
+    obj->setWorldTransform(pose);
+    // only moving objects get their bounding boxes updated at every check
+    obj->forceActivationState(moving ? DISABLE_DEACTIVATION : ISLAND_SLEEPING);
+    obj->setUserIndex(static_cast<int>(objects.size()));
+    shapes.push_back(std::move(shape));
+    object_names.push_back(name);
+    object_moving.push_back(moving ? 1 : 0);
+    world.addCollisionObject(obj.get());
+    objects.push_back(std::move(obj));
+  }
+};
+
+namespace detail {
+
+//! Fill `m` from the URDF text `xml` (`source` names it in messages): the kinematic chain
+//! base_link -> tip_link, the link tree flattened parents first, one collision object per link
+//! with geometry, and the pairs never tested (adjacent links, links rigid to each other).
+Result build_collision_model(const std::string& xml, const std::string& source,
+                             const std::string& base_link, const std::string& tip_link,
+                             const MeshVertices& meshes, CollisionModel::Impl& m);
+
+}  // namespace detail
+}  // namespace a2l

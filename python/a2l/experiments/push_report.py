@@ -1,0 +1,243 @@
+"""The push experiment's run directory presentation: the iterations' table, the plots
+(score, validation trajectories, inferred policy) and ``report.md``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from a2l.framework import FrameworkConfig
+
+__all__ = [
+    "plot_policy",
+    "plot_scores",
+    "plot_trajectories",
+    "movements_table",
+    "report_markdown",
+    "results_table",
+    "with_heldout",
+]
+
+
+def with_heldout(history: list[dict[str, Any]], *records: list[dict[str, Any]]
+                 ) -> list[dict[str, Any]]:
+    """The iterations' metrics with each one's other records merged in, as ``metrics.json``
+    holds them: the held-out metrics (``heldout_score``, ``heldout_success_rate``, ...)
+    and the robot movements (``robot_movements`` per phase, ``robot_movements_total``,
+    ``robot_movements_training``), each a list of dicts with an ``iteration`` key
+    (:func:`a2l.framework.run_framework`'s ``heldout`` and ``movements``)."""
+    out = [dict(m) for m in history]
+    for rec in records:
+        by_it = {h["iteration"]: h for h in rec}
+        for m in out:
+            m.update({k: v for k, v in by_it.get(m["iteration"], {}).items()
+                      if k != "iteration"})
+    return out
+
+
+def results_table(history: list[dict[str, Any]]) -> str:
+    """Markdown table of the iterations' metrics (with a held-out score column when the
+    iterations have one, and the robot movements made so far when they were counted)."""
+    if not history:
+        return "(no iteration)"
+    effects = list(history[0]["success_rate"])
+    held = all("heldout_score" in m for m in history)
+    moves = all("robot_movements_total" in m for m in history)
+    head = ["iteration", "score", *(["held-out score"] if held else []), *effects,
+            "false positives", "movements/action", "dataset rows", "accepted",
+            *(["movements"] if moves else []), "wall (s)"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for m in history:
+        cells = [str(m["iteration"]), f"{m['score']:.1f}",
+                 *([f"{m['heldout_score']:.1f}"] if held else []),
+                 *(f"{m['success_rate'][e]:.0%}" for e in effects),
+                 str(m["false_positives"]),
+                 "—" if np.isnan(m["mean_movements"]) else f"{m['mean_movements']:.1f}",
+                 str(m["dataset_size"]), "yes" if m["accepted"] else "no",
+                 *([f"{m['robot_movements_total']:,}"] if moves else []),
+                 f"{m['wall_s']:.1f}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def movements_table(history: list[dict[str, Any]]) -> list[str]:
+    """Lines of the report's table of robot movements per iteration and phase (none when
+    they were not counted: a run resumed from a checkpoint older than the count)."""
+    from a2l.framework.loop import MOVEMENT_PHASES
+
+    if not history or not all("robot_movements" in m for m in history):
+        return []
+    last = history[-1]
+    lines = [
+        f"Robot movements: **{last['robot_movements_total']:,}** discrete movements in all "
+        f"({last['robot_movements_training']:,} for training, the rest from the held-out "
+        "starts, which only measure); every movement the scene executed, those of the "
+        "trajectories thrown away included (`metrics.json`: `robot_movements` per phase, "
+        "`robot_movements_total` and `robot_movements_training` cumulative).",
+        "",
+        "| iteration | " + " | ".join(f"`{p}`" for p in MOVEMENT_PHASES)
+        + " | total so far | training so far |",
+        "|" + "---|" * (len(MOVEMENT_PHASES) + 3),
+    ]
+    for m in history:
+        cells = [f"{m['robot_movements'][p]:,}" for p in MOVEMENT_PHASES]
+        lines.append(f"| {m['iteration']} | " + " | ".join(cells)
+                     + f" | {m['robot_movements_total']:,} | "
+                     f"{m['robot_movements_training']:,} |")
+    return [*lines, ""]
+
+
+def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
+    """Score per iteration (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    it = [m["iteration"] for m in history]
+    fig, ax = plt.subplots(figsize=(5, 3.2))
+    ax.plot(it, [m["score"] for m in history], "o-", label="score (training starts)")
+    best = np.maximum.accumulate([m["score"] for m in history])
+    ax.step(it, best, where="post", ls="--", label="accepted (best so far)")
+    if all("heldout_score" in m for m in history):
+        ax.plot(it, [m["heldout_score"] for m in history], "s:",
+                label="score (held-out starts)")
+    ax.set(xlabel="iteration", ylabel="score", ylim=(0, 105), title="A2L push: score")
+    ax.set_xticks(it)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path,
+                      title: str = "Validation trajectories") -> None:
+    """Validation trajectories over the table, one panel per effect (PNG).
+
+    Successful ones are solid, false positives dashed, fails dotted; the box at the start
+    is grey.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from a2l.framework import discretizers as _discretizers
+
+    names = _discretizers(cfg).effects.values
+    n = len(names)
+    cols = 4
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
+    style = {"success": ("-", 1.0), "false_positive": ("--", 0.6), "fail": (":", 0.4)}
+    for e, ax in enumerate(axes.ravel()):
+        if e >= n:
+            ax.axis("off")
+            continue
+        sel = validation[validation["wanted"] == e]
+        ok = int((sel["outcome"] == "success").sum())
+        for row in sel.itertuples(index=False):
+            eef = np.asarray(row.eef).reshape(-1, 3)
+            obj = np.asarray(row.obj).reshape(-1, 3)
+            ls, alpha = style.get(row.outcome, (":", 0.4))
+            ax.plot(eef[:, 1] - obj[0, 1], eef[:, 0] - obj[0, 0], ls, alpha=alpha, lw=1.2)
+            ax.plot(eef[0, 1] - obj[0, 1], eef[0, 0] - obj[0, 0], "k.", ms=4)
+        ax.add_patch(plt.Rectangle((-0.0425, -0.035), 0.085, 0.07, color="0.6"))
+        ax.set(title=f"{names[e]}: {ok}/{len(sel)}", xlim=(0.28, -0.28), ylim=(-0.28, 0.28),
+               aspect="equal")
+        ax.set_xlabel("y (m, robot's left ←)")
+        ax.set_ylabel("x (m, far ↑)")
+    fig.suptitle(f"{title} (solid: success, dashed: false positive, dotted: fail)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
+    """The movement the skill infers over the table, per effect (PNG).
+
+    On a grid of end-effector positions around the object, the C++ step (the one the
+    robot runs) gives the movement; arrows show it, colour its probability.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from a2l.framework import discretizers as _discretizers
+    from a2l.framework.runner import CppSkillRunner
+
+    disc = _discretizers(cfg)
+    runner = CppSkillRunner(str(bundle))
+    names = disc.effects.values
+    g = np.linspace(-0.24, 0.24, 13)
+    cols = 4
+    rows = (len(names) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
+    for e, ax in enumerate(axes.ravel()):
+        if e >= len(names):
+            ax.axis("off")
+            continue
+        xs, ys, us, vs, ps = [], [], [], [], []
+        for x in g:
+            for y in g:
+                if abs(x) < 0.04 and abs(y) < 0.045:
+                    continue
+                runner.reset()
+                move, _status, prob = runner.step_with_probability(
+                    np.array([x, y, 0.0]), np.zeros(3), e)
+                if move is None:
+                    continue
+                d = disc.movements.displacement(move)
+                xs.append(y)
+                ys.append(x)
+                us.append(d[1])
+                vs.append(d[0])
+                ps.append(prob)
+        q = ax.quiver(xs, ys, us, vs, ps, cmap="viridis", clim=(0, 1), scale=1.0,
+                      scale_units="xy", angles="xy", width=0.006)
+        ax.add_patch(plt.Rectangle((-0.0425, -0.035), 0.085, 0.07, color="0.6"))
+        ax.set(title=names[e], xlim=(0.27, -0.27), ylim=(-0.27, 0.27), aspect="equal")
+    fig.colorbar(q, ax=axes.ravel().tolist(), shrink=0.7, label="P(movement)")
+    fig.suptitle("Inferred movement over the discretized context (object at the centre)")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
+                    history: list[dict[str, Any]]) -> str:
+    """The run directory's ``report.md``: final and held-out scores, the iterations' table,
+    the robot movements per phase and the plots."""
+    held = result.get("heldout_score")
+    heldout_lines = [] if held is None else [
+        f"Held-out score of the final skill: **{held:.1f}**, from {cfg.heldout_starts} "
+        f"start positions no phase of training used (uniform angle, distance "
+        f"{cfg.heldout_r_low:.2f}-{cfg.heldout_r_high:.2f} m from the object, their own "
+        f"seed stream); the score above is from the {cfg.n_starts} training starts the "
+        "skill was validated and extended from.",
+        "",
+    ]
+    return "\n".join([
+        f"# A2L push experiment ({cfg.scene} scene, {cfg.n_effects} effects, seed {cfg.seed})",
+        "",
+        f"Final score: **{result['final_score']:.1f}** after {len(result['iterations'])} "
+        f"iteration(s); final skill `{Path(result['bundle']).relative_to(run_dir)}` "
+        "(copied to `skills/push.a2lb`).",
+        "",
+        *heldout_lines,
+        results_table(history),
+        "",
+        *movements_table(history),
+        "![score per iteration](score.png)",
+        "",
+        "![validation trajectories](trajectories.png)",
+        "",
+        *(["![held-out trajectories](heldout_trajectories.png)", ""]
+          if held is not None else []),
+        "![inferred movement](policy.png)",
+        "",
+        "Configuration: `config.json`; machine-readable results: `metrics.json`.",
+    ]) + "\n"
