@@ -45,8 +45,17 @@ std::vector<double> flat(const Array& a) {
   return std::vector<double>(a.data(), a.data() + a.size());
 }
 
+DiffeoDirection parse_direction(const std::string& direction) {
+  if (direction == "to_demo") return DiffeoDirection::to_demo;
+  if (direction == "to_line") return DiffeoDirection::to_line;
+  raise(Status::invalid_argument,
+        "diffeomorphic DS: direction must be 'to_demo' or 'to_line', got '" + direction + "'");
+}
+
 PyDiffeo from_arrays(const Array& target, const Array& centers, const Array& vectors,
-                     const Array& rhos, double speed, double negligible) {
+                     const Array& rhos, double speed, double negligible,
+                     const std::string& direction) {
+  const DiffeoDirection dir = parse_direction(direction);
   if (target.ndim() != 1 || (target.shape(0) != 2 && target.shape(0) != 3)) {
     raise(Status::size_mismatch,
           "diffeomorphic DS: target must have shape (2,) or (3,), got " + shape_str(target));
@@ -73,6 +82,7 @@ PyDiffeo from_arrays(const Array& target, const Array& centers, const Array& vec
   m.vectors = flat(vectors);
   m.rhos = flat(rhos);
   m.speed = speed;
+  m.direction = dir;
   return make_ds(std::move(m), negligible);
 }
 
@@ -235,8 +245,9 @@ void bind_diffeo(py::module_& m) {
   py::class_<PyDiffeo>(m, "DiffeoDS", R"doc(
 Diffeomorphic dynamical system (fast diffeomorphic matching), evaluated in C++.
 
-Phi = psi_{K-1} o ... o psi_0 with psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i, and the DS
-x_dot = speed * J_Phi(z) (target - z), z = Phi^{-1}(x), globally stable at ``target``.
+C = psi_{K-1} o ... o psi_0 with psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i; Phi = C
+(direction "to_demo") or Phi = C^{-1} ("to_line"); the DS x_dot = speed * J_Phi(z) (target - z),
+z = Phi^{-1}(x), globally stable at ``target``.
 
 Parameters
 ----------
@@ -252,6 +263,10 @@ negligible : float
     Cutoff t in [DIFFEO_NEGLIGIBLE, DIFFEO_UNDERFLOW] (40 and 746): a map is skipped where its
     weight is below exp(-t). The default changes results by less than double precision;
     DIFFEO_UNDERFLOW skips only weights that underflow (to measure what the cutoff saves).
+direction : str
+    ``"to_demo"`` (the maps carry the line space onto the demonstration: a velocity query
+    solves K scalar equations) or ``"to_line"`` (they carry the demonstration onto the line:
+    a velocity query is explicit, one forward sweep and one d x d solve).
 
 Raises
 ------
@@ -260,7 +275,8 @@ a2l.A2LValueError
     bad map's index).
 )doc")
       .def(py::init(&from_arrays), py::arg("target"), py::arg("centers"), py::arg("vectors"),
-           py::arg("rhos"), py::arg("speed") = 1.0, py::arg("negligible") = kDiffeoNegligible)
+           py::arg("rhos"), py::arg("speed") = 1.0, py::arg("negligible") = kDiffeoNegligible,
+           py::arg("direction") = "to_demo")
       .def(
           "forward", [](const PyDiffeo& p, const Array& x) { return dispatch(p, x, "forward"); },
           py::arg("x"), "y = Phi(x); x (d,) or (M, d) -> same shape.")
@@ -308,6 +324,9 @@ dict
           "negligible",
           [](const PyDiffeo& p) { return p.maps.dim == 3 ? p.d3.negligible() : p.d2.negligible(); })
       .def_property_readonly("n_maps", [](const PyDiffeo& p) { return p.maps.n_maps(); })
+      .def_property_readonly(
+          "direction",
+          [](const PyDiffeo& p) { return std::string(diffeo_direction_name(p.maps.direction)); })
       .def_property_readonly("speed", [](const PyDiffeo& p) { return p.maps.speed; })
       .def_property_readonly(
           "target", [](const PyDiffeo& p) { return as_array(p.maps.target, {p.maps.dim}); })
@@ -323,7 +342,8 @@ dict
           "rhos", [](const PyDiffeo& p) { return as_array(p.maps.rhos, {p.maps.n_maps()}); })
       .def("__repr__", [](const PyDiffeo& p) {
         return "<a2l._core.DiffeoDS d=" + std::to_string(p.maps.dim) +
-               ", K=" + std::to_string(p.maps.n_maps()) + ">";
+               ", K=" + std::to_string(p.maps.n_maps()) + ", " +
+               diffeo_direction_name(p.maps.direction) + ">";
       });
 
   m.def(

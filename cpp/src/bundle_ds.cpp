@@ -19,6 +19,16 @@ bool bundle_detail::parse_ds_object(const json& ds, const std::string& where, co
   maps.dim = static_cast<int>(dim);
   if (!get_number(ds, where, "speed", maps.speed, e)) return false;
   if (!(maps.speed > 0.0)) return e.parse(where + "speed: must be > 0");
+  std::string direction;
+  if (!get_string(ds, where, "direction", direction, e)) return false;
+  if (direction == "to_demo") {
+    maps.direction = DiffeoDirection::to_demo;
+  } else if (direction == "to_line") {
+    maps.direction = DiffeoDirection::to_line;
+  } else {
+    return e.parse(where + "direction: must be \"to_demo\" or \"to_line\", got \"" + direction +
+                   "\"");
+  }
   const json* target = nullptr;
   if (!get_array(ds, where, "target", target, e)) return false;
   if (target->size() != static_cast<std::size_t>(dim)) {

@@ -1,5 +1,6 @@
 #include "a2l/diffeo.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -39,6 +40,10 @@ bool all_finite(const double* p, std::size_t n) {
 
 }  // namespace
 
+const char* diffeo_direction_name(DiffeoDirection d) noexcept {
+  return d == DiffeoDirection::to_line ? "to_line" : "to_demo";
+}
+
 Result validate_diffeo_maps(const DiffeoMaps& m) {
   if (m.dim != 2 && m.dim != 3) {
     return bad(Status::size_mismatch, "dim must be 2 or 3, got " + std::to_string(m.dim));
@@ -62,6 +67,11 @@ Result validate_diffeo_maps(const DiffeoMaps& m) {
     return bad(Status::size_mismatch, "vectors has " + std::to_string(m.vectors.size()) +
                                           " values, expected " + std::to_string(k) + " maps x " +
                                           std::to_string(d) + " (as rhos)");
+  }
+  if (m.direction != DiffeoDirection::to_demo && m.direction != DiffeoDirection::to_line) {
+    return bad(Status::invalid_argument,
+               "direction = " + std::to_string(static_cast<int>(m.direction)) +
+                   " must be to_demo (0) or to_line (1)");
   }
   if (!all_finite(m.target.data(), d)) return bad(Status::invalid_argument, "target: not finite");
   if (!std::isfinite(m.speed) || !(m.speed > 0.0)) {
@@ -120,6 +130,7 @@ Result DiffeoDS<D>::create(const DiffeoMaps& maps, DiffeoDS& out, double negligi
   ds.target_ = Eigen::Map<const Vec>(maps.target.data());
   ds.speed_ = maps.speed;
   ds.negligible_ = negligible;
+  ds.direction_ = maps.direction;
   out = std::move(ds);
   return Result::success();
 }
@@ -130,6 +141,7 @@ DiffeoMaps DiffeoDS<D>::maps() const {
   m.dim = D;
   m.target.assign(target_.data(), target_.data() + D);
   m.speed = speed_;
+  m.direction = direction_;
   for (const Map& p : maps_) {
     m.centers.insert(m.centers.end(), p.c.data(), p.c.data() + D);
     m.vectors.insert(m.vectors.end(), p.v.data(), p.v.data() + D);
@@ -226,35 +238,18 @@ double DiffeoDS<D>::solve_weight(const Map& m, const Vec& z) noexcept {
 }
 
 template <int D>
-Status DiffeoDS<D>::forward(const Vec& x, Vec& y) const noexcept {
-  if (!x.allFinite()) return Status::invalid_argument;
+typename DiffeoDS<D>::Vec DiffeoDS<D>::apply(const Vec& x) const noexcept {
   Vec p = x;
   for (const Map& m : maps_) {
     const double r2 = m.rho2 * (p - m.c).squaredNorm();
     if (r2 > negligible_) continue;  // weight < exp(-negligible): skipped
     p += std::exp(-r2) * m.v;
   }
-  if (!p.allFinite()) return Status::invalid_argument;
-  y = p;
-  return Status::ok;
+  return p;
 }
 
 template <int D>
-Status DiffeoDS<D>::inverse(const Vec& y, Vec& x) const noexcept {
-  if (!y.allFinite()) return Status::invalid_argument;
-  Vec p = y;
-  for (auto it = maps_.rbegin(); it != maps_.rend(); ++it) {
-    const double k = solve_weight(*it, p - it->c);
-    p -= k * it->v;
-  }
-  if (!p.allFinite()) return Status::invalid_argument;
-  x = p;
-  return Status::ok;
-}
-
-template <int D>
-Status DiffeoDS<D>::jacobian(const Vec& x, Vec& y, Mat& jac) const noexcept {
-  if (!x.allFinite()) return Status::invalid_argument;
+typename DiffeoDS<D>::Vec DiffeoDS<D>::apply_jacobian(const Vec& x, Mat& jac) const noexcept {
   Vec p = x;
   Mat j = Mat::Identity();
   for (const Map& m : maps_) {
@@ -267,15 +262,22 @@ Status DiffeoDS<D>::jacobian(const Vec& x, Vec& y, Mat& jac) const noexcept {
     j.noalias() -= (2.0 * m.rho2 * k * m.v) * wj;
     p += k * m.v;
   }
-  if (!p.allFinite() || !j.allFinite()) return Status::invalid_argument;
-  y = p;
   jac = j;
-  return Status::ok;
+  return p;
 }
 
 template <int D>
-Status DiffeoDS<D>::velocity(const Vec& x, Vec& xdot, Vec& z) const noexcept {
-  if (!x.allFinite()) return Status::invalid_argument;
+typename DiffeoDS<D>::Vec DiffeoDS<D>::undo(const Vec& y) const noexcept {
+  Vec p = y;
+  for (auto it = maps_.rbegin(); it != maps_.rend(); ++it) {
+    const double k = solve_weight(*it, p - it->c);
+    p -= k * it->v;
+  }
+  return p;
+}
+
+template <int D>
+typename DiffeoDS<D>::Vec DiffeoDS<D>::velocity_undo(const Vec& x, Vec& z) const noexcept {
   Vec p = x;
   Mat j = Mat::Identity();  // J_{K-1} ... J_i after undoing map i
   for (auto it = maps_.rbegin(); it != maps_.rend(); ++it) {
@@ -287,7 +289,82 @@ Status DiffeoDS<D>::velocity(const Vec& x, Vec& xdot, Vec& z) const noexcept {
     const Vec jv = j * m.v;
     j.noalias() -= (2.0 * m.rho2 * k * jv) * (p - m.c).transpose();
   }
-  const Vec f = speed_ * (j * (target_ - p));
+  z = p;
+  return speed_ * (j * (target_ - p));
+}
+
+namespace {
+
+// x = a^{-1} b for a fixed-size 2x2 or 3x3 (cofactors: no allocation); false if det(a) is 0 or
+// not finite. Every factor of J_C has det 1 - 2 rho^2 k v.w >= 1 - rho ||v|| / sqrt(e/2) > 0
+// under the bound, so det(J_C) > 0 unless it underflows.
+template <int D>
+bool solve_small(const Eigen::Matrix<double, D, D>& a, const Eigen::Matrix<double, D, 1>& b,
+                 Eigen::Matrix<double, D, 1>& x) noexcept {
+  const double det = a.determinant();
+  if (!(det != 0.0) || !std::isfinite(det)) return false;
+  x = a.inverse() * b;
+  return true;
+}
+
+}  // namespace
+
+template <int D>
+bool DiffeoDS<D>::velocity_apply(const Vec& x, Vec& xdot, Vec& z) const noexcept {
+  Mat j;
+  z = apply_jacobian(x, j);
+  return solve_small<D>(j, speed_ * (target_ - z), xdot);
+}
+
+template <int D>
+Status DiffeoDS<D>::forward(const Vec& x, Vec& y) const noexcept {
+  if (!x.allFinite()) return Status::invalid_argument;
+  const Vec p = direction_ == DiffeoDirection::to_demo ? apply(x) : undo(x);
+  if (!p.allFinite()) return Status::invalid_argument;
+  y = p;
+  return Status::ok;
+}
+
+template <int D>
+Status DiffeoDS<D>::inverse(const Vec& y, Vec& x) const noexcept {
+  if (!y.allFinite()) return Status::invalid_argument;
+  const Vec p = direction_ == DiffeoDirection::to_demo ? undo(y) : apply(y);
+  if (!p.allFinite()) return Status::invalid_argument;
+  x = p;
+  return Status::ok;
+}
+
+template <int D>
+Status DiffeoDS<D>::jacobian(const Vec& x, Vec& y, Mat& jac) const noexcept {
+  if (!x.allFinite()) return Status::invalid_argument;
+  Vec p;
+  Mat j;
+  if (direction_ == DiffeoDirection::to_demo) {
+    p = apply_jacobian(x, j);
+  } else {
+    // Phi = C^{-1}: J_Phi(x) = J_C(Phi(x))^{-1}
+    p = undo(x);
+    Mat jc;
+    apply_jacobian(p, jc);
+    const double det = jc.determinant();
+    if (!(det != 0.0) || !std::isfinite(det)) return Status::invalid_argument;
+    j = jc.inverse();
+  }
+  if (!p.allFinite() || !j.allFinite()) return Status::invalid_argument;
+  y = p;
+  jac = j;
+  return Status::ok;
+}
+
+template <int D>
+Status DiffeoDS<D>::velocity(const Vec& x, Vec& xdot, Vec& z) const noexcept {
+  if (!x.allFinite()) return Status::invalid_argument;
+  Vec p, f;
+  if (direction_ == DiffeoDirection::to_demo) {
+    f = velocity_undo(x, p);
+  } else if (!velocity_apply(x, f, p)) {
+    return Status::invalid_argument;
+  }
   if (!f.allFinite() || !p.allFinite()) return Status::invalid_argument;
   xdot = f;
   z = p;

@@ -37,7 +37,7 @@ DsParts sample_ds(int d = 2, int k = 12, std::uint64_t seed = 5) {
   DsParts p;
   std::vector<double> target;
   for (int j = 0; j < d; ++j) target.push_back(0.1 * u(rng));
-  p.ds = {{"dim", d}, {"n_maps", k}, {"speed", 1.5}, {"target", target}};
+  p.ds = {{"dim", d}, {"n_maps", k}, {"speed", 1.5}, {"direction", "to_demo"}, {"target", target}};
   for (int i = 0; i < k; ++i) {
     double n2 = 0.0;
     for (int j = 0; j < d; ++j) {
@@ -110,6 +110,7 @@ TEST(BundleDs, DsOnlyBundleLoads) {
     EXPECT_EQ(m.vectors, p.vectors);
     EXPECT_EQ(m.rhos, p.rhos);
     EXPECT_EQ(m.speed, 1.5);
+    EXPECT_EQ(m.direction, a2l::DiffeoDirection::to_demo);
     EXPECT_EQ(m.target, p.ds["target"].get<std::vector<double>>());
     // a DS-only bundle is not a skill
     a2l::Skill s;
@@ -182,6 +183,27 @@ TEST(BundleDs, NonFiniteValuesAreRefused) {
   expect_error(ds_bundle(p), Status::parse_error, "ds.speed: must be > 0");
   p.ds["speed"] = "fast";
   expect_error(ds_bundle(p), Status::parse_error, "ds.speed: must be a number");
+  p = sample_ds(2, 12);
+  p.ds["direction"] = "backwards";
+  expect_error(ds_bundle(p), Status::parse_error,
+               "ds.direction: must be \"to_demo\" or \"to_line\", got \"backwards\"");
+  p.ds["direction"] = 1;
+  expect_error(ds_bundle(p), Status::parse_error, "ds.direction: must be a string");
+}
+
+TEST(BundleDs, DirectionToLineLoadsAndBuildsTheDs) {
+  DsParts p = sample_ds(2, 10);
+  p.ds["direction"] = "to_line";
+  DiffeoMaps m;
+  ASSERT_TRUE(load_ds(ds_bundle(p), m).ok());
+  EXPECT_EQ(m.direction, a2l::DiffeoDirection::to_line);
+  a2l::DiffeoDS<2> ds;
+  ASSERT_TRUE(a2l::DiffeoDS<2>::create(m, ds).ok());
+  EXPECT_EQ(ds.direction(), a2l::DiffeoDirection::to_line);
+  EXPECT_EQ(ds.maps().direction, a2l::DiffeoDirection::to_line);
+  // the bound is checked the same way in both directions
+  p.rhos[4] = 1.01 * a2l::kDiffeoInvertibilityBound / std::hypot(p.vectors[8], p.vectors[9]);
+  expect_error(ds_bundle(p), Status::parse_error, "map 4: rho * ||v||");
 }
 
 TEST(BundleDs, WrongDimensionsAndShapesAreRefused) {
@@ -213,7 +235,7 @@ TEST(BundleDs, WrongDimensionsAndShapesAreRefused) {
 }
 
 TEST(BundleDs, MissingKeysAreNamed) {
-  for (const char* key : {"dim", "n_maps", "speed", "target"}) {
+  for (const char* key : {"dim", "n_maps", "speed", "direction", "target"}) {
     DsParts p = sample_ds();
     p.ds.erase(key);
     expect_error(ds_bundle(p), Status::parse_error, std::string("ds.") + key + ": missing");

@@ -4,6 +4,7 @@
 // the invertibility bound (naming the map), non-finite input, and no allocation per call.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -55,6 +56,14 @@ DiffeoMaps random_maps(int d, int k, std::uint64_t seed, double mu_lo = 0.2, dou
   return m;
 }
 
+// The same maps going the other way.
+DiffeoMaps with_direction(DiffeoMaps m, a2l::DiffeoDirection d) {
+  m.direction = d;
+  return m;
+}
+constexpr a2l::DiffeoDirection kToDemo = a2l::DiffeoDirection::to_demo;
+constexpr a2l::DiffeoDirection kToLine = a2l::DiffeoDirection::to_line;
+
 template <int D>
 DiffeoDS<D> make(const DiffeoMaps& m) {
   DiffeoDS<D> ds;
@@ -84,11 +93,22 @@ struct Plain {
     const double k = std::exp(-r2(i) * (x - c(i)).squaredNorm());
     return Mat::Identity() - 2.0 * r2(i) * k * v(i) * (x - c(i)).transpose();
   }
-  Vec forward(Vec x) const {
+  Vec apply(Vec x) const {
     for (int i = 0; i < m.n_maps(); ++i) x += std::exp(-r2(i) * (x - c(i)).squaredNorm()) * v(i);
     return x;
   }
-  Vec inverse(Vec y) const {
+  Mat apply_jacobian(Vec p) const {
+    Mat j = Mat::Identity();
+    for (int i = 0; i < m.n_maps(); ++i) {
+      j = jac_map(i, p) * j;
+      p += std::exp(-r2(i) * (p - c(i)).squaredNorm()) * v(i);
+    }
+    return j;
+  }
+  bool to_line() const { return m.direction == a2l::DiffeoDirection::to_line; }
+  Vec forward(const Vec& x) const { return to_line() ? undo(x) : apply(x); }
+  Vec inverse(const Vec& y) const { return to_line() ? apply(y) : undo(y); }
+  Vec undo(Vec y) const {
     for (int i = m.n_maps() - 1; i >= 0; --i) {
       double lo = 0.0, hi = 1.0;
       for (int it = 0; it < 200; ++it) {
@@ -101,21 +121,18 @@ struct Plain {
     return y;
   }
   Vec velocity(const Vec& x) const {
-    Vec z = inverse(x);
-    Mat j = Mat::Identity();
-    Vec p = z;
-    for (int i = 0; i < m.n_maps(); ++i) {
-      j = jac_map(i, p) * j;
-      p += std::exp(-r2(i) * (p - c(i)).squaredNorm()) * v(i);
+    const Vec t = Eigen::Map<const Vec>(m.target.data());
+    if (to_line()) {  // x_dot = speed J_C(x)^{-1} (target - C(x)), by a pivoted LU
+      return apply_jacobian(x).fullPivLu().solve(m.speed * (t - apply(x)));
     }
-    Vec t = Eigen::Map<const Vec>(m.target.data());
-    return m.speed * j * (t - z);
+    const Vec z = undo(x);
+    return m.speed * apply_jacobian(z) * (t - z);
   }
 };
 
 template <int D>
-void check_round_trip(std::uint64_t seed) {
-  const DiffeoMaps m = random_maps(D, 150, seed);
+void check_round_trip(std::uint64_t seed, a2l::DiffeoDirection way = kToDemo) {
+  const DiffeoMaps m = with_direction(random_maps(D, 150, seed), way);
   const DiffeoDS<D> ds = make<D>(m);
   std::mt19937_64 rng(seed + 100);
   double worst = 0.0;
@@ -140,6 +157,8 @@ void check_round_trip(std::uint64_t seed) {
 
 TEST(Diffeo, InverseUndoesForward2D) { check_round_trip<2>(1); }
 TEST(Diffeo, InverseUndoesForward3D) { check_round_trip<3>(2); }
+TEST(Diffeo, InverseUndoesForwardToLine2D) { check_round_trip<2>(1, kToLine); }
+TEST(Diffeo, InverseUndoesForwardToLine3D) { check_round_trip<3>(2, kToLine); }
 
 TEST(Diffeo, InverseNearTheBoundStillConverges) {
   // rho ||v|| up to 0.99 sqrt(e/2): g' gets as small as 0.01, the bracket keeps Newton safe.
@@ -156,8 +175,8 @@ TEST(Diffeo, InverseNearTheBoundStillConverges) {
 }
 
 template <int D>
-void check_jacobian(std::uint64_t seed) {
-  const DiffeoMaps m = random_maps(D, 40, seed, 0.2, 0.9, 5.0);
+void check_jacobian(std::uint64_t seed, a2l::DiffeoDirection way = kToDemo) {
+  const DiffeoMaps m = with_direction(random_maps(D, 40, seed, 0.2, 0.9, 5.0), way);
   const DiffeoDS<D> ds = make<D>(m);
   const Plain<D> plain{m};
   std::mt19937_64 rng(seed + 7);
@@ -186,10 +205,12 @@ void check_jacobian(std::uint64_t seed) {
 
 TEST(Diffeo, JacobianMatchesFiniteDifferences2D) { check_jacobian<2>(11); }
 TEST(Diffeo, JacobianMatchesFiniteDifferences3D) { check_jacobian<3>(12); }
+TEST(Diffeo, JacobianMatchesFiniteDifferencesToLine2D) { check_jacobian<2>(11, kToLine); }
+TEST(Diffeo, JacobianMatchesFiniteDifferencesToLine3D) { check_jacobian<3>(12, kToLine); }
 
 template <int D>
-void check_velocity(std::uint64_t seed) {
-  const DiffeoMaps m = random_maps(D, 150, seed);
+void check_velocity(std::uint64_t seed, a2l::DiffeoDirection way = kToDemo) {
+  const DiffeoMaps m = with_direction(random_maps(D, 150, seed), way);
   const DiffeoDS<D> ds = make<D>(m);
   const Plain<D> plain{m};
   std::mt19937_64 rng(seed + 3);
@@ -230,6 +251,28 @@ TEST(Diffeo, VelocityMatchesPlainImplementationGentleWideMaps) {
   }
 }
 TEST(Diffeo, VelocityMatchesPlainImplementation3D) { check_velocity<3>(22); }
+TEST(Diffeo, VelocityMatchesPlainImplementationToLine2D) { check_velocity<2>(21, kToLine); }
+TEST(Diffeo, VelocityMatchesPlainImplementationToLine3D) { check_velocity<3>(22, kToLine); }
+
+TEST(Diffeo, ToLineVelocityIsTheDerivativeOfTheExactFlow) {
+  // to_line's velocity (forward sweep + solve) and its exact flow (the maps applied to x0, the
+  // linear flow, the maps undone) are computed by different code: along the flow
+  // x(t) = Phi(target + (z0 - target) e^{-speed t}), dx/dt must equal velocity(x(t)).
+  const DiffeoMaps m = with_direction(random_maps(2, 150, 25), kToLine);
+  const DiffeoDS<2> ds = make<2>(m);
+  std::mt19937_64 rng(26);
+  for (int n = 0; n < 100; ++n) {
+    const Eigen::Vector2d x0 = random_point<2>(rng, 15.0);
+    const double h = 1e-5;
+    std::vector<Eigen::Vector2d> out(3);
+    // states at t = 0, h, 2h; central difference at t = h (error O(h^2) of a stiff field)
+    ASSERT_EQ(ds.rollout(x0, h, out.size(), out.data()), Status::ok);
+    Eigen::Vector2d f;
+    ASSERT_EQ(ds.velocity(out[1], f), Status::ok);
+    const Eigen::Vector2d fd = (out[2] - out[0]) / (2.0 * h);
+    EXPECT_LT((fd - f).norm(), 1e-4 * (1.0 + f.norm())) << "x0 = " << x0.transpose();
+  }
+}
 
 TEST(Diffeo, EveryBranchOfTheOneMapSolveIsExact) {
   // one map, points from its center outwards: near (Halley), far (series, weight <= 1e-4) and
@@ -318,8 +361,9 @@ TEST(Diffeo, NoMapsIsTheLinearSystem) {
 }
 
 template <int D>
-void check_rollout(DiffeoIntegrator how, double dt, std::size_t steps, double tol) {
-  const DiffeoMaps m = random_maps(D, 150, 31);
+void check_rollout(DiffeoIntegrator how, double dt, std::size_t steps, double tol,
+                   a2l::DiffeoDirection way = kToDemo) {
+  const DiffeoMaps m = with_direction(random_maps(D, 150, 31), way);
   const DiffeoDS<D> ds = make<D>(m);
   using Vec = typename DiffeoDS<D>::Vec;
   const Vec t = Eigen::Map<const Vec>(m.target.data());
@@ -338,12 +382,17 @@ void check_rollout(DiffeoIntegrator how, double dt, std::size_t steps, double to
 TEST(Diffeo, RolloutFromFarOutsideConvergesExact) {
   check_rollout<2>(DiffeoIntegrator::exact, 0.05, 800, 1e-6);
   check_rollout<3>(DiffeoIntegrator::exact, 0.05, 800, 1e-6);
+  check_rollout<2>(DiffeoIntegrator::exact, 0.05, 800, 1e-6, kToLine);
+  check_rollout<3>(DiffeoIntegrator::exact, 0.05, 800, 1e-6, kToLine);
 }
 TEST(Diffeo, RolloutFromFarOutsideConvergesRk4) {
   check_rollout<2>(DiffeoIntegrator::rk4, 0.02, 2000, 1e-6);
+  check_rollout<2>(DiffeoIntegrator::rk4, 0.02, 2000, 1e-6, kToLine);
+  check_rollout<3>(DiffeoIntegrator::rk4, 0.02, 2000, 1e-6, kToLine);
 }
 TEST(Diffeo, RolloutFromFarOutsideConvergesEuler) {
   check_rollout<2>(DiffeoIntegrator::euler, 0.005, 8000, 1e-6);
+  check_rollout<2>(DiffeoIntegrator::euler, 0.005, 8000, 1e-6, kToLine);
 }
 
 TEST(Diffeo, Rk4ConvergesToTheExactFlow) {
@@ -392,6 +441,12 @@ TEST(Diffeo, BadValuesAndShapesAreRefused) {
   DiffeoMaps m = good;
   m.centers[7] = nan;
   expect_refused(m, Status::invalid_argument, "map 3: center is not finite");
+  m = good;
+  m.direction = static_cast<a2l::DiffeoDirection>(2);
+  expect_refused(m, Status::invalid_argument, "direction = 2 must be to_demo (0) or to_line (1)");
+  m = with_direction(good, kToLine);  // the same checks apply to the other direction
+  m.rhos[4] = 2.0 * a2l::kDiffeoInvertibilityBound / std::hypot(m.vectors[8], m.vectors[9]);
+  expect_refused(m, Status::invalid_argument, "map 4: rho * ||v||");
   m = good;
   m.vectors[0] = std::numeric_limits<double>::infinity();
   expect_refused(m, Status::invalid_argument, "map 0: vector is not finite");
@@ -469,8 +524,9 @@ struct NoAllocCase {
 };
 
 template <int D>
-NoAllocCase<D> no_alloc_case(std::uint64_t seed) {
-  NoAllocCase<D> c{make<D>(random_maps(D, 150, seed)), std::vector<typename DiffeoDS<D>::Vec>(5000),
+NoAllocCase<D> no_alloc_case(std::uint64_t seed, a2l::DiffeoDirection way = kToDemo) {
+  NoAllocCase<D> c{make<D>(with_direction(random_maps(D, 150, seed), way)),
+                   std::vector<typename DiffeoDS<D>::Vec>(5000),
                    std::vector<typename DiffeoDS<D>::Vec>(64)};
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<int> pick(0, 9);
@@ -487,6 +543,8 @@ NoAllocCase<D> no_alloc_case(std::uint64_t seed) {
 TEST(DiffeoNoAlloc, EvaluationAllocatesNothing) {
   NoAllocCase<2> c2 = no_alloc_case<2>(71);
   NoAllocCase<3> c3 = no_alloc_case<3>(72);
+  NoAllocCase<2> l2 = no_alloc_case<2>(73, kToLine);
+  NoAllocCase<3> l3 = no_alloc_case<3>(74, kToLine);
   auto evaluate = [](auto& c) {
     using Ds = std::decay_t<decltype(c.ds)>;
     std::size_t ok = 0;
@@ -508,9 +566,13 @@ TEST(DiffeoNoAlloc, EvaluationAllocatesNothing) {
   a2l::test::AllocationGuard guard;
   const std::size_t ok2 = evaluate(c2);
   const std::size_t ok3 = evaluate(c3);
+  const std::size_t okl2 = evaluate(l2);  // direction to_line: the explicit velocity
+  const std::size_t okl3 = evaluate(l3);
   EXPECT_EQ(guard.allocations(), 0u);
   EXPECT_GT(ok2, 10000u);  // most calls succeeded: the loops did real work
   EXPECT_GT(ok3, 10000u);
+  EXPECT_GT(okl2, 10000u);
+  EXPECT_GT(okl3, 10000u);
 }
 
 TEST(Diffeo, TimingReportsOrderedPercentiles) {

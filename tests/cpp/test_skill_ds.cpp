@@ -47,7 +47,12 @@ std::vector<Phase> sample_phases() {
                  {"when", {{"light", "off"}, {"gripper", "open"}}},
                  {"end_action", "close"},
                  {"tolerance", 0.01},
-                 {"ds", {{"dim", 3}, {"n_maps", 3}, {"speed", 1.0}, {"target", {0.0, 0.0, 0.02}}}}};
+                 {"ds",
+                  {{"dim", 3},
+                   {"n_maps", 3},
+                   {"speed", 1.0},
+                   {"direction", "to_demo"},
+                   {"target", {0.0, 0.0, 0.02}}}}};
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 3; ++i) {
@@ -62,12 +67,22 @@ std::vector<Phase> sample_phases() {
                  {"when", {{"gripper", "closed"}}},
                  {"end_action", nullptr},
                  {"tolerance", 0.01},
-                 {"ds", {{"dim", 3}, {"n_maps", 0}, {"speed", 1.0}, {"target", {0.0, 0.0, 0.15}}}}};
+                 {"ds",
+                  {{"dim", 3},
+                   {"n_maps", 0},
+                   {"speed", 1.0},
+                   {"direction", "to_demo"},
+                   {"target", {0.0, 0.0, 0.15}}}}};
   ph[2].entry = {{"name", "retreat"},
                  {"when", {{"light", "on"}}},
                  {"end_action", nullptr},
                  {"tolerance", 0.01},
-                 {"ds", {{"dim", 3}, {"n_maps", 0}, {"speed", 2.0}, {"target", {0.15, 0.0, 0.0}}}}};
+                 {"ds",
+                  {{"dim", 3},
+                   {"n_maps", 0},
+                   {"speed", 2.0},
+                   {"direction", "to_line"},
+                   {"target", {0.15, 0.0, 0.0}}}}};
   return ph;
 }
 

@@ -5,8 +5,9 @@
 // which lets the fuzzer reach the JSON parser and every validator behind the checksums. When
 // the bytes do load, the skill must be consistent: step() on contexts derived from the input
 // stays in bounds, and an action (open, close, stay) displaces nothing. The DS section is
-// loaded too (load_ds_bundle_from_memory): loaded maps must build a DiffeoDS, whose evaluation
-// on points derived from the input returns a status; DS phases step within one movement.
+// loaded too (load_ds_bundle_from_memory): loaded maps must build a DiffeoDS (either direction,
+// ds.direction), whose evaluation on points derived from the input returns a status; DS phases
+// step within one movement.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -45,8 +46,9 @@ void exercise_ds(const a2l::DiffeoMaps& maps, const std::uint8_t* data, std::siz
     Vec x, y, z;
     for (int j = 0; j < D; ++j)
       x[j] = coordinate(data, size, static_cast<std::size_t>(k * D + j) * 8);
-    for (const a2l::Status s :
-         {ds.forward(x, y), ds.inverse(x, y), ds.velocity(x, y, z), ds.rollout(x, 0.1, 4, out)}) {
+    typename a2l::DiffeoDS<D>::Mat j;
+    for (const a2l::Status s : {ds.forward(x, y), ds.inverse(x, y), ds.velocity(x, y, z),
+                                ds.jacobian(x, y, j), ds.rollout(x, 0.1, 4, out)}) {
       if (s != a2l::Status::ok && s != a2l::Status::invalid_argument) __builtin_trap();
     }
   }

@@ -1,7 +1,7 @@
 """Write a few small valid bundles as the seed corpus of tests/fuzz/fuzz_bundle.cpp.
 
 Skill bundles (one with movement actions, one with DS phases), DS-only bundles (d = 2 and
-d = 3) and a skill with a DS (the ``ds`` section).
+d = 3; one of direction ``"to_line"``) and a skill with a DS (the ``ds`` section).
 
 Usage: ``python tests/fuzz/make_seeds.py DIR``
 """
@@ -58,7 +58,7 @@ def spec(
     )
 
 
-def ds(seed: int, d: int, k: int) -> DSArrays:
+def ds(seed: int, d: int, k: int, direction: str = "to_demo") -> DSArrays:
     """K random maps in [-1, 1]^d with rho * ||v|| in [0.2, 0.9] * sqrt(e/2)."""
     rng = np.random.default_rng(seed)
     vectors = 0.3 * rng.uniform(-1.0, 1.0, (k, d))
@@ -69,6 +69,7 @@ def ds(seed: int, d: int, k: int) -> DSArrays:
         vectors=vectors,
         rhos=mu * _BOUND / np.linalg.norm(vectors, axis=1),
         speed=1.0 + seed,
+        direction=direction,
     )
 
 
@@ -87,6 +88,7 @@ def main() -> None:
     save_ds_bundle(out / "seed4.a2lb", ds(4, 2, 6), name="ds2")
     save_ds_bundle(out / "seed5.a2lb", ds(5, 3, 4), name="ds3", metadata={"K": 4})
     save_ds_bundle(out / "seed6.a2lb", ds(6, 2, 0), name="linear")
+    save_ds_bundle(out / "seed10.a2lb", ds(10, 2, 5, "to_line"), name="ds2_to_line")
     atomic_write_bytes(out / "seed7.a2lb", bundle_bytes(spec(7, [dist], 2, False), ds=ds(7, 3, 3)))
     gripper = VariableSpec("gripper", "high_level", 2, values=("open", "closed"))
     actions = ("open", "close", "stay")
@@ -94,7 +96,7 @@ def main() -> None:
     phases = [
         DSPhase("approach", ds(9, 3, 3), {"light": "off", "gripper": "open"}, "close", 0.01),
         DSPhase("lift", ds(10, 3, 0), {"gripper": "closed"}, None, 0.02),
-        DSPhase("any", ds(11, 3, 2)),
+        DSPhase("any", ds(11, 3, 2, "to_line")),
     ]
     save_bundle(spec(9, [eff, light], 6, True, actions), out / "seed9.a2lb", ds_phases=phases)
 

@@ -101,7 +101,7 @@ def test_bundle_round_trip(tmp_path: Path) -> None:
 def test_bundle_layout_follows_the_format(tmp_path: Path) -> None:
     data = bundle_bytes(make_spec(robot=False))
     magic, version, mlen, crc, reserved = header(data)
-    assert magic == b"A2LBNDL\x00" and version == BUNDLE_SCHEMA_VERSION == 3 and reserved == 0
+    assert magic == b"A2LBNDL\x00" and version == BUNDLE_SCHEMA_VERSION == 4 and reserved == 0
     assert crc == zlib.crc32(data[24 : 24 + mlen])
     manifest = json.loads(data[24 : 24 + mlen])
     assert manifest["robot"] is None and manifest["kind"] == "skill"
@@ -186,12 +186,12 @@ def test_bundle_wrong_checksums(tmp_path: Path, good: bytes) -> None:
 
 def test_bundle_wrong_version(tmp_path: Path, good: bytes) -> None:
     b = bytearray(good)
-    # 1: before the DS section; 2: before the movement actions
-    for other in (1, 2, BUNDLE_SCHEMA_VERSION + 1):
+    # 1: before the DS section; 2: before the movement actions; 3: before ds.direction
+    for other in (1, 2, 3, BUNDLE_SCHEMA_VERSION + 1):
         b[8:12] = struct.pack("<I", other)
         expect_bundle_error(tmp_path, bytes(b), f"schema version: the header says {other}")
     expect_bundle_error(
-        tmp_path, rewrite_manifest(good, lambda m: m.update(schema_version=4)), "schema_version"
+        tmp_path, rewrite_manifest(good, lambda m: m.update(schema_version=3)), "schema_version"
     )
 
 

@@ -1,7 +1,9 @@
 """The framework's results did not change when ``a2l/framework.py`` and
 ``a2l/framework_env.py`` became the ``a2l.framework`` and ``a2l.acquisition`` packages
 (issue 12): the virtual push experiment with 4 effects and seeds 0-3 gives, iteration by
-iteration, the metrics the old modules gave.
+iteration, the metrics the old modules gave (with the structure and smoothing of that time,
+``structure="hc-k2"``, ``smoothing=False``, given explicitly since issue 14 changed the
+defaults).
 
 ``EXPECTED`` was measured with the old code, at commit 15ce53e (the last commit with
 ``framework.py``), by ``a2l experiment push --scene virtual --effects 4 --seed S --out DIR``
@@ -54,11 +56,37 @@ EXPECTED: dict[int, list[dict[str, Any]]] = {
 }
 
 
+#: The defaults since issue 14 (hill-climbing + K2 with neighbour smoothing: 27 of virtual
+#: seeds 0-29 reach 100 within 3 iterations, docs/framework.md's "aliasing cell" table),
+#: seeds 0-3, measured with ``FrameworkConfig(scene="virtual", n_effects=4, seed=S)`` and
+#: :func:`run_framework` (1 worker) when the defaults changed.
+EXPECTED_DEFAULT: dict[int, list[dict[str, Any]]] = {
+    0: [
+        _it(0, 33.59375, (0.125, 0.375, 0.25, 0.375), 7, 4.111111111111111, 189),
+        _it(1, 96.875, (1.0, 1.0, 0.875, 1.0), 0, 6.064516129032258, 8461),
+        _it(2, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.125, 9539),
+    ],
+    1: [
+        _it(0, 30.46875, (0.0, 0.125, 0.375, 0.5), 7, 4.125, 181),
+        _it(1, 96.875, (1.0, 1.0, 0.875, 1.0), 0, 5.709677419354839, 8793),
+        _it(2, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 5.8125, 9968),
+    ],
+    2: [
+        _it(0, 32.03125, (0.375, 0.125, 0.25, 0.375), 5, 4.222222222222222, 171),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.21875, 8934),
+    ],
+    3: [
+        _it(0, 42.96875, (0.375, 0.25, 0.375, 0.625), 3, 5.153846153846154, 184),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.25, 7568),
+    ],
+}
+
+
 #: Seed 1 with the offset context variables (``n_offset = 3``: the end-effector in front of
 #: the box's faces across x and y, or beside them), measured by ``a2l experiment sweep
 #: --seeds 0-29`` with ``n_offset = 3`` as the default (commit 4123357; docs/framework.md's
 #: sweep table): the offsets go through discretization, learning, the bundle and the C++
-#: step; the network keeps ``offset_x``.
+#: step; the network keeps ``offset_x`` (hill-climbing + K2 and no smoothing, as then).
 EXPECTED_OFFSETS = [
     _it(0, 23.4375, (0.0, 0.125, 0.25, 0.5), 2, 4.285714285714286, 181),
     _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.1875, 8913),
@@ -68,7 +96,8 @@ EXPECTED_OFFSETS = [
 def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
     from a2l.skills import load_bundle
 
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=1, n_offset=3)
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=1, n_offset=3, structure="hc-k2",
+                          smoothing=False)
     with Executor(workers=1) as executor:
         result = run_framework(cfg, tmp_path, executor)
     got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
@@ -79,10 +108,23 @@ def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path: Path) -> None:
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, structure="hc-k2",
+                          smoothing=False)
+    _assert_metrics(cfg, tmp_path, EXPECTED[seed])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_virtual_push_metrics_with_the_defaults(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed)
+    assert (cfg.structure, cfg.smoothing) == ("hc-k2", True)
+    _assert_metrics(cfg, tmp_path, EXPECTED_DEFAULT[seed])
+
+
+def _assert_metrics(cfg: FrameworkConfig, tmp_path: Path,
+                    expected: list[dict[str, Any]]) -> None:
     with Executor(workers=1) as executor:
         result = run_framework(cfg, tmp_path, executor)
     got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
     # JSON text: exact floats, and NaN (no success) equal to NaN
-    assert json.dumps(got, sort_keys=True) == json.dumps(EXPECTED[seed], sort_keys=True)
+    assert json.dumps(got, sort_keys=True) == json.dumps(expected, sort_keys=True)
     assert result["final_score"] == 100.0

@@ -195,4 +195,4 @@ def test_runtime_repr_and_properties(learned, tmp_path: Path) -> None:
     np.testing.assert_array_equal(skill.movements.directions, spec.directions)
     assert skill.table.posterior().flags.writeable is False
     assert skill.uniform_tolerance == spec.uniform_tolerance
-    assert _core.BUNDLE_SCHEMA_VERSION == 3
+    assert _core.BUNDLE_SCHEMA_VERSION == 4

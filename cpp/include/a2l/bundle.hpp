@@ -20,7 +20,7 @@
 namespace a2l {
 
 //! Schema version this build reads.
-constexpr std::uint32_t kBundleSchemaVersion = 3;
+constexpr std::uint32_t kBundleSchemaVersion = 4;
 //! Size of the fixed header (magic, version, manifest length, manifest CRC, reserved).
 constexpr std::size_t kBundleHeaderSize = 24;
 //! The 8 magic bytes "A2LBNDL\0".

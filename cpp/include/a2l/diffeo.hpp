@@ -2,22 +2,28 @@
 //! \brief The diffeomorphic dynamical system of fast diffeomorphic matching (Perrin &
 //! Schlehuber-Caissier 2016; METHOD.md, chapter 6): evaluation for d = 2 and d = 3.
 //!
-//! A diffeomorphism Phi = psi_{K-1} o ... o psi_0 (maps applied in index order) made of K
-//! elementary maps psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i, each invertible because
-//! rho_i ||v_i|| < sqrt(e/2). It maps the "line space", where the DS is the linear system
-//! z_dot = -(z - target), onto the demonstration, and Phi(target) = target. The DS is
+//! K elementary maps psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i, each invertible because
+//! rho_i ||v_i|| < sqrt(e/2), composed in index order: C = psi_{K-1} o ... o psi_0. The
+//! diffeomorphism Phi maps the "line space", where the DS is the linear system
+//! z_dot = -speed (z - target), onto the demonstration, with Phi(target) = target. The DS is
 //!
 //!     x_dot = speed * J_Phi(Phi^{-1}(x)) * (target - Phi^{-1}(x)),
 //!
-//! globally asymptotically stable at `target`. Evaluation (forward, inverse, jacobian,
-//! velocity, rollout) uses fixed-size Eigen vectors, allocates nothing, throws nothing and
-//! returns a Status: `invalid_argument` for a non-finite input (or a result that overflows),
-//! `size_mismatch` for a wrong buffer size. The inverse of one map is a scalar equation in its
-//! weight k (see DiffeoDS::inverse), solved by safeguarded Halley iterations inside a
-//! guaranteed bracket with at most kDiffeoMaxIterations iterations: bounded time. A map whose
-//! weight at the point is below exp(-kDiffeoNegligible) is skipped there (no exp, no solve): the
-//! result changes by less than double precision (see kDiffeoNegligible); the iteration bound
-//! holds for every map that is not skipped.
+//! globally asymptotically stable at `target`. The maps can be fitted in either direction
+//! (DiffeoDirection): `to_demo` (Phi = C, the paper's construction: a velocity query needs
+//! Phi^{-1}, K scalar solves) or `to_line` (Phi = C^{-1}: the maps carry the demonstration onto
+//! the line, and a velocity query is explicit, x_dot = -speed J_C(x)^{-1} (C(x) - target): K
+//! exps and one d x d solve, no iteration). forward() is always Phi and inverse() Phi^{-1}:
+//! whichever of the two needs the scalar solves depends on the direction.
+//!
+//! Evaluation (forward, inverse, jacobian, velocity, rollout) uses fixed-size Eigen vectors,
+//! allocates nothing, throws nothing and returns a Status: `invalid_argument` for a non-finite
+//! input (or a result that overflows), `size_mismatch` for a wrong buffer size. The inverse of
+//! one map is a scalar equation in its weight k (see DiffeoDS::inverse), solved by safeguarded
+//! Halley iterations inside a guaranteed bracket with at most kDiffeoMaxIterations iterations:
+//! bounded time. A map whose weight at the point is below exp(-kDiffeoNegligible) is skipped
+//! there (no exp, no solve): the result changes by less than double precision (see
+//! kDiffeoNegligible); the iteration bound holds for every map that is not skipped.
 #pragma once
 
 #include <Eigen/Core>
@@ -46,22 +52,33 @@ inline constexpr double kDiffeoUnderflow = 746.0;
 //! Most maps a DS may hold (bundles and bindings refuse more).
 inline constexpr int kDiffeoMaxMaps = 100000;
 
+//! Which way the maps go (DiffeoMaps::direction; the bundle's `ds.direction`).
+enum class DiffeoDirection : int {
+  to_demo = 0,  //!< the composed maps C are Phi: line space -> demonstration (velocity: solves)
+  to_line = 1,  //!< C is Phi^{-1}: demonstration -> line space (velocity: explicit)
+};
+
+//! "to_demo" / "to_line".
+const char* diffeo_direction_name(DiffeoDirection d) noexcept;
+
 //! The maps of a diffeomorphic DS, dimension-agnostic (for loading, writing and bindings).
 //! Arrays are row-major: map i's center is centers[i*dim .. i*dim + dim).
 struct DiffeoMaps {
-  int dim = 0;                  //!< space dimension, 2 or 3
-  std::vector<double> target;   //!< (dim,) attractor; Phi(target) = target
-  std::vector<double> centers;  //!< (K, dim) centers c_i
-  std::vector<double> vectors;  //!< (K, dim) displacements v_i
-  std::vector<double> rhos;     //!< (K,) inverse widths rho_i >= 0
-  double speed = 1.0;           //!< gain of the line-space system (> 0)
+  int dim = 0;                                           //!< space dimension, 2 or 3
+  std::vector<double> target;                            //!< (dim,) attractor; Phi(target) = target
+  std::vector<double> centers;                           //!< (K, dim) centers c_i
+  std::vector<double> vectors;                           //!< (K, dim) displacements v_i
+  std::vector<double> rhos;                              //!< (K,) inverse widths rho_i >= 0
+  double speed = 1.0;                                    //!< gain of the line-space system (> 0)
+  DiffeoDirection direction = DiffeoDirection::to_demo;  //!< which way the maps go
 
   //! Number of maps K (rhos.size()).
   int n_maps() const noexcept { return static_cast<int>(rhos.size()); }
 };
 
 //! Check a DS description: dim in {2, 3}; sizes (target dim, centers and vectors K*dim);
-//! K <= kDiffeoMaxMaps; every value finite; speed > 0; per map rho >= 0 and
+//! K <= kDiffeoMaxMaps; direction to_demo or to_line; every value finite; speed > 0; per map
+//! rho >= 0 and
 //! rho * ||v|| < kDiffeoInvertibilityBound.
 //! \return `size_mismatch` / `invalid_argument` with a message naming the first bad map
 //!         ("map 7: rho * ||v|| = 1.2 >= sqrt(e/2) = 1.16582 (not invertible)"), else `ok`.
@@ -103,23 +120,30 @@ class DiffeoDS {
   double speed() const noexcept { return speed_; }
   //! The cutoff t of create(): maps whose weight is below exp(-t) are skipped.
   double negligible() const noexcept { return negligible_; }
+  //! Which way the maps go.
+  DiffeoDirection direction() const noexcept { return direction_; }
 
-  //! y = Phi(x). \return `invalid_argument` if x is not finite or y overflows.
+  //! y = Phi(x) (to_demo: the maps applied; to_line: the maps undone, as in inverse()).
+  //! \return `invalid_argument` if x is not finite or y overflows.
   Status forward(const Vec& x, Vec& y) const noexcept;
 
-  //! x = Phi^{-1}(y), maps undone in reverse index order. For one map, with z = y - c and
-  //! x = y - k v, the weight k solves g(k) = k - exp(-rho^2 ||z - k v||^2) = 0 in (0, 1];
-  //! g(0) <= 0 <= g(1) and g is strictly increasing under the invertibility bound, so
-  //! safeguarded Halley steps (bisection when a step leaves the bracket) converge within
-  //! kDiffeoMaxIterations iterations. \return `invalid_argument` if y is not finite.
+  //! x = Phi^{-1}(y) (to_line: the maps applied; to_demo: the maps undone in reverse index
+  //! order). Undoing one map, with z = y - c and x = y - k v, the weight k solves
+  //! g(k) = k - exp(-rho^2 ||z - k v||^2) = 0 in (0, 1]; g(0) <= 0 <= g(1) and g is strictly
+  //! increasing under the invertibility bound, so safeguarded Halley steps (bisection when a
+  //! step leaves the bracket) converge within kDiffeoMaxIterations iterations.
+  //! \return `invalid_argument` if y is not finite.
   Status inverse(const Vec& y, Vec& x) const noexcept;
 
-  //! y = Phi(x) and its Jacobian J = dPhi/dx at x. \return `invalid_argument` if not finite.
+  //! y = Phi(x) and its Jacobian J = dPhi/dx at x (to_line: J = J_C(y)^{-1}).
+  //! \return `invalid_argument` if not finite.
   Status jacobian(const Vec& x, Vec& y, Mat& jac) const noexcept;
 
-  //! The DS's velocity at x: speed * J_Phi(z) * (target - z), z = Phi^{-1}(x) (one inverse
-  //! sweep; the Jacobian is accumulated on the way). \return `invalid_argument` if x is not
-  //! finite or the velocity overflows.
+  //! The DS's velocity at x: speed * J_Phi(z) * (target - z), z = Phi^{-1}(x). to_demo: one
+  //! inverse sweep, the Jacobian accumulated on the way (K scalar solves); to_line: one
+  //! forward sweep of the maps (z = C(x) and J_C(x)), then x_dot = speed * J_C(x)^{-1}
+  //! (target - z) by one d x d solve, no iteration. \return `invalid_argument` if x is not
+  //! finite, the velocity overflows or (to_line) det J_C is 0 or not finite.
   Status velocity(const Vec& x, Vec& xdot) const noexcept;
 
   //! Same as velocity(), also returning z = Phi^{-1}(x).
@@ -145,11 +169,22 @@ class DiffeoDS {
   };
   // Undo map m at y (z = y - c): returns the weight k, x = y - k v.
   static double solve_weight(const Map& m, const Vec& z) noexcept;
+  // C(x): the maps applied in index order (no finiteness checks).
+  Vec apply(const Vec& x) const noexcept;
+  // C(x) and J_C(x).
+  Vec apply_jacobian(const Vec& x, Mat& jac) const noexcept;
+  // C^{-1}(y): the maps undone in reverse index order.
+  Vec undo(const Vec& y) const noexcept;
+  // to_demo velocity: z = C^{-1}(x), J_C(z) accumulated on the way.
+  Vec velocity_undo(const Vec& x, Vec& z) const noexcept;
+  // to_line velocity: z = C(x), x_dot = speed J_C(x)^{-1} (target - z); false if singular.
+  bool velocity_apply(const Vec& x, Vec& xdot, Vec& z) const noexcept;
 
   std::vector<Map> maps_;
   Vec target_ = Vec::Zero();
   double speed_ = 1.0;
   double negligible_ = kDiffeoNegligible;
+  DiffeoDirection direction_ = DiffeoDirection::to_demo;
 };
 
 extern template class DiffeoDS<2>;

@@ -20,11 +20,12 @@ def _cmd_experiment_lasa(args: argparse.Namespace) -> int:
                              f"{', '.join(lasa_shapes())}")
     try:
         arrival = {} if args.arrival is None else {"arrival": args.arrival}
+        direction = {} if args.direction is None else {"direction": args.direction}
         cfg = LasaConfig(K=args.K, beta=args.beta, mu=args.mu, n_starts=args.starts,
-                         seed=args.seed, **arrival)
+                         seed=args.seed, **arrival, **direction)
         cfg.validate()
     except ValueError as exc:
-        raise UsageError("--K/--beta/--mu/--arrival", str(exc)) from None
+        raise UsageError("--K/--beta/--mu/--arrival/--direction", str(exc)) from None
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
@@ -52,6 +53,11 @@ def _add_lasa_parser(exps: argparse._SubParsersAction) -> None:
     lasa.add_argument("--arrival", type=float, default=None, metavar="F",
                       help="fraction of its line-space distance a reproduction has left at the "
                       "demonstrations' end: sets the DS's speed (default 0.001)")
+    lasa.add_argument("--direction", choices=("to_line", "to_demo"), default=None,
+                      help="which way the maps are fitted: to_line (the demonstration onto "
+                      "the line: explicit velocity queries) or to_demo (the paper's: the line "
+                      "onto the demonstration, queries solve K scalar equations); default: "
+                      "LasaConfig.direction")
     lasa.add_argument("--starts", type=positive_int, default=10_000, metavar="N",
                       help="random starts per shape for the convergence test (default 10000)")
     lasa.add_argument("--seed", type=nonnegative_int, default=0,

@@ -85,6 +85,10 @@ class LasaConfig:
         Streamline grid size (grid x grid points) for the figure and the query timing.
     seed : int
         Seed of the random starts (shape i uses seed + i).
+    direction : str
+        Which way the maps are fitted (:func:`a2l.lfd.fit.fit_diffeo`): ``"to_line"`` (the
+        demonstration carried onto the line: explicit velocity queries) or ``"to_demo"``
+        (the paper's, the line onto the demonstration: queries solve K scalar equations).
     """
 
     K: int = 150
@@ -100,6 +104,7 @@ class LasaConfig:
     dmp_weights: int = 50
     grid: int = 40
     seed: int = 0
+    direction: str = "to_demo"
 
     def validate(self) -> None:
         """Raise ValueError naming the first out-of-range parameter."""
@@ -119,14 +124,18 @@ class LasaConfig:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
         if not 0 < self.arrival < 1:
             raise ValueError(f"arrival must be in (0, 1), got {self.arrival}")
+        if self.direction not in ("to_demo", "to_line"):
+            raise ValueError(f"direction must be 'to_demo' or 'to_line', got {self.direction!r}")
 
     def fit_parameters(self) -> dict[str, Any]:
-        """Keyword arguments of :func:`a2l.lfd.fit.fit_diffeo` (K, beta, mu, regularisation)."""
+        """Keyword arguments of :func:`a2l.lfd.fit.fit_diffeo` (K, beta, mu, regularisation,
+        direction)."""
         from a2l.lfd.fit import BETA_SCHEDULE, MU_SCHEDULE, schedule
 
         beta = schedule(BETA_SCHEDULE, max(self.K - 1, 1)) if self.beta is None else self.beta
         mu = schedule(MU_SCHEDULE, self.K) if self.mu is None else self.mu
-        return {"K": self.K, "beta": beta, "mu": mu, "regularisation": self.regularisation}
+        return {"K": self.K, "beta": beta, "mu": mu, "regularisation": self.regularisation,
+                "direction": self.direction}
 
 
 def _lasa() -> Any:
@@ -204,8 +213,9 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
     ds = DiffeoDS.from_maps(fitted.target, fitted.centers, fitted.vectors, fitted.rhos, speed,
                             {"shape": name, "K": cfg.K, "beta": cfg.beta or "schedule",
                              "mu": cfg.mu or "schedule", "regularisation": cfg.regularisation,
-                             "arrival": cfg.arrival,
-                             "max_error": fitted.max_error, "duration": duration})
+                             "arrival": cfg.arrival, "direction": cfg.direction,
+                             "max_error": fitted.max_error, "duration": duration},
+                            direction=cfg.direction)
 
     reps = [ds.rollout(d[0], t / (len(d) - 1), len(d), "rk4")
             for d, t in zip(demos, durations, strict=True)]
@@ -242,7 +252,8 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
         "plot": {"demos": demos, "reps": reps, "grid": (gx, gy),
                  "field": field.reshape(cfg.grid, cfg.grid, 2), "target": ds.target},
         "maps": {"target": ds.target, "centers": ds.centers, "vectors": ds.vectors,
-                 "rhos": ds.rhos, "speed": ds.speed, "metadata": ds.metadata},
+                 "rhos": ds.rhos, "speed": ds.speed, "metadata": ds.metadata,
+                 "direction": ds.direction},
     }
 
 
@@ -302,6 +313,8 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
                + ("" if cfg.beta is None else f" --beta {cfg.beta}")
                + ("" if cfg.mu is None else f" --mu {cfg.mu}")
                + ("" if cfg.arrival == LasaConfig.arrival else f" --arrival {cfg.arrival}")
+               + ("" if cfg.direction == LasaConfig.direction
+                  else f" --direction {cfg.direction}")
                + f" --starts {cfg.n_starts} --seed {cfg.seed} --workers {workers}"
                + ("" if shapes == known else f" --shapes {','.join(shapes)}"))
     write_json(run_dir / "config.json", {"experiment": "lasa", "lasa": asdict(cfg),
@@ -315,9 +328,9 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     (run_dir / "ds").mkdir(exist_ok=True)
     for r in results:
         m = r["maps"]
-        DiffeoDS.from_maps(m["target"], m["centers"], m["vectors"], m["rhos"], m["speed"],
-                           m["metadata"]).save(run_dir / "ds" / f"{r['name']}.a2lb",
-                                               name=r["name"])
+        ds = DiffeoDS.from_maps(m["target"], m["centers"], m["vectors"], m["rhos"],
+                                m["speed"], m["metadata"], direction=m["direction"])
+        ds.save(run_dir / "ds" / f"{r['name']}.a2lb", name=r["name"])
     metrics: dict[str, Any] = {
         "experiment": "lasa",
         "shapes": {r["name"]: r["a2l"] for r in results},

@@ -27,7 +27,11 @@ Trajectory = np.ndarray | Demonstration
 class DiffeoDS:
     """The globally stable DS ``xdot = speed J_Phi(y) (target - y)``, ``y = Phi^-1(x)``.
 
-    Build it with :meth:`fit`, :meth:`from_maps` or :meth:`load`.
+    Build it with :meth:`fit`, :meth:`from_maps` or :meth:`load`. Its maps compose to
+    ``Phi`` (direction ``"to_demo"``, the paper's construction) or to ``Phi^-1``
+    (``"to_line"``: fitted from the demonstration onto the line; the velocity is then
+    ``-speed J_C(x)^-1 (C(x) - target)``, explicit, no scalar solves). Either way
+    :meth:`forward` is ``Phi`` (line space -> demonstration) and :meth:`inverse` its inverse.
 
     Parameters
     ----------
@@ -45,7 +49,8 @@ class DiffeoDS:
     @classmethod
     def from_maps(cls, target: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
                   rhos: np.ndarray, speed: float = 1.0,
-                  metadata: dict[str, Any] | None = None) -> DiffeoDS:
+                  metadata: dict[str, Any] | None = None,
+                  direction: str = "to_demo") -> DiffeoDS:
         """A DS from its maps (original units, application order).
 
         Parameters
@@ -54,6 +59,9 @@ class DiffeoDS:
         centers, vectors : arrays (K, d)
         rhos : array (K,)
         speed : float > 0
+        metadata : dict, optional
+        direction : {"to_demo", "to_line"}
+            Whether the composed maps are ``Phi`` or ``Phi^-1``.
 
         Raises
         ------
@@ -63,13 +71,13 @@ class DiffeoDS:
             validator, the same one the bundle loader uses).
         """
         arrays = [np.asarray(a, dtype=float) for a in (target, centers, vectors, rhos)]
-        return cls(_core.DiffeoDS(*arrays, float(speed)), metadata)
+        return cls(_core.DiffeoDS(*arrays, float(speed), direction=str(direction)), metadata)
 
     @classmethod
     def fit(cls, trajectory: Trajectory | Sequence[Trajectory], K: int = 150,
             beta: float | np.ndarray = 0.5, mu: float | np.ndarray = 0.9,
             duration: float | None = None,
-            regularisation: float = 1e-4) -> DiffeoDS:
+            regularisation: float = 1e-4, direction: str = "to_demo") -> DiffeoDS:
         """Fit a DS to one demonstration, or to the time-aligned mean of several.
 
         Parameters
@@ -87,6 +95,9 @@ class DiffeoDS:
             (:func:`a2l.lfd.fit.speed_gain`).
         regularisation : float
             Weight of ``rho^2`` in the width search.
+        direction : {"to_demo", "to_line"}
+            Fit the maps from the line onto the demonstration (default) or the other way
+            (:func:`a2l.lfd.fit.fit_diffeo`).
         """
         items = (list(trajectory) if isinstance(trajectory, (list, tuple))
                  else [trajectory])
@@ -99,7 +110,8 @@ class DiffeoDS:
             duration = float(np.mean(durs)) if durs else 1.0
         ref = arrays[0] if len(arrays) == 1 else mean_demonstration(arrays)
         t0 = time.perf_counter()
-        res = fit_diffeo(ref, K=K, beta=beta, mu=mu, regularisation=regularisation)
+        res = fit_diffeo(ref, K=K, beta=beta, mu=mu, regularisation=regularisation,
+                         direction=direction)
         fit_ms = (time.perf_counter() - t0) * 1e3
         meta = {"K": K, "beta": np.asarray(beta).tolist(), "mu": np.asarray(mu).tolist(),
                 "regularisation": regularisation,
@@ -109,14 +121,15 @@ class DiffeoDS:
         if isinstance(first, Demonstration):
             meta.update(frame=first.frame, states=first.states)
         return cls.from_maps(res.target, res.centers, res.vectors, res.rhos,
-                             speed_gain(duration), meta)
+                             speed_gain(duration), meta, direction=direction)
 
     # --- files --------------------------------------------------------------------------------
     def save(self, path: str | os.PathLike[str], name: str = "ds") -> Path:
         """Write a skill bundle (kind ``"ds"``) holding this DS and its metadata, atomically."""
         from a2l.skills.ds_bundle import DSArrays, save_ds_bundle
 
-        arrays = DSArrays(self.target, self.centers, self.vectors, self.rhos, self.speed)
+        arrays = DSArrays(self.target, self.centers, self.vectors, self.rhos, self.speed,
+                          self.direction)
         return save_ds_bundle(path, arrays, name=name, metadata=self.metadata)
 
     @classmethod
@@ -181,6 +194,11 @@ class DiffeoDS:
         return float(self._core.speed)
 
     @property
+    def direction(self) -> str:
+        """``"to_demo"`` (the maps compose to Phi) or ``"to_line"`` (to Phi^-1)."""
+        return str(self._core.direction)
+
+    @property
     def centers(self) -> np.ndarray:
         """Map centers (K, d)."""
         return np.asarray(self._core.centers)
@@ -201,4 +219,5 @@ class DiffeoDS:
         return self._core
 
     def __repr__(self) -> str:
-        return f"DiffeoDS(dim={self.dim}, n_maps={self.n_maps}, speed={self.speed:.4g})"
+        return (f"DiffeoDS(dim={self.dim}, n_maps={self.n_maps}, speed={self.speed:.4g}, "
+                f"direction={self.direction!r})")

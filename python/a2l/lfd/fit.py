@@ -20,6 +20,11 @@ From a demonstration ``X`` (N, d) ending at the target, the fit builds
    ``Phi(target) = target``.
 
 Fitting stops early when every error is below ``tol`` (fewer than K maps).
+
+``direction="to_line"`` fits the same greedy matching the other way round: the maps start
+from the demonstration and carry it onto the line (the moving points are the demonstration's,
+the goals the line's), so the composed maps are ``Phi^{-1}``. The DS's velocity is then
+explicit (``a2l._core.DiffeoDS``, direction ``"to_line"``: no scalar solves per query).
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ from a2l.lfd.reference import SQRT_E_HALF
 
 __all__ = [
     "BETA_SCHEDULE",
+    "DIRECTIONS",
     "MU_SCHEDULE",
     "FitResult",
     "fit_diffeo",
@@ -49,6 +55,9 @@ BETA_SCHEDULE = tuple(1.0 / np.array([3.0, 3.0, 2.5, 2.0, 1.66, 1.33, 1.1]))
 #: less stiff (selected on LASA itself: see the README's LASA section).
 MU_SCHEDULE = (0.8, 0.8, 0.8, 0.75, 0.7, 0.65, 0.65)
 
+#: The two ways the maps can go (``a2l._core.DiffeoDS``'s ``direction``).
+DIRECTIONS = ("to_demo", "to_line")
+
 _GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 
 
@@ -64,7 +73,11 @@ class FitResult:
     scale : float
         The normalisation scale ``s``.
     max_error : float
-        Largest distance between ``Phi(source)`` and the demonstration after the fit.
+        Largest distance between the moved points and their goals after the fit
+        (``to_demo``: ``Phi(source)`` and the demonstration; ``to_line``: ``Phi^{-1}`` of the
+        demonstration and the source).
+    direction : str
+        ``"to_demo"`` (the maps compose to ``Phi``) or ``"to_line"`` (to ``Phi^{-1}``).
     """
 
     target: np.ndarray
@@ -73,6 +86,7 @@ class FitResult:
     rhos: np.ndarray
     scale: float
     max_error: float
+    direction: str = "to_demo"
 
 
 def _as_trajectory(points: np.ndarray) -> np.ndarray:
@@ -168,8 +182,9 @@ def _golden_min(a2: float, r2: np.ndarray, av: np.ndarray, vv: float, n: int, hi
 def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 0.5,
                mu: float | np.ndarray = 0.9,
                regularisation: float = 1e-4, tol: float = 1e-6,
-               search_iterations: int = 30, source: np.ndarray | None = None) -> FitResult:
-    """Fit the maps of a diffeomorphism from the line space onto `trajectory`.
+               search_iterations: int = 30, source: np.ndarray | None = None,
+               direction: str = "to_demo") -> FitResult:
+    """Fit the maps of a diffeomorphism between the line space and `trajectory`.
 
     Parameters
     ----------
@@ -190,6 +205,10 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
         Golden-section iterations per map.
     source : array (N, d), optional
         The line-space points matched with `trajectory` (default :func:`line_source`).
+    direction : {"to_demo", "to_line"}
+        ``"to_demo"``: the maps move the source onto `trajectory` (they compose to ``Phi``);
+        ``"to_line"``: they move `trajectory` onto the source (they compose to ``Phi^{-1}``).
+        Same greedy choice, widths and bound either way.
 
     Returns
     -------
@@ -204,6 +223,8 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
         raise ValueError(f"beta must be in (0, 1], got {beta}")
     if not np.all((mus > 0) & (mus < 1)):
         raise ValueError(f"mu must be in (0, 1), got {mu}")
+    if direction not in DIRECTIONS:
+        raise ValueError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
     target = x[-1].copy()
     scale = float(np.max(np.std(x, axis=0)))
     if not scale > 0:
@@ -213,6 +234,8 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
     if src.shape != x.shape:
         raise ValueError(f"source must have the trajectory's shape {x.shape}, got {src.shape}")
     cur = (src - target) / scale
+    if direction == "to_line":
+        goal, cur = cur, goal
     n = len(goal)
     centers, vectors, rhos = [], [], []
 
@@ -250,4 +273,4 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
     r = np.asarray(rhos, dtype=float)
     max_err = float(np.sqrt(np.max(np.einsum("ij,ij->i", res, res)))) * scale
     return FitResult(target=target, centers=target + scale * c, vectors=scale * v,
-                     rhos=r / scale, scale=scale, max_error=max_err)
+                     rhos=r / scale, scale=scale, max_error=max_err, direction=direction)

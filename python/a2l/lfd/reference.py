@@ -4,8 +4,9 @@ The C++ core (:class:`a2l._core.DiffeoDS`) is the implementation the skills use;
 computes the same quantities with numpy, vectorised over points, so that tests can compare
 the two and benchmarks can measure what the C++ evaluation gains.
 
-Convention (docs/bundle_format.md, METHOD.md chapter 6): ``Phi = psi_{K-1} o ... o psi_0``
-with ``psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i``; the DS is
+Convention (docs/bundle_format.md, METHOD.md chapter 6): ``C = psi_{K-1} o ... o psi_0``
+with ``psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i``; ``Phi = C`` (direction
+``"to_demo"``) or ``Phi = C^{-1}`` (``"to_line"``); the DS is
 ``xdot = speed * J_Phi(y) (target - y)`` with ``y = Phi^{-1}(x)``.
 """
 
@@ -39,21 +40,24 @@ def _points(x: np.ndarray, d: int) -> tuple[np.ndarray, bool]:
     return a, single
 
 
-def ref_forward(x: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
-                rhos: np.ndarray) -> np.ndarray:
-    """``Phi(x)`` for x (d,) or (M, d) -> same shape."""
-    a, single = _points(x, centers.shape[1])
+def _check_direction(direction: str) -> None:
+    if direction not in ("to_demo", "to_line"):
+        raise ValueError(f"direction must be 'to_demo' or 'to_line', got {direction!r}")
+
+
+def _apply(a: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
+           rhos: np.ndarray) -> np.ndarray:
+    """The maps applied in index order to points a (M, d)."""
     y = a.copy()
     for c, v, r in zip(centers, vectors, rhos, strict=True):
         diff = y - c
         y += np.exp(-(r * r) * np.einsum("ij,ij->i", diff, diff))[:, None] * v
-    return y[0] if single else y
+    return y
 
 
-def ref_jacobian(x: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
-                 rhos: np.ndarray) -> np.ndarray:
-    """``J_Phi(x)``: x (d,) -> (d, d); x (M, d) -> (M, d, d)."""
-    a, single = _points(x, centers.shape[1])
+def _apply_jacobian(a: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
+                    rhos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The maps applied to points a (M, d) and their Jacobian: ((M, d), (M, d, d))."""
     m, d = a.shape
     y = a.copy()
     jac = np.broadcast_to(np.eye(d), (m, d, d)).copy()
@@ -64,6 +68,37 @@ def ref_jacobian(x: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
         g = (-2.0 * r * r * w)[:, None] * diff               # (M, d)
         jac += v[None, :, None] * np.einsum("ik,ikj->ij", g, jac)[:, None, :]
         y += w[:, None] * v
+    return y, jac
+
+
+def _undo(a: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
+          rhos: np.ndarray) -> np.ndarray:
+    """The maps undone in reverse index order for points a (M, d)."""
+    x = a.copy()
+    for i in range(len(rhos) - 1, -1, -1):
+        x = _inverse_one(x, centers[i], vectors[i], float(rhos[i]))
+    return x
+
+
+def ref_forward(x: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
+                rhos: np.ndarray, direction: str = "to_demo") -> np.ndarray:
+    """``Phi(x)`` for x (d,) or (M, d) -> same shape (to_line: the maps undone)."""
+    _check_direction(direction)
+    a, single = _points(x, centers.shape[1])
+    y = (_apply if direction == "to_demo" else _undo)(a, centers, vectors, rhos)
+    return y[0] if single else y
+
+
+def ref_jacobian(x: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
+                 rhos: np.ndarray, direction: str = "to_demo") -> np.ndarray:
+    """``J_Phi(x)``: x (d,) -> (d, d); x (M, d) -> (M, d, d) (to_line: ``J_C(Phi(x))^-1``)."""
+    _check_direction(direction)
+    a, single = _points(x, centers.shape[1])
+    if direction == "to_demo":
+        jac = _apply_jacobian(a, centers, vectors, rhos)[1]
+    else:
+        jac = np.linalg.inv(_apply_jacobian(_undo(a, centers, vectors, rhos), centers,
+                                            vectors, rhos)[1])
     return jac[0] if single else jac
 
 
@@ -96,20 +131,28 @@ def _inverse_one(y: np.ndarray, c: np.ndarray, v: np.ndarray, r: float) -> np.nd
 
 
 def ref_inverse(y: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
-                rhos: np.ndarray) -> np.ndarray:
-    """``Phi^{-1}(y)`` for y (d,) or (M, d) -> same shape (maps undone in reverse order)."""
+                rhos: np.ndarray, direction: str = "to_demo") -> np.ndarray:
+    """``Phi^{-1}(y)`` for y (d,) or (M, d) -> same shape (to_demo: the maps undone in
+    reverse order; to_line: the maps applied)."""
+    _check_direction(direction)
     a, single = _points(y, centers.shape[1])
-    x = a.copy()
-    for i in range(len(rhos) - 1, -1, -1):
-        x = _inverse_one(x, centers[i], vectors[i], float(rhos[i]))
+    x = (_undo if direction == "to_demo" else _apply)(a, centers, vectors, rhos)
     return x[0] if single else x
 
 
 def ref_velocity(x: np.ndarray, target: np.ndarray, centers: np.ndarray, vectors: np.ndarray,
-                 rhos: np.ndarray, speed: float) -> np.ndarray:
-    """DS velocity ``speed * J_Phi(y) (target - y)``, ``y = Phi^{-1}(x)``; (d,) or (M, d)."""
+                 rhos: np.ndarray, speed: float, direction: str = "to_demo") -> np.ndarray:
+    """DS velocity ``speed * J_Phi(y) (target - y)``, ``y = Phi^{-1}(x)``; (d,) or (M, d).
+
+    to_line: ``speed * J_C(x)^-1 (target - C(x))`` with C the maps applied (one sweep, one
+    d x d solve per point)."""
+    _check_direction(direction)
     a, single = _points(x, centers.shape[1])
-    y = ref_inverse(a, centers, vectors, rhos)
-    jac = ref_jacobian(y, centers, vectors, rhos)
-    out = speed * np.einsum("ijk,ik->ij", jac, target - y)
+    if direction == "to_demo":
+        y = _undo(a, centers, vectors, rhos)
+        jac = _apply_jacobian(y, centers, vectors, rhos)[1]
+        out = speed * np.einsum("ijk,ik->ij", jac, target - y)
+    else:
+        y, jac = _apply_jacobian(a, centers, vectors, rhos)
+        out = np.linalg.solve(jac, (speed * (target - y))[:, :, None])[:, :, 0]
     return out[0] if single else out

@@ -193,7 +193,8 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
     phases = [DSPhase(b.phase, means[k], dict(b.states), b.end_action, b.tolerance)
               for k, b in enumerate(behaviours) if b.phase]
     data = bundle_bytes(spec, ds=DSArrays(first.target, first.centers, first.vectors,
-                                          first.rhos, first.speed), ds_phases=phases or None)
+                                          first.rhos, first.speed, first.direction),
+                        ds_phases=phases or None)
     out = atomic_write_bytes(path, data)
     timings["save"] = time.perf_counter() - t0
     return LearnedSkill(name, Path(out), table, means, len(discrete), timings)

@@ -38,6 +38,9 @@ class DSArrays:
         Inverse widths, rho_i * ||v_i|| < sqrt(e/2).
     speed : float
         Gain of the line-space system (> 0).
+    direction : str
+        ``"to_demo"`` (the composed maps carry the line space onto the demonstration) or
+        ``"to_line"`` (the demonstration onto the line: an explicit velocity query).
     """
 
     target: np.ndarray
@@ -45,6 +48,7 @@ class DSArrays:
     vectors: np.ndarray
     rhos: np.ndarray
     speed: float = 1.0
+    direction: str = "to_demo"
 
     def section(self) -> tuple[dict[str, Any], list[tuple[str, np.ndarray]]]:
         """The manifest's ``ds`` entry and the arrays (name, float64 array) it needs.
@@ -66,9 +70,13 @@ class DSArrays:
         for name, a in (("ds_centers", centers), ("ds_vectors", vectors)):
             if a.shape != (k, d):
                 raise BundleError(f"arrays.{name}: shape must be ({k}, {d}), got {a.shape}")
+        if self.direction not in ("to_demo", "to_line"):
+            raise BundleError(f"ds.direction: must be 'to_demo' or 'to_line', "
+                              f"got {self.direction!r}")
         try:
             speed = float(self.speed)
-            entry = {"dim": d, "n_maps": k, "speed": speed, "target": [float(x) for x in target]}
+            entry = {"dim": d, "n_maps": k, "speed": speed, "direction": str(self.direction),
+                     "target": [float(x) for x in target]}
             json.dumps(entry, allow_nan=False)
         except (TypeError, ValueError) as exc:
             raise BundleError(f"ds: target and speed must be finite numbers ({exc})") from exc

@@ -41,7 +41,8 @@ class DSPhase:
     ds : a2l.lfd.DiffeoDS
         3-D DS expressed relative to the object (x = eef - object; its target relative to the
         object). Anything with ``target`` (3,), ``centers`` and ``vectors`` (K, 3), ``rhos``
-        (K,) and ``speed`` will do (e.g. :class:`a2l.skills.ds_bundle.DSArrays`).
+        (K,) and ``speed`` (and optionally ``direction``, default ``"to_demo"``) will do (e.g.
+        :class:`a2l.skills.ds_bundle.DSArrays`).
     when : dict of str to str
         High-level state values the phase applies under; ``{}`` = always.
     end_action : str or None
@@ -126,7 +127,8 @@ def ds_phases_section(
             raise BundleError(f"{where}.end_action: unknown action {p.end_action!r} ({ACTIONS})")
         try:
             ds_entry, ds_arrays = DSArrays(
-                p.ds.target, p.ds.centers, p.ds.vectors, p.ds.rhos, p.ds.speed
+                p.ds.target, p.ds.centers, p.ds.vectors, p.ds.rhos, p.ds.speed,
+                getattr(p.ds, "direction", "to_demo"),
             ).section()
         except BundleError as exc:
             raise BundleError(f"{where}.ds: {exc}") from exc

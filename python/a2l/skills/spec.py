@@ -15,7 +15,7 @@ __all__ = ["ACTIONS", "BUNDLE_SCHEMA_VERSION", "RANGED_KINDS", "VARIABLE_KINDS",
            "VariableSpec"]
 
 #: Schema version written and read by this version of a2l.
-BUNDLE_SCHEMA_VERSION = 3
+BUNDLE_SCHEMA_VERSION = 4
 
 #: Actions a movement repertoire may hold besides its directions (``movements.actions``):
 #: open and close the gripper, stay (hold still for one movement's duration).
