@@ -63,9 +63,9 @@ class FrameworkConfig:
     effect_threshold : float
         Smallest object displacement that counts as an effect (m).
     structure : str
-        ``"hand-coded"`` (default: every context variable a parent of ``move`` from
-        iteration 0) or ``"hc-k2"`` (hill-climbing + K2, which drops ``distance`` while the
-        dataset is small: ``docs/framework.md``, "The aliasing cell").
+        ``"hc-k2"`` (default: METHOD.md's hill-climbing + K2; it drops ``distance`` while the
+        dataset is small, ``docs/framework.md``, "The aliasing cell") or ``"hand-coded"``
+        (METHOD.md's baseline: every context variable a parent of ``move`` from iteration 0).
     effect_parent : bool
         With ``hc-k2``, fix the edge ``effect -> move`` (the action generator is queried with
         the wanted effect; without the edge, small datasets give a skill that ignores it).
@@ -76,9 +76,9 @@ class FrameworkConfig:
     erase_loops : bool
         Cut the loops out of babbling trajectories (:func:`erase_loops`).
     smoothing : bool
-        METHOD.md's chapter-6 neighbour smoothing in the C++ step (default on: with the
-        hand-coded structure, 30 of virtual seeds 0-29 reach 100 within 3 iterations, 23
-        without it; ``docs/framework.md``).
+        METHOD.md's chapter-6 neighbour smoothing in the C++ step (default on: with
+        hill-climbing + K2, 27 of virtual seeds 0-29 reach 100 within 3 iterations, 21
+        without it; with the hand-coded structure 30 and 23; ``docs/framework.md``).
     keep_validation : bool
         Add the validation trajectories that moved the object to the next dataset (they
         are interactions too, labelled with the effect they produced).
@@ -137,7 +137,7 @@ class FrameworkConfig:
     offset_half_x: float = 0.045
     offset_half_y: float = 0.0525
     effect_threshold: float = 0.01
-    structure: str = "hand-coded"
+    structure: str = "hc-k2"
     effect_parent: bool = True
     extension_cut: int = 3
     keep_validation: bool = True
