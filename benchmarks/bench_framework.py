@@ -1,6 +1,6 @@
 """The A2L iterative framework: wall time of the whole push experiment with 1 and 2 local
-workers (virtual scene: one run, and several seeds in a row for a run of over a minute), and
-what one iteration costs on the Baxter scene."""
+workers (virtual scene: one run, and a seed sweep for a run of over a minute), and what one
+iteration costs on the Baxter scene."""
 
 from __future__ import annotations
 
@@ -11,6 +11,8 @@ from pathlib import Path
 from typing import Any
 
 from a2l.experiments.push import run_push_experiment
+from a2l.experiments.rundir import read_json
+from a2l.experiments.sweep import run_seed_sweep
 from a2l.framework import FrameworkConfig, loop, validation
 from a2l.framework.env import SceneEnv
 from a2l.parallel import Executor
@@ -23,9 +25,11 @@ TITLE = "Iterative framework (push experiment: workers, Baxter iteration)"
 BAXTER = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 4, "max_iterations": 2,
           "heldout_starts": 8}
 
-#: Seeds of the virtual scaling run (one push experiment each, in a row): over a minute
-#: with 1 worker.
-SCALING_SEEDS = tuple(range(8))
+#: Seeds of the virtual scaling run (``a2l experiment sweep``, one push experiment each):
+#: about 2.5 minutes with 1 worker on the idle machine. With 2 workers the sweep ends when
+#: its last seed does, the other process idle meanwhile: the more seeds, the smaller that
+#: share (a sweep of the documented 30 seeds has half of 8 seeds' share).
+SCALING_SEEDS = tuple(range(16))
 
 
 class _Instrument:
@@ -116,25 +120,25 @@ def _training(m: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def _seeds_run(workers: int, root: Path, tag: str) -> tuple[list[dict[str, Any]], float]:
-    """The virtual push experiment for every seed of :data:`SCALING_SEEDS`, one after the
-    other on one worker pool, without plots (as ``a2l experiment sweep`` runs them):
-    (metrics of each, total wall time, the pool's start included)."""
+    """``a2l experiment sweep --seeds`` :data:`SCALING_SEEDS` ``--workers`` `workers` on the
+    virtual scene, 4 effects (:func:`run_seed_sweep`; 2 workers: 2 seeds at once, each in
+    a worker process of its own): (each seed's ``metrics.json``, total wall time, the
+    worker processes' start included)."""
     t = time.perf_counter()
-    with Executor(workers=workers) as executor:
-        out = [run_push_experiment(FrameworkConfig(scene="virtual", n_effects=4, seed=s),
-                                   root / f"seeds-{tag}-{s}", quiet=True, plots=False,
-                                   executor=executor)
-               for s in SCALING_SEEDS]
-    return out, time.perf_counter() - t
+    sweep = run_seed_sweep(FrameworkConfig(scene="virtual", n_effects=4), SCALING_SEEDS,
+                           out=root / f"sweep-{tag}", workers=workers, quiet=True)
+    wall = time.perf_counter() - t
+    return [read_json(Path(sweep["run_dir"]) / f"seed_{s:03d}" / "metrics.json")
+            for s in SCALING_SEEDS], wall
 
 
 def _scaling() -> tuple[list[float], list[float], bool]:
-    """:func:`_seeds_run` with 1, 2, 2 and 1 workers (interleaved: a load that changes during
-    the benchmark weighs on both): (walls with 1 worker, walls with 2, same metrics)."""
+    """:func:`_seeds_run` with 1 then 2 workers (once each: the sweep is the longest part
+    of this benchmark): (walls with 1 worker, walls with 2, same metrics)."""
     walls: dict[int, list[float]] = {1: [], 2: []}
     metrics: list[list[list[dict[str, Any]]]] = []
     with tempfile.TemporaryDirectory(prefix="a2l-bench-fw-seeds-") as tmp:
-        for k, workers in enumerate((1, 2, 2, 1)):
+        for k, workers in enumerate((1, 2)):
             ms, wall = _seeds_run(workers, Path(tmp), f"{k}w{workers}")
             walls[workers].append(wall)
             metrics.append([_training(m) for m in ms])
@@ -218,15 +222,18 @@ def run() -> str:
         f"Ratio 1 worker / 2 workers: **{wall1 / wall2:.2f}** (above 1: 2 workers are "
         f"faster). Same metrics (but wall times) with 1 and 2 workers: {same}.",
         "",
-        f"A run of over a minute: the same experiment for seeds {SCALING_SEEDS[0]}-"
-        f"{SCALING_SEEDS[-1]} one after the other, each its own run directory, all on one "
-        "worker pool (`run_push_experiment(executor=...)`) and without plots, as `a2l "
-        "experiment sweep` runs them (the pool's start is in the time), run 4 times in the "
-        "order 1, 2, 2, 1 "
-        f"workers: {', '.join(f'{w:.1f}' for w in walls1)} s with 1 worker, "
-        f"{', '.join(f'{w:.1f}' for w in walls2)} s with 2; ratio of the sums, 1 worker / "
-        f"2 workers **{wall_s1 / wall_s2:.2f}**. Same metrics (but wall times) in all 4: "
-        f"{same_s}.",
+        f"A run of over a minute: `a2l experiment sweep --seeds {SCALING_SEEDS[0]}-"
+        f"{SCALING_SEEDS[-1]} --workers N` (`run_seed_sweep`: the same experiment per seed, "
+        "each its own run directory, without plots). With 1 worker the seeds run one after "
+        "the other in this process; with 2, two seeds run at once, each in a worker process "
+        "of its own with its rollouts in that process, so that one seed's skill learning "
+        "and bookkeeping (serial) overlap the other's instead of leaving the workers idle "
+        "(the processes' start is in the time; the sweep ends with its last seed, the other "
+        "process idle by then). Run once with 1 worker, then with 2: "
+        f"{', '.join(f'{w:.1f}' for w in walls1)} s with 1 worker, "
+        f"{', '.join(f'{w:.1f}' for w in walls2)} s with 2; ratio 1 worker / "
+        f"2 workers **{wall_s1 / wall_s2:.2f}**. Same metrics (but wall times) for every "
+        f"seed in both: {same_s}.",
         "",
         "Where the 1-worker run spends its time (the framework's phases, all iterations; "
         "`extend` holds the effect-directed babbling):",
@@ -236,7 +243,10 @@ def run() -> str:
         *_phases(ins),
         "",
         f"{ins.moves:,} movements took {ins.move_s:.1f} s ({per_move_us:.0f} µs each) of "
-        f"the 1-worker run's {wall1:.1f} s. The rollout phases ran {ins.tasks:,} rollouts "
+        f"the 1-worker run's {wall1:.1f} s (its `metrics.json` counts "
+        f"{m1['iterations'][-1]['robot_movements_total']:,}: `robot_movements_total`, "
+        f"{m2['iterations'][-1]['robot_movements_total']:,} with 2 workers). The rollout "
+        f"phases ran {ins.tasks:,} rollouts "
         f"(tasks) in {ins.maps} submissions (`Executor.submit`; a round of effect-directed "
         "babbling for all stuck pairs is one), "
         f"each rollout costing {overhead_ms:.3f} ms beyond its movements (Python: the "

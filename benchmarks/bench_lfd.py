@@ -1,5 +1,8 @@
 """Learning from demonstration: fit time of the diffeomorphic DS on the 30 LASA shapes, the
-C++ velocity query (median, p99.9) and the same queries through the numpy reference."""
+C++ velocity query (median, p99.9, and what the tail is made of) and the same queries through
+the numpy reference; both directions of the maps (``to_demo``: the paper's, a query solves K
+scalar equations; ``to_line``: the maps fitted from the demonstration onto the line, a query is
+one forward sweep and a d x d solve)."""
 
 from __future__ import annotations
 
@@ -10,7 +13,7 @@ import numpy as np
 from a2l import _core
 from a2l.experiments.lasa import LasaConfig, lasa_shapes, load_lasa_shape
 from a2l.lfd import DiffeoDS
-from a2l.lfd.fit import fit_diffeo, mean_demonstration, speed_gain
+from a2l.lfd.fit import DIRECTIONS, fit_diffeo, mean_demonstration, speed_gain
 from a2l.lfd.reference import ref_velocity
 
 TITLE = "Learning from demonstration (diffeomorphic DS: fit, C++ query, numpy reference)"
@@ -18,24 +21,26 @@ CFG = LasaConfig()          # the LASA experiment's parameters (K = 150)
 REPEATS = 3                 # fits per shape; the shape's time is the median of these
 QUERIES = 10_000            # random query points per DS
 ROUNDS = 3                  # interleaved timing rounds: with the cutoff, then without
+PER_POINT = 5               # timings per point for the per-point (algorithmic) tail
 
 
-def _fit_times() -> tuple[list[float], list[float], dict[str, DiffeoDS]]:
+def _fit_times(direction: str) -> tuple[list[float], list[float], dict[str, DiffeoDS]]:
     times, cpu, fitted = [], [], {}
+    params = {**CFG.fit_parameters(), "direction": direction}
     for name in lasa_shapes():
         demos, durations = load_lasa_shape(name)
         ref = mean_demonstration(demos)
         runs, runs_cpu = [], []
         for _ in range(REPEATS):
             t0, c0 = time.perf_counter(), time.thread_time()
-            res = fit_diffeo(ref, **CFG.fit_parameters())
+            res = fit_diffeo(ref, **params)
             runs.append((time.perf_counter() - t0) * 1e3)
             runs_cpu.append((time.thread_time() - c0) * 1e3)
         times.append(float(np.median(runs)))
         cpu.append(float(np.median(runs_cpu)))
         fitted[name] = DiffeoDS.from_maps(res.target, res.centers, res.vectors, res.rhos,
                                           speed_gain(float(np.mean(durations)),
-                                                     CFG.arrival))
+                                                     CFG.arrival), direction=direction)
     return times, cpu, fitted
 
 
@@ -45,7 +50,7 @@ def _queries(ds: DiffeoDS, rng: np.random.Generator, span: float) -> np.ndarray:
 
 def _numpy_per_query_us(ds: DiffeoDS, pts: np.ndarray) -> tuple[float, float]:
     """numpy reference: (vectorised over all points, per point; one point per call)."""
-    args = (ds.target, ds.centers, ds.vectors, ds.rhos, ds.speed)
+    args = (ds.target, ds.centers, ds.vectors, ds.rhos, ds.speed, ds.direction)
     t0 = time.perf_counter()
     ref_velocity(pts, *args)
     batch = (time.perf_counter() - t0) / len(pts) * 1e6
@@ -62,7 +67,7 @@ def _time_cutoff(ds: DiffeoDS, pts: np.ndarray) -> tuple[dict[str, float], dict[
     only underflowing maps skipped (t = 746), in :data:`ROUNDS` interleaved rounds (one pass
     each): per variant the median over rounds of the median and of the p99.9 (µs)."""
     under = _core.DiffeoDS(ds.target, ds.centers, ds.vectors, ds.rhos, ds.speed,
-                           negligible=_core.DIFFEO_UNDERFLOW)
+                           negligible=_core.DIFFEO_UNDERFLOW, direction=ds.direction)
     runs: dict[str, list[dict[str, float]]] = {"cut": [], "under": []}
     for _ in range(ROUNDS):
         runs["cut"].append(ds.core.time_velocity(pts, 1))
@@ -71,53 +76,82 @@ def _time_cutoff(ds: DiffeoDS, pts: np.ndarray) -> tuple[dict[str, float], dict[
                   for k in ("median_ns", "p999_ns")} for v in ("cut", "under"))
 
 
-def _helix_ds() -> DiffeoDS:
+def _tail(ds: DiffeoDS, pts: np.ndarray) -> tuple[float, float, float]:
+    """What the tail is made of (µs): the p99.9 over the points of each point's own median of
+    :data:`PER_POINT` timings (a preemption hits one of them, not the median: the tail the
+    work itself has), and the median and p99.9 of one point queried :data:`QUERIES` times
+    (the same work every call: its spread is the machine's, not the algorithm's)."""
+    own = [ds.core.time_velocity(pts[i:i + 1], PER_POINT)["median_ns"] for i in range(len(pts))]
+    same = ds.core.time_velocity(np.repeat(pts[:1], len(pts), axis=0), 1)
+    return (float(np.percentile(own, 99.9)) / 1e3, same["median_ns"] / 1e3,
+            same["p999_ns"] / 1e3)
+
+
+def _helix_ds(direction: str) -> DiffeoDS:
     s = np.linspace(0.0, 1.0, 1000)
     x = np.column_stack([30 * np.cos(6 * s) * (1 - s), 30 * np.sin(6 * s) * (1 - s), 20 * s])
     p = CFG.fit_parameters()
     return DiffeoDS.fit(x[::-1] - x[0], K=p["K"], beta=p["beta"], mu=p["mu"],
-                        duration=3.0, regularisation=p["regularisation"])
+                        duration=3.0, regularisation=p["regularisation"], direction=direction)
 
 
 def run() -> str:
-    fit_ms, fit_cpu_ms, fitted = _fit_times()
+    fits = {d: _fit_times(d) for d in DIRECTIONS}
     rng = np.random.default_rng(0)
     rows = []
-    subjects = [(f"LASA {n} (d = 2)", fitted[n]) for n in ("Angle", "GShape", "Sshape")]
-    subjects.append(("helix (d = 3)", _helix_ds()))
-    for label, ds in subjects:
-        pts = _queries(ds, rng, 60.0)
-        cut, under = _time_cutoff(ds, pts)
-        batch, one = _numpy_per_query_us(ds, pts)
-        med = cut["median_ns"]
-        rows.append(f"| {label} | {ds.n_maps} | {med:.2f} | {cut['p999_ns']:.2f} | "
-                    f"{under['median_ns']:.2f} | {under['p999_ns']:.2f} | "
-                    f"{batch:.1f} | {one:.0f} | {batch / med:.0f}x | {one / med:.0f}x |")
-    f, fc = np.asarray(fit_ms), np.asarray(fit_cpu_ms)
+    for label, name in [(f"LASA {n} (d = 2)", n) for n in ("Angle", "GShape", "Sshape")] + [
+            ("helix (d = 3)", None)]:
+        pts = None
+        for direction in DIRECTIONS:
+            ds = fits[direction][2][name] if name else _helix_ds(direction)
+            if pts is None:  # the same points for both directions
+                pts = _queries(ds, rng, 60.0)
+            cut, under = _time_cutoff(ds, pts)
+            own, same_med, same_p999 = _tail(ds, pts)
+            batch, one = _numpy_per_query_us(ds, pts)
+            med = cut["median_ns"]
+            rows.append(f"| {label} | {direction} | {ds.n_maps} | {med:.2f} | "
+                        f"{cut['p999_ns']:.2f} | {own:.2f} | {same_med:.2f} / {same_p999:.2f} | "
+                        f"{under['median_ns']:.2f} | {under['p999_ns']:.2f} | "
+                        f"{batch:.1f} | {one:.0f} | {batch / med:.0f}x | {one / med:.0f}x |")
+    fit_rows = []
+    for direction in DIRECTIONS:
+        f, fc = np.asarray(fits[direction][0]), np.asarray(fits[direction][1])
+        fit_rows += [f"| {direction} | {label} | {len(a)} | {np.median(a):.1f} | "
+                     f"{np.percentile(a, 90):.1f} | {a.max():.1f} | {a.min():.1f} |"
+                     for label, a in (("wall", f), ("CPU", fc))]
+    n_shapes = len(fits[DIRECTIONS[0]][0])
     return "\n".join([
         f"Fit (numpy, fast diffeomorphic matching, K = {CFG.K}, the LASA experiment's "
-        f"beta and mu schedules) of the time-aligned mean of each of the {len(f)} LASA shapes "
-        f"(1,000 points); per shape the median of {REPEATS} fits; wall time, and the CPU "
-        "time of the fitting thread (the same fits; on a shared machine the wall time "
-        "includes waiting for a core):",
+        f"beta and mu schedules) of the time-aligned mean of each of the {n_shapes} LASA "
+        f"shapes (1,000 points), in both directions; per shape the median of {REPEATS} fits; "
+        "wall time, and the CPU time of the fitting thread (the same fits; on a shared "
+        "machine the wall time includes waiting for a core):",
         "",
-        "| time | shapes | median (ms) | p90 (ms) | max (ms) | min (ms) |",
-        "|---|---|---|---|---|---|",
-        *(f"| {label} | {len(a)} | {np.median(a):.1f} | {np.percentile(a, 90):.1f} | "
-          f"{a.max():.1f} | {a.min():.1f} |" for label, a in (("wall", f), ("CPU", fc))),
+        "| direction | time | shapes | median (ms) | p90 (ms) | max (ms) | min (ms) |",
+        "|---|---|---|---|---|---|---|",
+        *fit_rows,
         "",
-        f"Velocity query, {QUERIES:,} random points within ±60 of the target (C++: "
-        "`_core.DiffeoDS.time_velocity`, std::chrono around each call; numpy: the "
-        "vectorised reference `a2l.lfd.reference.ref_velocity` on all points at once, and "
-        "called with one point). C++ with the negligible-map cutoff (the default: a map is "
-        "skipped where its weight is below exp(-40), `kDiffeoNegligible`) and without it "
-        "(only underflowing weights skipped, `negligible=DIFFEO_UNDERFLOW`), timed in "
-        f"{ROUNDS} interleaved rounds of one pass each; each figure is the median over the "
-        "rounds. Ratios are against the C++ median with the cutoff:",
+        f"Velocity query, {QUERIES:,} random points within ±60 of the target, the same points "
+        "for both directions (C++: `_core.DiffeoDS.time_velocity`, std::chrono around each "
+        "call; numpy: the vectorised reference `a2l.lfd.reference.ref_velocity` on all points "
+        "at once, and called with one point). `to_demo`: the maps carry the line onto the "
+        "demonstration, a query undoes them (K scalar solves, Halley in a bracket); "
+        "`to_line`: the maps are fitted from the demonstration onto the line, a query applies "
+        "them (K exps, no iteration) and solves one d x d system. C++ with the "
+        "negligible-map cutoff (the default: a map is skipped where its weight is below "
+        "exp(-40), `kDiffeoNegligible`) and without it (only underflowing weights skipped, "
+        f"`negligible=DIFFEO_UNDERFLOW`), timed in {ROUNDS} interleaved rounds of one pass "
+        "each; each figure is the median over the rounds. **Per-point p99.9**: the p99.9 "
+        f"over the points of each point's median of {PER_POINT} timings (a preemption hits "
+        "one timing, not the median: the tail of the work itself). **One point repeated**: "
+        f"median / p99.9 of one point queried {QUERIES:,} times (the same work each call: "
+        "its spread is the machine's). Ratios are against the C++ median with the cutoff:",
         "",
-        "| DS | maps | C++ median (µs) | C++ p99.9 (µs) | no cutoff: median (µs) | "
+        "| DS | direction | maps | C++ median (µs) | C++ p99.9 (µs) | per-point p99.9 (µs) | "
+        "one point repeated: median / p99.9 (µs) | no cutoff: median (µs) | "
         "no cutoff: p99.9 (µs) | numpy vectorised (µs/point) | "
         "numpy one point (µs) | ratio vectorised | ratio one point |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
         *rows,
     ])

@@ -79,17 +79,19 @@ def test_config_validation_names_the_parameter():
         LasaConfig(mu=1.5).validate()
     for bad, name in (({"n_starts": 0}, "n_starts"), ({"start_steps": 0}, "start_steps"),
                       ({"tolerance": 0.0}, "tolerance"), ({"horizon": -1.0}, "horizon"),
-                      ({"arrival": 1.0}, "arrival")):
+                      ({"arrival": 1.0}, "arrival"), ({"direction": "up"}, "direction")):
         with pytest.raises(ValueError, match=name):
             LasaConfig(**bad).validate()
 
 
-def test_exact_flow_check_matches_a_fine_rollout():
+@pytest.mark.parametrize("direction", ["to_demo", "to_line"])
+def test_exact_flow_check_matches_a_fine_rollout(direction):
     """``converged`` follows the exact flow: its end points are those of a fine RK4 rollout."""
     from a2l.experiments.lasa import _exact_flow_check
 
     demos, durations = load_lasa_shape("Angle")
-    ds = DiffeoDS.fit(demos[0], K=30, beta=0.5, mu=0.6, duration=durations[0])
+    ds = DiffeoDS.fit(demos[0], K=30, beta=0.5, mu=0.6, duration=durations[0],
+                      direction=direction)
     starts = np.array([[-40.0, 10.0], [5.0, -8.0], [ds.target[0] + 0.1, ds.target[1]]])
     horizon = 0.3 * durations[0]                   # short: not every start gets there
     check = _exact_flow_check(ds, starts, horizon, tolerance=0.5)

@@ -20,6 +20,11 @@ demonstrations each) to the demonstrations' time-aligned mean, and measures per 
   rollout of ``start_steps`` steps (what a controller applying the field each tick at that
   coarse step does), reported beside it.
 
+``direction`` (``--direction``) chooses which way the maps are fitted
+(:func:`a2l.lfd.fit.fit_diffeo`): from the line onto the demonstration (``to_demo``, the
+paper's) or from the demonstration onto the line (``to_line``: the velocity query is explicit,
+no scalar solves).
+
 Baselines on the same reference and starts: a DMP (``movement_primitives``, imitating the
 same mean, started at each demonstration's start with the mean's end as goal) and the linear
 DS ``xdot = -speed (x - target)`` (the floor), both lasting the demonstration's duration.
