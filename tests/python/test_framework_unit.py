@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -97,6 +97,8 @@ def test_score_of_babbling_rollouts_count_nothing() -> None:
     ("n_offset", -1),
     ("offset_half_x", 0.0),
     ("offset_half_y", float("inf")),
+    ("fixed_parents", "distance"),
+    ("fixed_parents", [1]),
 ])
 def test_validate_names_the_bad_field(field: str, value: object) -> None:
     cfg = FrameworkConfig(**{field: value})
@@ -117,6 +119,30 @@ def test_default_config_is_valid_and_round_trips() -> None:
     cfg = FrameworkConfig(seed=7, n_effects=8, scene="baxter", scene_config={"gui": False})
     cfg.validate()
     assert FrameworkConfig.from_dict(asdict(cfg)) == cfg
+
+
+def test_fixed_parents_keep_distance_in_a_small_dataset(tmp_path: Path) -> None:
+    """Iteration 0's dataset is small: hill-climbing + K2 leaves ``distance`` out of
+    ``move``'s parents (virtual seed 0, as on every seed of docs/framework.md's sweep);
+    ``fixed_parents=("distance",)`` keeps it, and a name that is no context variable is
+    refused."""
+    from a2l.framework import _discretizers as discretizers
+    from a2l.framework import acquire, generate_skill, rollouts_to_frame
+    from a2l.parallel import Executor
+    from a2l.skills import load_bundle
+
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=0)
+    with Executor(workers=1) as local:
+        frame = rollouts_to_frame(acquire(cfg, local, 0).rollouts, discretizers(cfg))
+    names = {}
+    for fixed in ((), ("distance",)):
+        bundle = tmp_path / f"fixed-{len(fixed)}.a2lb"
+        generate_skill(replace(cfg, fixed_parents=fixed), frame, bundle)
+        names[fixed] = [v.name for v in load_bundle(bundle).variables]
+    assert "distance" not in names[()]
+    assert "distance" in names[("distance",)]
+    with pytest.raises(ValueError, match=r"^fixed_parents: \['light'\] not context"):
+        generate_skill(replace(cfg, fixed_parents=("light",)), frame, tmp_path / "x.a2lb")
 
 
 def test_from_dict_names_unknown_keys() -> None:

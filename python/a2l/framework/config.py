@@ -70,6 +70,10 @@ class FrameworkConfig:
         With ``hc-k2``, fix the edge ``effect -> move`` (the action generator is queried with
         the wanted effect; without the edge, small datasets give a skill that ignores it).
         Hill-climbing still chooses every other parent.
+    fixed_parents : tuple of str
+        With ``hc-k2``, context variables (e.g. ``("distance",)``) also fixed as parents of
+        ``move``, like the effect: hill-climbing + K2 drops ``distance`` while the dataset is
+        small, and the orientation wedges around the object then alias (``docs/framework.md``).
     extension_cut : int
         Most steps cut from the end of a trajectory before extending it (each extension
         cuts 1 to ``extension_cut`` steps, drawn at random).
@@ -139,6 +143,7 @@ class FrameworkConfig:
     effect_threshold: float = 0.01
     structure: str = "hc-k2"
     effect_parent: bool = True
+    fixed_parents: tuple[str, ...] = ()
     extension_cut: int = 3
     keep_validation: bool = True
     smoothing: bool = True
@@ -161,6 +166,8 @@ class FrameworkConfig:
     def __post_init__(self) -> None:
         if self.directed_try_cap is None:
             self.directed_try_cap = DIRECTED_TRY_CAP.get(self.scene, 2000)
+        if isinstance(self.fixed_parents, list):  # from JSON (config.json, --set)
+            self.fixed_parents = tuple(self.fixed_parents)
 
     def validate(self) -> None:
         """Raise ``ValueError`` naming the first field out of its domain."""
@@ -194,6 +201,10 @@ class FrameworkConfig:
             raise ValueError(f"extension_cut: must be >= 1, got {self.extension_cut}")
         if self.structure not in ("hc-k2", "hand-coded"):
             raise ValueError(f"structure: unknown {self.structure!r}")
+        if not isinstance(self.fixed_parents, tuple | list) or not all(
+                isinstance(v, str) for v in self.fixed_parents):
+            raise ValueError(f"fixed_parents: must be a list of variable names, got "
+                             f"{self.fixed_parents!r}")
         if self.directed_mode not in ("waypoints", "random"):
             raise ValueError(f"directed_mode: unknown {self.directed_mode!r}; choose "
                              "'waypoints' or 'random'")

@@ -148,6 +148,13 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     constraints: dict[str, Any] = {}
     if cfg.structure == "hc-k2" and cfg.effect_parent:
         constraints["fixed_edges"] = [(disc.effects.name, disc.movements.name)]
+    if cfg.structure == "hc-k2" and cfg.fixed_parents:
+        names = [b.name for b in disc.context]
+        unknown = [v for v in cfg.fixed_parents if v not in names]
+        if unknown:
+            raise ValueError(f"fixed_parents: {unknown} not context variables; they are {names}")
+        constraints.setdefault("fixed_edges", []).extend(
+            (v, disc.movements.name) for v in cfg.fixed_parents)
     network = learn_network(discrete, structure=cfg.structure, state_names=disc.state_names(),
                             **constraints)
     table = compile_policy(network, target="move", evidence=disc.evidence)
