@@ -17,6 +17,7 @@ from a2l.errors import (
     BundleError,
     IKError,
     UnknownLinkError,
+    UnreachableError,
     URDFError,
 )
 
@@ -34,5 +35,6 @@ __all__ = [
     "Status",
     "URDFError",
     "UnknownLinkError",
+    "UnreachableError",
     "__version__",
 ]

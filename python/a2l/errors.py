@@ -10,6 +10,7 @@ __all__ = [
     "IKError",
     "URDFError",
     "UnknownLinkError",
+    "UnreachableError",
 ]
 
 
@@ -39,3 +40,8 @@ class IKError(A2LError):
 
 class BundleError(A2LError, ValueError):
     """A skill bundle is malformed, corrupted or of another schema version."""
+
+
+class UnreachableError(A2LValueError):
+    """A target the arm cannot reach in the asked orientation (e.g. a scene reset with the
+    end-effector beyond the arm's reach with the gripper pointing down)."""

@@ -245,3 +245,29 @@ def test_baxter_env_renders_no_camera_frame_per_movement() -> None:
         assert "perceived" not in env.scene._episode_start
     finally:
         env.close()
+
+
+def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> None:
+    """Baxter, seed 1: held-out start 23 lies 0.249 m beyond the box along +x, where the arm
+    cannot hold the gripper down (the run crashed there before the redraw); it is replaced by
+    its first reachable redraw, from the same ring, and every call gives the same one. A
+    reachable start is kept as drawn."""
+    from a2l.errors import UnreachableError
+    from a2l.framework.config import heldout_redraw
+    from a2l.framework.env import scene_env
+    from a2l.framework.validation import reachable_heldout
+
+    cfg = FrameworkConfig(scene="baxter", n_effects=4, seed=1)
+    raw = cfg.heldout_offsets()
+    env = scene_env(cfg)
+    with pytest.raises(UnreachableError, match="unreachable"):
+        env.begin(raw[23])
+    got = reachable_heldout(cfg, 23)
+    assert not np.array_equal(got, raw[23])
+    assert 0.10 <= np.hypot(got[0], got[1]) <= 0.25 and got[2] == 0.0
+    assert any(np.array_equal(got, heldout_redraw(cfg, 23, k)) for k in range(1, 21))
+    env.begin(got)  # reachable
+    assert np.array_equal(reachable_heldout(cfg, 23), got)
+    assert np.array_equal(reachable_heldout(cfg, 0), raw[0])
+    with pytest.raises(ValueError, match="attempt"):
+        heldout_redraw(cfg, 23, 0)

@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DIRECTED_TRY_CAP", "HELDOUT_STREAM", "FrameworkConfig", "discretizers",
-           "task_config"]
+__all__ = ["DIRECTED_TRY_CAP", "HELDOUT_REDRAWS", "HELDOUT_STREAM", "FrameworkConfig",
+           "discretizers", "heldout_redraw", "task_config"]
 
 #: Default ``directed_try_cap`` of each scene.
 DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
@@ -242,6 +242,24 @@ class FrameworkConfig:
         heldout_r_high]``, drawn from their own stream (:data:`HELDOUT_STREAM`)."""
         return _heldout_offsets(self.seed, self.heldout_starts, self.heldout_r_low,
                                 self.heldout_r_high).copy()
+
+
+#: Most redraws of one held-out start the arm cannot reach (:func:`heldout_redraw`).
+HELDOUT_REDRAWS = 20
+
+
+def heldout_redraw(cfg: FrameworkConfig, start: int, attempt: int) -> np.ndarray:
+    """Replacement `attempt` (1, 2, ...) for held-out start `start` when the arm cannot reach
+    it, shape (3,): the same distribution (uniform angle, distance uniform in
+    ``[heldout_r_low, heldout_r_high]``) from a stream of its own, ``(seed, HELDOUT_STREAM,
+    start, attempt)``, so a redraw depends on neither the other starts nor the worker."""
+    if attempt < 1:
+        raise ValueError(f"attempt: must be >= 1, got {attempt}")
+    rng = np.random.default_rng(np.random.SeedSequence([cfg.seed, HELDOUT_STREAM, start,
+                                                        attempt]))
+    a = rng.uniform(0.0, 2 * np.pi)
+    r = rng.uniform(cfg.heldout_r_low, cfg.heldout_r_high)
+    return np.array([r * np.cos(a), r * np.sin(a), 0.0])
 
 
 @functools.lru_cache(maxsize=16)

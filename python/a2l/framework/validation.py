@@ -12,13 +12,20 @@ from typing import Any
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout, play
-from a2l.framework.config import FrameworkConfig, discretizers, task_config
+from a2l.errors import UnreachableError
+from a2l.framework.config import (
+    HELDOUT_REDRAWS,
+    FrameworkConfig,
+    discretizers,
+    heldout_redraw,
+    task_config,
+)
 from a2l.framework.env import scene_env
 from a2l.framework.runner import CppSkillRunner
 from a2l.framework.scoring import FAIL, FALSE_POSITIVE, SUCCESS
 from a2l.parallel import Executor
 
-__all__ = ["heldout_task", "validate", "validate_heldout", "validate_task"]
+__all__ = ["heldout_task", "reachable_heldout", "validate", "validate_heldout", "validate_task"]
 
 #: One validation rollout: ``(config as a dict, bundle path, start index, wanted effect)``.
 ValidationTask = tuple[dict[str, Any], str, int, int]
@@ -46,7 +53,33 @@ def heldout_task(task: ValidationTask) -> Rollout:
     if not 0 <= start < len(offsets):
         raise ValueError(f"held-out start {start} out of range: the config has "
                          f"{len(offsets)} held-out starts")
-    return _closed_loop(cfg, bundle, start, offsets[start], wanted)
+    return _closed_loop(cfg, bundle, start, reachable_heldout(cfg, start), wanted)
+
+
+def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
+    """Held-out start `start`'s offset from the object, shape (3,), or, when the arm cannot
+    put its end-effector there (:class:`~a2l.errors.UnreachableError` at the scene's reset,
+    e.g. Baxter's gripper pointing down 0.25 m beyond a box near the rim of its reach), the
+    first reachable of its redraws (:func:`~a2l.framework.config.heldout_redraw`): a
+    deterministic replacement from the same distribution, the same on every worker.
+
+    Raises
+    ------
+    UnreachableError
+        None of the start and its :data:`HELDOUT_REDRAWS` redraws is reachable.
+    """
+    offset = cfg.heldout_offsets()[start]
+    env = scene_env(cfg)
+    for attempt in range(HELDOUT_REDRAWS + 1):
+        if attempt:
+            offset = heldout_redraw(cfg, start, attempt)
+        try:
+            env.begin(offset)
+        except UnreachableError:
+            continue
+        return offset
+    raise UnreachableError(f"held-out start {start}: neither it nor its {HELDOUT_REDRAWS} "
+                           f"redraws is reachable in scene {cfg.scene!r}")
 
 
 def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarray,

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import a2l
-from a2l.errors import A2LValueError
+from a2l.errors import A2LValueError, UnreachableError
 from a2l.sim._pybullet import p
 from a2l.sim.bullet.build import _FINGER_OPEN
 from a2l.sim.movement import MoveResult
@@ -98,13 +98,14 @@ class MotionMixin:
     def _ik_down(self, xyz: ArrayLike, what: str) -> NDArray[np.float64]:
         """Joint positions (7,) that put the end-effector at `xyz` with the gripper pointing
         down, by the C++ IK from the neutral pose (the same solution every time), or an
-        A2LValueError that starts with `what`."""
+        A2LValueError that starts with `what` (:class:`~a2l.errors.UnreachableError` when
+        the IK finds no such pose)."""
         target = np.asarray(xyz, dtype=float).reshape(3)
         if not np.all(np.isfinite(target)):
             raise A2LValueError(f"{what}: eef must be 3 finite numbers, got {xyz!r}")
         q, rep = self.kinematics.ik_report(self.gripper_down_pose(target), self._neutral_q)
         if rep.status != a2l.Status.ok:
-            raise A2LValueError(f"{what}: eef {tuple(np.round(target, 4))} is unreachable "
+            raise UnreachableError(f"{what}: eef {tuple(np.round(target, 4))} is unreachable "
                                 f"with the gripper pointing down "
                                 f"({a2l._core.status_name(rep.status)})")
         return np.asarray(q, dtype=float)
