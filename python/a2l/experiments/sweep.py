@@ -235,7 +235,9 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
               "overrides": overrides or {}, "seeds": seeds, "command": command}
     if (run_dir / "config.json").is_file():
         old = read_json(run_dir / "config.json")
-        if (old.get("framework"), old.get("seeds")) != (config["framework"], seeds):
+        # compared as JSON: config.json holds lists where the config holds tuples
+        framework = json.loads(json.dumps(config["framework"]))
+        if (old.get("framework"), old.get("seeds")) != (framework, seeds):
             raise ValueError(f"'{run_dir}' holds a sweep of another configuration or other "
                              "seeds; choose another --out")
     else:
