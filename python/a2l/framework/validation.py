@@ -27,6 +27,10 @@ from a2l.parallel import Executor
 
 __all__ = ["heldout_task", "reachable_heldout", "validate", "validate_heldout", "validate_task"]
 
+#: Reachable held-out offsets already probed in this process (:func:`reachable_heldout`),
+#: by (scene, seed, held-out starts, ring radii, start).
+_REACHABLE: dict[tuple[Any, ...], np.ndarray] = {}
+
 #: One validation rollout: ``(config as a dict, bundle path, start index, wanted effect)``.
 ValidationTask = tuple[dict[str, Any], str, int, int]
 
@@ -68,6 +72,10 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     UnreachableError
         None of the start and its :data:`HELDOUT_REDRAWS` redraws is reachable.
     """
+    key = (cfg.scene, cfg.seed, cfg.heldout_starts, cfg.heldout_r_low, cfg.heldout_r_high,
+           start)
+    if key in _REACHABLE:  # probed once per process: every effect starts from it
+        return _REACHABLE[key].copy()
     offset = cfg.heldout_offsets()[start]
     env = scene_env(cfg)
     for attempt in range(HELDOUT_REDRAWS + 1):
@@ -77,7 +85,8 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
             env.begin(offset)
         except UnreachableError:
             continue
-        return offset
+        _REACHABLE[key] = offset
+        return offset.copy()
     raise UnreachableError(f"held-out start {start}: neither it nor its {HELDOUT_REDRAWS} "
                            f"redraws is reachable in scene {cfg.scene!r}")
 
