@@ -53,11 +53,11 @@ def _add_lasa_parser(exps: argparse._SubParsersAction) -> None:
     lasa.add_argument("--arrival", type=float, default=None, metavar="F",
                       help="fraction of its line-space distance a reproduction has left at the "
                       "demonstrations' end: sets the DS's speed (default 0.001)")
-    lasa.add_argument("--direction", choices=("to_line", "to_demo"), default=None,
+    lasa.add_argument("--direction", choices=("auto", "to_line", "to_demo"), default=None,
                       help="which way the maps are fitted: to_line (the demonstration onto "
-                      "the line: explicit velocity queries) or to_demo (the paper's: the line "
-                      "onto the demonstration, queries solve K scalar equations); default: "
-                      "LasaConfig.direction")
+                      "the line: explicit velocity queries), to_demo (the paper's: the line "
+                      "onto the demonstration, queries solve K scalar equations) or auto "
+                      "(to_line unless its fit leaves a large error; default)")
     lasa.add_argument("--starts", type=positive_int, default=10_000, metavar="N",
                       help="random starts per shape for the convergence test (default 10000)")
     lasa.add_argument("--seed", type=nonnegative_int, default=0,

@@ -22,8 +22,9 @@ demonstrations each) to the demonstrations' time-aligned mean, and measures per 
 
 ``direction`` (``--direction``) chooses which way the maps are fitted
 (:func:`a2l.lfd.fit.fit_diffeo`): from the line onto the demonstration (``to_demo``, the
-paper's) or from the demonstration onto the line (``to_line``: the velocity query is explicit,
-no scalar solves).
+paper's), from the demonstration onto the line (``to_line``, the pullback fit: the velocity
+query is explicit, no scalar solves) or ``auto`` (default: ``to_line`` unless its fit leaves
+a large error, then the better of the two; each shape's ``direction`` is reported).
 
 Baselines on the same reference and starts: a DMP (``movement_primitives``, imitating the
 same mean, started at each demonstration's start with the mean's end as goal) and the linear
@@ -49,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+from a2l.lfd.fit import FIT_DIRECTIONS
 from a2l.lfd.metrics import dtw_mean_distance, resample_time, swept_error_area, velocity_rmse
 from a2l.parallel import Executor
 
@@ -91,9 +93,12 @@ class LasaConfig:
     seed : int
         Seed of the random starts (shape i uses seed + i).
     direction : str
-        Which way the maps are fitted (:func:`a2l.lfd.fit.fit_diffeo`): ``"to_line"`` (the
-        demonstration carried onto the line: explicit velocity queries) or ``"to_demo"``
-        (the paper's, the line onto the demonstration: queries solve K scalar equations).
+        Which way the maps are fitted (:func:`a2l.lfd.fit.fit_diffeo`): ``"auto"`` (default:
+        ``to_line``, or ``to_demo`` where the ``to_line`` fit leaves a large error; each
+        shape's ``direction`` is in ``metrics.json``), ``"to_line"`` (the demonstration
+        carried onto the line by the pullback fit: explicit velocity queries) or
+        ``"to_demo"`` (the paper's, the line onto the demonstration: queries solve K scalar
+        equations).
     """
 
     K: int = 150
@@ -109,7 +114,7 @@ class LasaConfig:
     dmp_weights: int = 50
     grid: int = 40
     seed: int = 0
-    direction: str = "to_demo"
+    direction: str = "auto"
 
     def validate(self) -> None:
         """Raise ValueError naming the first out-of-range parameter."""
@@ -129,8 +134,8 @@ class LasaConfig:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
         if not 0 < self.arrival < 1:
             raise ValueError(f"arrival must be in (0, 1), got {self.arrival}")
-        if self.direction not in ("to_demo", "to_line"):
-            raise ValueError(f"direction must be 'to_demo' or 'to_line', got {self.direction!r}")
+        if self.direction not in FIT_DIRECTIONS:
+            raise ValueError(f"direction must be one of {FIT_DIRECTIONS}, got {self.direction!r}")
 
     def fit_parameters(self) -> dict[str, Any]:
         """Keyword arguments of :func:`a2l.lfd.fit.fit_diffeo` (K, beta, mu, regularisation,
@@ -220,7 +225,7 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
                              "mu": cfg.mu or "schedule", "regularisation": cfg.regularisation,
                              "arrival": cfg.arrival, "direction": cfg.direction,
                              "max_error": fitted.max_error, "duration": duration},
-                            direction=cfg.direction)
+                            direction=fitted.direction)
 
     reps = [ds.rollout(d[0], t / (len(d) - 1), len(d), "rk4")
             for d, t in zip(demos, durations, strict=True)]
@@ -250,7 +255,8 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
                 "eval_us": timing["median_ns"] / 1e3, **exact,
                 "converged_euler": float(np.mean(euler_dist < cfg.tolerance)),
                 "worst_end_distance_euler": float(euler_dist.max()),
-                "n_maps": ds.n_maps, "fit_max_error": fitted.max_error},
+                "n_maps": ds.n_maps, "fit_max_error": fitted.max_error,
+                "direction": fitted.direction},
         "dmp": _scores(dmp, demos, durations),
         "linear": _scores(lin, demos, durations),
         "demo_spread": {"dtw": spread},

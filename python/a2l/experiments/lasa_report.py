@@ -13,7 +13,8 @@ __all__ = ["plot_lasa", "report_markdown", "results_table"]
 def results_table(metrics: dict[str, Any]) -> str:
     """Markdown table: per shape a2l, DMP, linear and demo spread, then the means."""
     head = ["shape", "a2l DTW", "DMP DTW", "linear DTW", "demo spread DTW", "a2l SEA",
-            "DMP SEA", "a2l vRMSE", "DMP vRMSE", "fit (ms)", "query (µs)", "converged (exact flow)",
+            "DMP SEA", "a2l vRMSE", "DMP vRMSE", "direction", "fit (ms)", "query (µs)",
+            "converged (exact flow)",
             "converged (Euler)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     a2l, dmp, lin, spread = (metrics[k] for k in ("shapes", "dmp", "linear", "demo_spread"))
@@ -22,13 +23,14 @@ def results_table(metrics: dict[str, Any]) -> str:
         lines.append(
             f"| {name} | {a['dtw']:.2f} | {d['dtw']:.2f} | {lin[name]['dtw']:.2f} | "
             f"{spread[name]['dtw']:.2f} | {a['sea']:.0f} | {d['sea']:.0f} | "
-            f"{a['vrmse']:.1f} | {d['vrmse']:.1f} | {a['fit_ms']:.0f} | {a['eval_us']:.2f} | "
+            f"{a['vrmse']:.1f} | {d['vrmse']:.1f} | {a.get('direction', '–')} | "
+            f"{a['fit_ms']:.0f} | {a['eval_us']:.2f} | "
             f"{a['converged']:.2%} | {a['converged_euler']:.2%} |")
     s = metrics["summary"]
     lines.append(
         f"| **mean** | **{s['a2l_dtw']:.2f}** | **{s['dmp_dtw']:.2f}** | "
         f"**{s['linear_dtw']:.2f}** | **{s['demo_spread_dtw']:.2f}** | {s['a2l_sea']:.0f} | "
-        f"{s['dmp_sea']:.0f} | {s['a2l_vrmse']:.1f} | {s['dmp_vrmse']:.1f} | "
+        f"{s['dmp_sea']:.0f} | {s['a2l_vrmse']:.1f} | {s['dmp_vrmse']:.1f} | | "
         f"{s['fit_ms_median']:.0f} (median) | {s['eval_us_median']:.2f} (median) | "
         f"min {s['min_converged']:.2%} | min {s['min_converged_euler']:.2%} |")
     return "\n".join(lines)
@@ -40,7 +42,8 @@ def report_markdown(metrics: dict[str, Any], cfg: Any, command: str, plots: bool
     return "\n".join([
         f"# LASA handwriting benchmark ({len(metrics['shapes'])} shapes)",
         "",
-        f"Command: `{command}`; K = {cfg.K}, beta = {cfg.beta or 'schedule'}, "
+        f"Command: `{command}`; direction {cfg.direction}, K = {cfg.K}, "
+        f"beta = {cfg.beta or 'schedule'}, "
         f"mu = {cfg.mu or 'schedule'}, regularisation = {cfg.regularisation:g}, "
         f"{cfg.n_starts} random starts per shape (seed {cfg.seed} + shape index), "
         f"{metrics['workers']} worker(s), {metrics['wall_s']:.0f} s.",

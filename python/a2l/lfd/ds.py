@@ -95,9 +95,11 @@ class DiffeoDS:
             (:func:`a2l.lfd.fit.speed_gain`).
         regularisation : float
             Weight of ``rho^2`` in the width search.
-        direction : {"to_demo", "to_line"}
-            Fit the maps from the line onto the demonstration (default) or the other way
-            (:func:`a2l.lfd.fit.fit_diffeo`).
+        direction : {"to_demo", "to_line", "auto"}
+            Fit the maps from the line onto the demonstration (default, the paper's), the
+            other way (explicit velocity queries), or ``"auto"`` (``to_line`` unless its fit
+            leaves a large error; :func:`a2l.lfd.fit.fit_diffeo`). The fitted DS's
+            ``direction`` says which.
         """
         items = (list(trajectory) if isinstance(trajectory, (list, tuple))
                  else [trajectory])
@@ -121,7 +123,7 @@ class DiffeoDS:
         if isinstance(first, Demonstration):
             meta.update(frame=first.frame, states=first.states)
         return cls.from_maps(res.target, res.centers, res.vectors, res.rhos,
-                             speed_gain(duration), meta, direction=direction)
+                             speed_gain(duration), meta, direction=res.direction)
 
     # --- files --------------------------------------------------------------------------------
     def save(self, path: str | os.PathLike[str], name: str = "ds") -> Path:
