@@ -1,7 +1,7 @@
-//! \file diffeo.cpp
-//! \brief Evaluation of the diffeomorphic DS: the maps applied and undone (one scalar
-//! solve per map), Jacobian, velocity, rollout, and the query timing. Validation and
-//! construction are in diffeo_maps.cpp.
+// diffeo.cpp:
+// Evaluation of the diffeomorphic DS: the maps applied and undone (one scalar
+// solve per map), Jacobian, velocity, rollout, and the query timing. Validation and
+// construction are in diffeo_maps.cpp.
 #include "a2l/diffeo.hpp"
 
 #include <Eigen/LU>

@@ -1,14 +1,14 @@
-//! \file diffeo_maps.cpp
-//! \brief A diffeomorphic DS's description: validation (validate_diffeo_maps), building
-//! the evaluator from it (DiffeoDS::create) and back (DiffeoDS::maps). Evaluation is in
-//! diffeo.cpp.
-#include "a2l/diffeo.hpp"
-
+// diffeo_maps.cpp:
+// A diffeomorphic DS's description: validation (validate_diffeo_maps), building
+// the evaluator from it (DiffeoDS::create) and back (DiffeoDS::maps). Evaluation is in
+// diffeo.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+
+#include "a2l/diffeo.hpp"
 
 namespace a2l {
 namespace {
