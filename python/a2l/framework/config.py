@@ -71,9 +71,11 @@ class FrameworkConfig:
         the wanted effect; without the edge, small datasets give a skill that ignores it).
         Hill-climbing still chooses every other parent.
     fixed_parents : tuple of str
-        With ``hc-k2``, context variables (e.g. ``("distance",)``) also fixed as parents of
-        ``move``, like the effect: hill-climbing + K2 drops ``distance`` while the dataset is
-        small, and the orientation wedges around the object then alias (``docs/framework.md``).
+        With ``hc-k2``, context variables also fixed as parents of ``move``, like the effect
+        (default ``("distance",)``, since issue 14: hill-climbing + K2 drops ``distance`` while
+        the dataset is small, and the orientation wedges around the object then alias,
+        ``docs/framework.md``; the README's results table is measured with it). Hill-climbing still chooses every other
+        parent; ``()`` leaves ``distance`` to it too.
     extension_cut : int
         Most steps cut from the end of a trajectory before extending it (each extension
         cuts 1 to ``extension_cut`` steps, drawn at random).
@@ -143,7 +145,7 @@ class FrameworkConfig:
     effect_threshold: float = 0.01
     structure: str = "hc-k2"
     effect_parent: bool = True
-    fixed_parents: tuple[str, ...] = ()
+    fixed_parents: tuple[str, ...] = ("distance",)
     extension_cut: int = 3
     keep_validation: bool = True
     smoothing: bool = True
