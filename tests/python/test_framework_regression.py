@@ -2,8 +2,8 @@
 ``a2l/framework_env.py`` became the ``a2l.framework`` and ``a2l.acquisition`` packages
 (issue 12): the virtual push experiment with 4 effects and seeds 0-3 gives, iteration by
 iteration, the metrics the old modules gave (with the structure and smoothing of that time,
-``structure="hc-k2"``, ``smoothing=False``, given explicitly since issue 14 changed the
-defaults).
+``structure="hc-k2"``, ``smoothing=False``, ``fixed_parents=()``, given explicitly since
+issue 14 changed the defaults).
 
 ``EXPECTED`` was measured with the old code, at commit 15ce53e (the last commit with
 ``framework.py``), by ``a2l experiment push --scene virtual --effects 4 --seed S --out DIR``
@@ -56,11 +56,12 @@ EXPECTED: dict[int, list[dict[str, Any]]] = {
 }
 
 
-#: The defaults since issue 14 (hill-climbing + K2 with neighbour smoothing: 27 of virtual
-#: seeds 0-29 reach 100 within 3 iterations, docs/framework.md's "aliasing cell" table),
-#: seeds 0-3, measured with ``FrameworkConfig(scene="virtual", n_effects=4, seed=S)`` and
-#: :func:`run_framework` (1 worker) when the defaults changed.
-EXPECTED_DEFAULT: dict[int, list[dict[str, Any]]] = {
+#: Hill-climbing + K2 with neighbour smoothing and no fixed context parent (the defaults from
+#: commit 8bb391b to 54a7e03: 27 of virtual seeds 0-29 reach 100 within 3 iterations,
+#: docs/framework.md's "aliasing cell" table), seeds 0-3, measured with
+#: ``FrameworkConfig(scene="virtual", n_effects=4, seed=S)`` and :func:`run_framework`
+#: (1 worker) when they were the defaults.
+EXPECTED_SMOOTHING: dict[int, list[dict[str, Any]]] = {
     0: [
         _it(0, 33.59375, (0.125, 0.375, 0.25, 0.375), 7, 4.111111111111111, 189),
         _it(1, 96.875, (1.0, 1.0, 0.875, 1.0), 0, 6.064516129032258, 8461),
@@ -82,6 +83,30 @@ EXPECTED_DEFAULT: dict[int, list[dict[str, Any]]] = {
 }
 
 
+#: The defaults since commit 54a7e03: the same with ``distance -> move`` fixed
+#: (``fixed_parents=("distance",)``), measured with ``FrameworkConfig(scene="virtual",
+#: n_effects=4, seed=S)`` and :func:`run_framework` (1 worker) at that commit.
+EXPECTED_DEFAULT: dict[int, list[dict[str, Any]]] = {
+    0: [
+        _it(0, 41.40625, (0.25, 0.375, 0.5, 0.5), 1, 4.384615384615385, 189),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.0, 7519),
+    ],
+    1: [
+        _it(0, 31.25, (0.125, 0.125, 0.5, 0.5), 0, 4.2, 181),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.0625, 8074),
+    ],
+    2: [
+        _it(0, 28.125, (0.375, 0.0, 0.25, 0.5), 0, 4.222222222222222, 171),
+        _it(1, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 5.96875, 8378),
+    ],
+    3: [
+        _it(0, 43.75, (0.125, 0.375, 0.75, 0.5), 0, 5.428571428571429, 184),
+        _it(1, 97.65625, (1.0, 1.0, 1.0, 0.875), 1, 5.838709677419355, 6868),
+        _it(2, 100.0, (1.0, 1.0, 1.0, 1.0), 0, 6.0, 7923),
+    ],
+}
+
+
 #: Seed 1 with the offset context variables (``n_offset = 3``: the end-effector in front of
 #: the box's faces across x and y, or beside them), measured by ``a2l experiment sweep
 #: --seeds 0-29`` with ``n_offset = 3`` as the default (commit 4123357; docs/framework.md's
@@ -97,7 +122,7 @@ def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
     from a2l.skills import load_bundle
 
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=1, n_offset=3, structure="hc-k2",
-                          smoothing=False)
+                          smoothing=False, fixed_parents=())
     with Executor(workers=1) as executor:
         result = run_framework(cfg, tmp_path, executor)
     got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
@@ -109,14 +134,20 @@ def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, structure="hc-k2",
-                          smoothing=False)
+                          smoothing=False, fixed_parents=())
     _assert_metrics(cfg, tmp_path, EXPECTED[seed])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_virtual_push_metrics_with_smoothing_alone(seed: int, tmp_path: Path) -> None:
+    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, fixed_parents=())
+    _assert_metrics(cfg, tmp_path, EXPECTED_SMOOTHING[seed])
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_with_the_defaults(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed)
-    assert (cfg.structure, cfg.smoothing) == ("hc-k2", True)
+    assert (cfg.structure, cfg.smoothing, cfg.fixed_parents) == ("hc-k2", True, ("distance",))
     _assert_metrics(cfg, tmp_path, EXPECTED_DEFAULT[seed])
 
 

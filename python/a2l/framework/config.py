@@ -74,8 +74,8 @@ class FrameworkConfig:
         With ``hc-k2``, context variables also fixed as parents of ``move``, like the effect
         (default ``("distance",)``, since issue 14: hill-climbing + K2 drops ``distance`` while
         the dataset is small, and the orientation wedges around the object then alias,
-        ``docs/framework.md``; the README's results table is measured with it). Hill-climbing still chooses every other
-        parent; ``()`` leaves ``distance`` to it too.
+        ``docs/framework.md``; the README's results table is measured with it). Hill-climbing
+        still chooses every other parent; ``()`` leaves ``distance`` to it too.
     extension_cut : int
         Most steps cut from the end of a trajectory before extending it (each extension
         cuts 1 to ``extension_cut`` steps, drawn at random).
