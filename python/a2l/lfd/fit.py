@@ -256,8 +256,7 @@ def _fit_pullback(q: np.ndarray, goal: np.ndarray, betas: np.ndarray, mus: np.nd
     vectors: list[np.ndarray] = []
     rhos: list[float] = []
 
-    def add_map(j: int, b: float, m: float) -> None:
-        res = goal - q
+    def add_map(j: int, b: float, m: float, res: np.ndarray) -> None:
         u = b * res[j]                                 # what psi^{-1} does to q_j
         un = float(np.sqrt(u @ u))
         if un == 0.0:
@@ -278,8 +277,8 @@ def _fit_pullback(q: np.ndarray, goal: np.ndarray, betas: np.ndarray, mus: np.nd
         j = int(np.argmax(err))
         if err[j] < tol * tol:
             break
-        add_map(j, float(betas[i]), float(mus[i]))
-    add_map(n - 1, 1.0, float(mus[-1]))                # psi^{-1}(q_end) = target exactly
+        add_map(j, float(betas[i]), float(mus[i]), res)
+    add_map(n - 1, 1.0, float(mus[-1]), goal - q)      # psi^{-1}(q_end) = target exactly
     return centers[::-1], vectors[::-1], rhos[::-1], goal - q
 
 
