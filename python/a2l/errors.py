@@ -7,6 +7,7 @@ __all__ = [
     "A2LFileNotFoundError",
     "A2LValueError",
     "BundleError",
+    "ConfigError",
     "IKError",
     "URDFError",
     "UnknownLinkError",
@@ -24,6 +25,24 @@ class A2LFileNotFoundError(A2LError, FileNotFoundError):
 
 class A2LValueError(A2LError, ValueError):
     """An argument has the wrong size, NaN, or is out of its domain."""
+
+
+class ConfigError(A2LValueError):
+    """A configuration value or an experiment's argument out of its domain.
+
+    Parameters
+    ----------
+    field : str
+        The field or argument at fault (``n_effects``, ``--skills``...): the command line
+        reports it as the option of that name.
+    message : str
+        What is wrong with it (valid values or names included).
+    """
+
+    def __init__(self, field: str, message: str) -> None:
+        super().__init__(f"{field}: {message}")
+        self.field = field
+        self.message = message
 
 
 class URDFError(A2LError, ValueError):

@@ -27,7 +27,9 @@ experiment sweep
 
 Layout: ``args`` (usage error, argument types), ``demo`` (demo, demo-record),
 ``experiments`` (the ``experiment`` group; lasa, babbling), ``push`` (push, discretization,
-sweep); the LfD experiments add their own sub-parsers (``a2l.experiments.*.add_parser``).
+sweep), ``lfd`` (lfd-skills, parametrization, perturbations), ``tasks``. Every argument is
+parsed here; the experiments raise :class:`a2l.errors.ConfigError` naming the argument at
+fault, which :func:`main` reports as a usage error (exit code 2).
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from collections.abc import Sequence
 
 from a2l.cli import demo, experiments
 from a2l.cli.args import UsageError
+from a2l.errors import ConfigError
 
 __all__ = ["UsageError", "build_parser", "main"]
 
@@ -63,6 +66,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(args.func(args) or 0)
     except UsageError as exc:
         parser.exit(2, f"{parser.prog}: error: {exc}\n")
+    except ConfigError as exc:
+        parser.exit(2, f"{parser.prog}: error: argument {exc.field}: {exc.message}\n")
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

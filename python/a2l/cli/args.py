@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
-from collections.abc import Iterator
 
 
 class UsageError(Exception):
@@ -21,21 +19,6 @@ class UsageError(Exception):
     def __init__(self, argument: str, message: str) -> None:
         super().__init__(f"argument {argument}: {message}")
         self.argument = argument
-
-
-@contextlib.contextmanager
-def option_errors() -> Iterator[None]:
-    """Turn a ``ValueError("--option: message")`` raised inside into a :class:`UsageError`.
-
-    A ValueError whose message does not start with an option name is re-raised as it is.
-    """
-    try:
-        yield
-    except ValueError as exc:
-        arg, _, msg = str(exc).partition(": ")
-        if not arg.startswith("--"):
-            raise
-        raise UsageError(arg, msg) from None
 
 
 def comma_list(text: str | None) -> list[str] | None:

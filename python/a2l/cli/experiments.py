@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from a2l.cli import lfd, push, tasks
 from a2l.cli.args import UsageError, check_cluster, nonnegative_int, positive_int
 
 
@@ -143,13 +144,10 @@ def add_experiment_parsers(sub: argparse._SubParsersAction) -> None:
     experiment = sub.add_parser("experiment", help="run an A2L experiment (run directory "
                                 "with config, metrics, plots, report)")
     exps = experiment.add_subparsers(dest="experiment", required=True, metavar="EXPERIMENT")
-    from a2l.cli import push
-    from a2l.experiments import lfd_skills, parametrization, perturbations, tasks
-
-    lfd_skills.add_parser(exps)
-    parametrization.add_parser(exps)
-    perturbations.add_parser(exps)
-    tasks.add_parser(exps)
+    lfd.add_lfd_skills_parser(exps)
+    lfd.add_parametrization_parser(exps)
+    lfd.add_perturbations_parser(exps)
+    tasks.add_tasks_parser(exps)
 
     push.add_push_parser(exps)
     push.add_discretization_parser(exps)

@@ -11,7 +11,6 @@ mean movements, failures by stop status, learning times) and ``report.md``.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import os
 import time
@@ -21,9 +20,10 @@ from typing import Any
 
 import pandas as pd
 
+from a2l.errors import ConfigError
 from a2l.lfd.config import LfDConfig
 
-__all__ = ["add_parser", "evaluate", "run_args", "run_lfd_skills", "trial_task"]
+__all__ = ["evaluate", "run_lfd_skills", "trial_task"]
 
 #: Scenes per worker process, keyed by (skill, scene, config overrides).
 _SCENES: dict[str, Any] = {}
@@ -154,7 +154,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     names = list(skills or [n for n in SKILLS if n.startswith("push_")])
     unknown = [n for n in names if n not in SKILLS]
     if unknown:
-        raise ValueError(f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+        raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
     run_dir = make_run_dir("lfd-skills", out)
     bundles, learning = {}, {}
     for name in names:
@@ -191,50 +191,3 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         print("\n".join(lines[6:]))
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
     return metrics
-
-
-def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
-    """The run directory and the skills of an experiment's command line, checked
-    (``--out`` not a file, ``--trials`` and ``--workers`` >= 1)."""
-    from a2l.cli import UsageError
-    from a2l.cli.args import comma_list
-
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise UsageError("--out", f"'{out}' exists and is not a directory")
-    for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
-        if v < 1:
-            raise UsageError(opt, f"must be >= 1, got {v}")
-    return out, comma_list(args.skills)
-
-
-def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli import UsageError
-
-    out, skills = run_args(args)
-    try:
-        run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
-                       args.workers, quiet=args.quiet)
-    except ValueError as exc:
-        raise UsageError("--skills", str(exc)) from None
-    return 0
-
-
-def add_parser(exps: argparse._SubParsersAction) -> None:
-    """Register ``a2l experiment lfd-skills``."""
-    p = exps.add_parser(
-        "lfd-skills", help="demonstrated skills: learn, then run on held-out seeds",
-        description="Learn each demonstrated skill from its scripted demonstrations "
-        "(vector field -> dataset -> Bayesian network -> compiled table) and run it in closed "
-        "loop through the C++ step from held-out trial seeds; write report.md, "
-        "metrics.json, trials.csv and the bundles.")
-    p.add_argument("--out", required=True, help="run directory")
-    p.add_argument("--skills", default=None,
-                   help="comma-separated skill names (default: the push skills)")
-    p.add_argument("--trials", type=int, default=20, help="trials per skill (default 20)")
-    p.add_argument("--seed", type=int, default=1000, help="first trial seed (default 1000)")
-    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
-    p.add_argument("--mode", choices=("table", "ds"), default="table")
-    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd)

@@ -18,7 +18,6 @@ Output: ``cells.csv``, ``metrics.json``, ``report.md``, ``parametrization.png``.
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import os
 import time
@@ -29,10 +28,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from a2l.experiments.lfd_skills import _package_dir, progress_bar, run_args, trial_task
+from a2l.errors import ConfigError
+from a2l.experiments.lfd_skills import _package_dir, progress_bar, trial_task
 from a2l.lfd.config import LfDConfig
 
-__all__ = ["DEFAULT_GRID", "add_parser", "cell_task", "run_parametrization", "select_default"]
+__all__ = ["DEFAULT_GRID", "cell_task", "run_parametrization", "select_default"]
 
 #: The full study's values (``--resolutions`` ... override them).
 DEFAULT_GRID: dict[str, tuple[Any, ...]] = {
@@ -144,7 +144,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
     unknown = [n for n in names if n not in SKILLS]
     if unknown:
-        raise ValueError(f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+        raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
     values = {**DEFAULT_GRID, **(grid or {})}
     combos = list(itertools.product(*(values[k] for k in DEFAULT_GRID)))
     run_dir = make_run_dir("parametrization", out)
@@ -197,74 +197,3 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
         print(f"results in {run_dir}/ (report.md, metrics.json, cells.csv, "
               "parametrization.png)")
     return metrics
-
-
-def _floats(text: str, what: str) -> tuple[float, ...]:
-    from a2l.cli import UsageError
-
-    try:
-        vals = tuple(float(v) for v in text.split(",") if v.strip())
-    except ValueError:
-        raise UsageError(what, f"expected comma-separated numbers, got {text!r}") from None
-    if not vals or any(not v > 0 for v in vals):
-        raise UsageError(what, f"expected positive numbers, got {text!r}")
-    return vals
-
-
-def _ints(text: str, what: str) -> tuple[int, ...]:
-    from a2l.cli import UsageError
-
-    vals = _floats(text, what)
-    if any(v != int(v) for v in vals):
-        raise UsageError(what, f"expected integers, got {text!r}")
-    return tuple(int(v) for v in vals)
-
-
-def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli import UsageError
-
-    grid: dict[str, Sequence[Any]] = {}
-    if args.resolutions:
-        grid["resolution"] = _floats(args.resolutions, "--resolutions")
-    if args.steps:
-        grid["step"] = _floats(args.steps, "--steps")
-    if args.orients:
-        grid["n_orient"] = _ints(args.orients, "--orients")
-    if args.dists:
-        grid["n_dist"] = _ints(args.dists, "--dists")
-    if args.smoothing:
-        sm = [s.strip() for s in args.smoothing.split(",") if s.strip()]
-        if not sm or any(s not in ("on", "off") for s in sm):
-            raise UsageError("--smoothing", f"expected on and/or off, got {args.smoothing!r}")
-        grid["smoothing"] = tuple(s == "on" for s in sm)
-    out, skills = run_args(args)
-    try:
-        run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
-                            args.workers, quiet=args.quiet)
-    except ValueError as exc:
-        raise UsageError("--skills", str(exc)) from None
-    return 0
-
-
-def add_parser(exps: argparse._SubParsersAction) -> None:
-    """Register ``a2l experiment parametrization``."""
-    p = exps.add_parser(
-        "parametrization", help="grid x step x bins x smoothing study of demonstrated skills",
-        description="For each cell of grid resolution x movement step x orientation bins x "
-        "distance bins x smoothing, learn the skill from its demonstrations and run it from "
-        "tuning seeds; write the table, the selected default, report.md and a plot. Values "
-        "are comma-separated lists (defaults: the full study).")
-    p.add_argument("--out", required=True, help="run directory")
-    p.add_argument("--skills", default=None,
-                   help="comma-separated skills (default: push_right, and grasp if registered)")
-    p.add_argument("--resolutions", default=None, help="grid spacings in m (0.005,0.01,0.02)")
-    p.add_argument("--steps", default=None, help="movement steps in m (0.02,0.03,0.05)")
-    p.add_argument("--orients", default=None, help="orientation bins (8,16,24,32)")
-    p.add_argument("--dists", default=None, help="distance bins (3,4,5)")
-    p.add_argument("--smoothing", default=None, help="off,on (default both)")
-    p.add_argument("--trials", type=int, default=20, help="trials per cell (default 20)")
-    p.add_argument("--seed", type=int, default=500, help="first trial seed (default 500)")
-    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
-    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd)

@@ -42,7 +42,6 @@ mean_steps, ...}``), ``report.md`` and one plot per skill and condition
 
 from __future__ import annotations
 
-import argparse
 import io
 import os
 import shlex
@@ -54,6 +53,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from a2l.errors import ConfigError
 from a2l.experiments.perturbation_trials import (
     CONDITIONS,
     HOLD_RANGE,
@@ -68,7 +68,7 @@ from a2l.experiments.perturbation_trials import (
 from a2l.lfd.config import LfDConfig
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
-           "add_parser", "demonstration_seeds", "draw_perturbation", "run_perturbations",
+           "demonstration_seeds", "draw_perturbation", "run_perturbations",
            "skill_cfg", "trial_task"]
 
 #: First trial seed by default (held out: demonstrations use 0 .. n_demos - 1,
@@ -107,17 +107,17 @@ def _check(skills: Sequence[str], conditions: Sequence[str], trials: int, seed: 
 
     unknown = [s for s in skills if s not in SKILLS]
     if unknown or not skills:
-        raise ValueError(f"--skills: unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+        raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
     bad = [c for c in conditions if c not in CONDITIONS]
     if bad or not conditions:
-        raise ValueError(f"--conditions: unknown condition(s) {bad}; known: {list(CONDITIONS)}")
+        raise ConfigError("--conditions", f"unknown condition(s) {bad}; known: {list(CONDITIONS)}")
     if trials < 1:
-        raise ValueError(f"--trials: must be >= 1, got {trials}")
+        raise ConfigError("--trials", f"must be >= 1, got {trials}")
     if workers < 1:
-        raise ValueError(f"--workers: must be >= 1, got {workers}")
+        raise ConfigError("--workers", f"must be >= 1, got {workers}")
     last = demonstration_seeds({n: skill_cfg(n, cfg) for n in skills})[1]
     if seed <= last:
-        raise ValueError(f"--seed: trial seeds {seed}.. overlap the demonstration seeds "
+        raise ConfigError("--seed", f"trial seeds {seed}.. overlap the demonstration seeds "
                          f"0..{last}; use a seed > {last} (default {DEFAULT_SEED})")
 
 
@@ -175,7 +175,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     cfgs = {n: skill_cfg(n, cfg) for n in names}
     out_path = Path(out)
     if out_path.exists() and not out_path.is_dir():
-        raise ValueError(f"--out: '{out_path}' exists and is not a directory")
+        raise ConfigError("--out", f"'{out_path}' exists and is not a directory")
     run_dir = make_run_dir("perturbations", out_path)
     seeds = list(range(seed, seed + trials))
     scenes = {n: skill_scene(SKILLS[n]) for n in names}
@@ -223,39 +223,3 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         print(text)
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, plots)")
     return metrics
-
-
-def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli.args import comma_list, option_errors
-
-    with option_errors():
-        run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
-                          args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
-                          quiet=args.quiet, plots=not args.no_plots)
-    return 0
-
-
-def add_parser(exps: argparse._SubParsersAction) -> None:
-    """Register ``a2l experiment perturbations``."""
-    p = exps.add_parser(
-        "perturbations", help="demonstrated skills under perturbations: context skill vs DS",
-        description="Learn each demonstrated skill, then run it on held-out trial seeds "
-        "without perturbation and with the object moved 3-5 cm, the end-effector held 1-2 s "
-        "and the light switched mid-action, each as the context skill (table) and as the DS "
-        "alone; write metrics.json, trials.csv, report.md and trajectory plots.")
-    p.add_argument("--out", required=True, help="run directory")
-    p.add_argument("--skills", default=None,
-                   help="comma-separated skill names (default: every registered skill)")
-    p.add_argument("--conditions", default=None,
-                   help=f"comma-separated subset of {','.join(CONDITIONS)} (default: all)")
-    p.add_argument("--trials", type=int, default=50,
-                   help="trials per skill, condition and mode (default 50)")
-    p.add_argument("--seed", type=int, default=DEFAULT_SEED,
-                   help=f"first trial seed (default {DEFAULT_SEED}; held out from the "
-                   "demonstration seeds 0..n_demos-1)")
-    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
-    p.add_argument("--cluster", default=None,
-                   help="address of a Dask scheduler (tcp://host:8786); overrides --workers")
-    p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
-    p.set_defaults(func=_cmd)

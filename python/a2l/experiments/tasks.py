@@ -40,7 +40,6 @@ transit_ms, wall_s, ...}``), ``tasks.png`` and ``report.md``
 
 from __future__ import annotations
 
-import argparse
 import os
 import shlex
 import time
@@ -48,6 +47,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from a2l.errors import ConfigError
 from a2l.experiments.task_trials import (
     JITTER,
     TASKS,
@@ -58,7 +58,7 @@ from a2l.experiments.task_trials import (
     trial_task,
 )
 
-__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "add_parser",
+__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec",
            "learn_task_skills", "play_task", "run_tasks", "trial_task"]
 
 #: First trial seed by default (held out: the demonstrations use 0 .. 2 n_demos - 1).
@@ -68,13 +68,13 @@ DEFAULT_SEED = 7000
 def _check(tasks: Sequence[str], trials: int, seed: int, workers: int) -> None:
     unknown = [t for t in tasks if t not in TASKS]
     if unknown or not tasks:
-        raise ValueError(f"--tasks: unknown task(s) {unknown}; known: {list(TASKS)}")
+        raise ConfigError("--tasks", f"unknown task(s) {unknown}; known: {list(TASKS)}")
     if trials < 1:
-        raise ValueError(f"--trials: must be >= 1, got {trials}")
+        raise ConfigError("--trials", f"must be >= 1, got {trials}")
     if workers < 1:
-        raise ValueError(f"--workers: must be >= 1, got {workers}")
+        raise ConfigError("--workers", f"must be >= 1, got {workers}")
     if seed < 16:
-        raise ValueError(f"--seed: trial seeds {seed}.. overlap the demonstration seeds "
+        raise ConfigError("--seed", f"trial seeds {seed}.. overlap the demonstration seeds "
                          f"0..15; use a seed >= 16 (default {DEFAULT_SEED})")
 
 
@@ -118,7 +118,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     _check(names, trials, seed, workers)
     out_path = Path(out)
     if out_path.exists() and not out_path.is_dir():
-        raise ValueError(f"--out: '{out_path}' exists and is not a directory")
+        raise ConfigError("--out", f"'{out_path}' exists and is not a directory")
     run_dir = make_run_dir("tasks", out_path)
     command = shlex.join(["a2l", "experiment", "tasks", "--out", str(run_dir), "--tasks",
                           ",".join(names), "--trials", str(trials), "--seed", str(seed),
@@ -151,42 +151,3 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         print(text)
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, tasks.png)")
     return metrics
-
-
-def _cmd(args: argparse.Namespace) -> int:
-    from a2l.cli.args import comma_list, option_errors
-
-    names = comma_list(args.tasks)
-    faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
-    with option_errors():
-        run_tasks(args.out, names, args.trials, args.seed, args.workers, faults,
-                  args.planner, quiet=args.quiet, plots=not args.no_plots)
-    return 0
-
-
-def add_parser(exps: argparse._SubParsersAction) -> None:
-    """Register ``a2l experiment tasks``."""
-    from a2l.cli.args import nonnegative_int, positive_int
-
-    p = exps.add_parser(
-        "tasks", help="planned tasks with the learned skills, with and without faults",
-        description="Plan and run tasks of 3 to 5 skills on Baxter in PyBullet (PDDL plan, "
-        "OMPL transits, the learned grasp and press through the C++ step, replanning when "
-        "the world disagrees), each from seeded trials without and with an injected fault; "
-        "write metrics.json, trials.csv, report.md and tasks.png.")
-    p.add_argument("--out", metavar="DIR", required=True, help="run directory")
-    p.add_argument("--tasks", metavar="A,B,...", default=None,
-                   help=f"comma-separated tasks (default: all of {','.join(TASKS)})")
-    p.add_argument("--trials", type=positive_int, default=20, metavar="N",
-                   help="trials per task and condition (default 20)")
-    p.add_argument("--seed", type=nonnegative_int, default=DEFAULT_SEED, metavar="S",
-                   help=f"first trial seed (default {DEFAULT_SEED})")
-    p.add_argument("--workers", type=positive_int, default=1, metavar="N",
-                   help="local worker processes (default 1)")
-    p.add_argument("--faults", choices=("both", "without", "with"), default="both",
-                   help="run the trials without and/or with the injected fault (default both)")
-    p.add_argument("--planner", choices=("pyperplan", "fast-downward"), default="pyperplan",
-                   help="task planner (default pyperplan)")
-    p.add_argument("--no-plots", action="store_true", help="no figure")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
-    p.set_defaults(func=_cmd)

@@ -1,0 +1,153 @@
+"""``a2l experiment lfd-skills``, ``parametrization`` and ``perturbations``: the demonstrated
+skills (a2l.lfd) learned and run by the experiments of a2l.experiments."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from a2l.cli.args import UsageError, comma_list
+
+
+def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
+    """The run directory and the skills of an experiment's command line, checked
+    (``--out`` not a file, ``--trials`` and ``--workers`` >= 1)."""
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
+        if v < 1:
+            raise UsageError(opt, f"must be >= 1, got {v}")
+    return out, comma_list(args.skills)
+
+
+def _cmd_lfd_skills(args: argparse.Namespace) -> int:
+    from a2l.experiments.lfd_skills import run_lfd_skills
+
+    out, skills = run_args(args)
+    run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
+                   args.workers, quiet=args.quiet)
+    return 0
+
+
+def add_lfd_skills_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment lfd-skills``."""
+    p = exps.add_parser(
+        "lfd-skills", help="demonstrated skills: learn, then run on held-out seeds",
+        description="Learn each demonstrated skill from its scripted demonstrations "
+        "(vector field -> dataset -> Bayesian network -> compiled table) and run it in closed "
+        "loop through the C++ step from held-out trial seeds; write report.md, "
+        "metrics.json, trials.csv and the bundles.")
+    p.add_argument("--out", required=True, help="run directory")
+    p.add_argument("--skills", default=None,
+                   help="comma-separated skill names (default: the push skills)")
+    p.add_argument("--trials", type=int, default=20, help="trials per skill (default 20)")
+    p.add_argument("--seed", type=int, default=1000, help="first trial seed (default 1000)")
+    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
+    p.add_argument("--mode", choices=("table", "ds"), default="table")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_lfd_skills)
+
+
+def _floats(text: str, what: str) -> tuple[float, ...]:
+    try:
+        vals = tuple(float(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise UsageError(what, f"expected comma-separated numbers, got {text!r}") from None
+    if not vals or any(not v > 0 for v in vals):
+        raise UsageError(what, f"expected positive numbers, got {text!r}")
+    return vals
+
+
+def _ints(text: str, what: str) -> tuple[int, ...]:
+    vals = _floats(text, what)
+    if any(v != int(v) for v in vals):
+        raise UsageError(what, f"expected integers, got {text!r}")
+    return tuple(int(v) for v in vals)
+
+
+def _cmd_parametrization(args: argparse.Namespace) -> int:
+    from a2l.experiments.parametrization import run_parametrization
+
+    grid: dict[str, Sequence[Any]] = {}
+    if args.resolutions:
+        grid["resolution"] = _floats(args.resolutions, "--resolutions")
+    if args.steps:
+        grid["step"] = _floats(args.steps, "--steps")
+    if args.orients:
+        grid["n_orient"] = _ints(args.orients, "--orients")
+    if args.dists:
+        grid["n_dist"] = _ints(args.dists, "--dists")
+    if args.smoothing:
+        sm = [s.strip() for s in args.smoothing.split(",") if s.strip()]
+        if not sm or any(s not in ("on", "off") for s in sm):
+            raise UsageError("--smoothing", f"expected on and/or off, got {args.smoothing!r}")
+        grid["smoothing"] = tuple(s == "on" for s in sm)
+    out, skills = run_args(args)
+    run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
+                        args.workers, quiet=args.quiet)
+    return 0
+
+
+def add_parametrization_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment parametrization``."""
+    p = exps.add_parser(
+        "parametrization", help="grid x step x bins x smoothing study of demonstrated skills",
+        description="For each cell of grid resolution x movement step x orientation bins x "
+        "distance bins x smoothing, learn the skill from its demonstrations and run it from "
+        "tuning seeds; write the table, the selected default, report.md and a plot. Values "
+        "are comma-separated lists (defaults: the full study).")
+    p.add_argument("--out", required=True, help="run directory")
+    p.add_argument("--skills", default=None,
+                   help="comma-separated skills (default: push_right, and grasp if registered)")
+    p.add_argument("--resolutions", default=None, help="grid spacings in m (0.005,0.01,0.02)")
+    p.add_argument("--steps", default=None, help="movement steps in m (0.02,0.03,0.05)")
+    p.add_argument("--orients", default=None, help="orientation bins (8,16,24,32)")
+    p.add_argument("--dists", default=None, help="distance bins (3,4,5)")
+    p.add_argument("--smoothing", default=None, help="off,on (default both)")
+    p.add_argument("--trials", type=int, default=20, help="trials per cell (default 20)")
+    p.add_argument("--seed", type=int, default=500, help="first trial seed (default 500)")
+    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_parametrization)
+
+
+def _cmd_perturbations(args: argparse.Namespace) -> int:
+    from a2l.experiments.perturbations import CONDITIONS, run_perturbations
+
+    run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
+                      args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
+                      quiet=args.quiet, plots=not args.no_plots)
+    return 0
+
+
+def add_perturbations_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment perturbations``."""
+    from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
+
+    p = exps.add_parser(
+        "perturbations", help="demonstrated skills under perturbations: context skill vs DS",
+        description="Learn each demonstrated skill, then run it on held-out trial seeds "
+        "without perturbation and with the object moved 3-5 cm, the end-effector held 1-2 s "
+        "and the light switched mid-action, each as the context skill (table) and as the DS "
+        "alone; write metrics.json, trials.csv, report.md and trajectory plots.")
+    p.add_argument("--out", required=True, help="run directory")
+    p.add_argument("--skills", default=None,
+                   help="comma-separated skill names (default: every registered skill)")
+    p.add_argument("--conditions", default=None,
+                   help=f"comma-separated subset of {','.join(CONDITIONS)} (default: all)")
+    p.add_argument("--trials", type=int, default=50,
+                   help="trials per skill, condition and mode (default 50)")
+    p.add_argument("--seed", type=int, default=DEFAULT_SEED,
+                   help=f"first trial seed (default {DEFAULT_SEED}; held out from the "
+                   "demonstration seeds 0..n_demos-1)")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--cluster", default=None,
+                   help="address of a Dask scheduler (tcp://host:8786); overrides --workers")
+    p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
+    p.set_defaults(func=_cmd_perturbations)

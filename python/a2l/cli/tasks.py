@@ -1,0 +1,45 @@
+"""``a2l experiment tasks``: planned tasks with the learned skills (a2l.experiments.tasks)."""
+
+from __future__ import annotations
+
+import argparse
+
+from a2l.cli.args import comma_list, nonnegative_int, positive_int
+
+
+def _cmd_tasks(args: argparse.Namespace) -> int:
+    # imported here: `a2l --help` and the other commands do not load the planner's stack
+    from a2l.experiments.tasks import run_tasks
+
+    faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
+    run_tasks(args.out, comma_list(args.tasks), args.trials, args.seed, args.workers, faults,
+              args.planner, quiet=args.quiet, plots=not args.no_plots)
+    return 0
+
+
+def add_tasks_parser(exps: argparse._SubParsersAction) -> None:
+    """Register ``a2l experiment tasks``."""
+    from a2l.experiments.tasks import DEFAULT_SEED, TASKS
+
+    p = exps.add_parser(
+        "tasks", help="planned tasks with the learned skills, with and without faults",
+        description="Plan and run tasks of 3 to 5 skills on Baxter in PyBullet (PDDL plan, "
+        "OMPL transits, the learned grasp and press through the C++ step, replanning when "
+        "the world disagrees), each from seeded trials without and with an injected fault; "
+        "write metrics.json, trials.csv, report.md and tasks.png.")
+    p.add_argument("--out", metavar="DIR", required=True, help="run directory")
+    p.add_argument("--tasks", metavar="A,B,...", default=None,
+                   help=f"comma-separated tasks (default: all of {','.join(TASKS)})")
+    p.add_argument("--trials", type=positive_int, default=20, metavar="N",
+                   help="trials per task and condition (default 20)")
+    p.add_argument("--seed", type=nonnegative_int, default=DEFAULT_SEED, metavar="S",
+                   help=f"first trial seed (default {DEFAULT_SEED})")
+    p.add_argument("--workers", type=positive_int, default=1, metavar="N",
+                   help="local worker processes (default 1)")
+    p.add_argument("--faults", choices=("both", "without", "with"), default="both",
+                   help="run the trials without and/or with the injected fault (default both)")
+    p.add_argument("--planner", choices=("pyperplan", "fast-downward"), default="pyperplan",
+                   help="task planner (default pyperplan)")
+    p.add_argument("--no-plots", action="store_true", help="no figure")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
+    p.set_defaults(func=_cmd_tasks)
