@@ -7,6 +7,7 @@ corruption of docs/bundle_format.md surfaces in Python as a clear a2l.BundleErro
 from __future__ import annotations
 
 import json
+import re
 import struct
 import zlib
 from pathlib import Path
@@ -14,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import a2l
 from a2l import BundleError, _core
 from a2l.errors import A2LFileNotFoundError
 from a2l.skills import BUNDLE_SCHEMA_VERSION, SkillSpec, VariableSpec, load_bundle, save_bundle
@@ -247,3 +249,14 @@ def test_bundle_missing_file(tmp_path: Path) -> None:
         load_bundle(tmp_path / "nope.a2lb")
     with pytest.raises(A2LFileNotFoundError, match="nope.a2lb"):
         _core.load_bundle(tmp_path / "nope.a2lb")
+
+
+def test_one_bundle_reader() -> None:
+    """Issue 23: the package reads bundle bytes in one place, through the manifest
+    (:func:`a2l.skills.bundle_format.read_bundle`); no other module parses the header."""
+    root = Path(a2l.__file__).parent
+    home = root / "skills" / "bundle_format.py"
+    parsers = [p.relative_to(root).as_posix() for p in sorted(root.rglob("*.py"))
+               if p != home and re.search(r"unpack_from|A2LBNDL|\[24 ?:",
+                                          p.read_text(encoding="utf-8"))]
+    assert parsers == []

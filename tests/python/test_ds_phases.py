@@ -80,6 +80,37 @@ def test_phases_round_trip(bundle: Path) -> None:
     assert load_ds_phases(plain) == [] and _core.load_bundle(plain).ds_phases == []
 
 
+def test_phase_direction_reads_back_as_the_cpp_loader_reads_it(tmp_path: Path) -> None:
+    """A phase written with direction ``to_line`` reads back as ``to_line`` in Python, and its
+    velocity is the one the C++ loader's step_ds follows (issue 23: load_ds_phases used to drop
+    the stored direction and return ``to_demo``, the same maps composed the other way)."""
+    rng = np.random.default_rng(5)
+    maps = (np.array([0.10, 0.03, 0.08]) + 0.03 * rng.uniform(-1, 1, (4, 3)),
+            0.03 * rng.uniform(-1, 1, (4, 3)), np.full(4, 20.0))
+    target = np.array([0.0, 0.0, 0.02])
+    line = DiffeoDS.from_maps(target, *maps, direction="to_line")
+    demo = DiffeoDS.from_maps(target, *maps, direction="to_demo")
+    path = save_bundle(_spec(), tmp_path / "line.a2lb",
+                       ds_phases=[DSPhase("line", line), DSPhase("demo", demo)])
+    phases = load_ds_phases(path)
+    assert [p.ds.direction for p in phases] == ["to_line", "to_demo"]
+    skill = _core.load_bundle(path)
+    state = _core.SkillState(skill)
+    step = skill.movements.step
+    differ = 0
+    for x in np.array([0.10, 0.03, 0.08]) + 0.04 * rng.uniform(-1, 1, (20, 3)):
+        state.reset()
+        out = _core.step_ds(skill, state, OBJ + x, OBJ, {})  # phase 0 ("line") applies
+        assert _core.status_name(out.status) == "ok"
+        for ds in (phases[0].ds, line):
+            v = ds.velocity(x)
+            np.testing.assert_allclose(out.displacement, step * v / np.linalg.norm(v),
+                                       rtol=0, atol=1e-9)
+        v = demo.velocity(x)
+        differ += not np.allclose(out.displacement, step * v / np.linalg.norm(v), atol=1e-6)
+    assert differ > 10  # to_demo moves elsewhere: the check tells the two directions apart
+
+
 def test_bad_phases_are_refused_naming_phase_and_field(tmp_path: Path) -> None:
     def refused(phases: list[DSPhase], match: str, **kw: object) -> None:
         with pytest.raises(BundleError, match=match):

@@ -2,9 +2,10 @@
 
 Writing builds the JSON manifest and the arrays, packs them
 (:mod:`a2l.skills.bundle_format`), has the C++ loader validate the bytes, then writes them
-atomically (temporary file in the same directory, then :func:`os.replace`). Reading hands
-the bytes to the same C++ loader (:func:`a2l._core.load_bundle_from_memory`), so there is a
-single validator of the format, then decodes the manifest and the arrays into a
+atomically (temporary file in the same directory, then :func:`os.replace`). Reading goes
+through the one reader, :func:`a2l.skills.bundle_format.read_bundle`: the same C++ loader
+(:func:`a2l._core.load_bundle_from_memory`) validates the bytes, so there is a single
+validator of the format, then the manifest and its arrays are decoded into a
 :class:`~a2l.skills.spec.SkillSpec`.
 
 A bundle may also hold a diffeomorphic DS (section ``ds``, :mod:`a2l.skills.ds_bundle`,
@@ -24,14 +25,8 @@ import numpy as np
 
 from a2l import _core
 from a2l.atomic import atomic_write_bytes
-from a2l.errors import A2LFileNotFoundError, BundleError
-from a2l.skills.bundle_format import (
-    BUNDLE_MAGIC,
-    bundle_array,
-    created_by,
-    pack_bundle,
-    read_manifest,
-)
+from a2l.errors import BundleError
+from a2l.skills.bundle_format import BUNDLE_MAGIC, created_by, pack_bundle, read_bundle
 from a2l.skills.ds_bundle import DSArrays, ds_bundle_bytes, load_ds_bundle, save_ds_bundle
 from a2l.skills.phases import DSPhase, ds_phases_section
 from a2l.skills.spec import (
@@ -202,17 +197,8 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
     a2l.A2LFileNotFoundError
         The file does not exist or cannot be read.
     """
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise A2LFileNotFoundError(f"skill bundle '{path}': cannot read ({exc})") from exc
-    _core.load_bundle_from_memory(data, str(path))  # raises BundleError naming the check
-    manifest, blob = read_manifest(data)
-
-    def array(name: str, dtype: str) -> np.ndarray:
-        return bundle_array(data, manifest, blob, name, dtype)
-
+    view, _ = read_bundle(path, _core.load_bundle_from_memory)
+    manifest = view.manifest
     variables = []
     for v in manifest["variables"]:
         values = tuple(v.get("values", ()))
@@ -227,19 +213,18 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
             )
         )
     mv, ex = manifest["movements"], manifest["execution"]
-    extra = manifest.get("extra")
     return SkillSpec(
         name=manifest["name"],
         variables=variables,
         directions=np.asarray(mv["directions"], dtype=np.int64).reshape(-1, 3),
-        posterior=array("posterior", "<f8").astype(np.float64),
-        argmax=array("argmax", "<i4").astype(np.int32),
+        posterior=view.array("posterior"),
+        argmax=view.array("argmax"),
         step=float(mv["step"]),
         labels=[str(x) for x in mv["labels"]],
         step_cap=int(ex["step_cap"]),
         smoothing=bool(ex["smoothing"]),
         uniform_tolerance=float(ex["uniform_tolerance"]),
         robot=None if manifest["robot"] is None else dict(manifest["robot"]),
-        extra=dict(extra) if isinstance(extra, dict) else {},
+        extra=view.extra,
         actions=[str(x) for x in mv["actions"]],
     )

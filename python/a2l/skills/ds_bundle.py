@@ -17,8 +17,8 @@ import numpy as np
 
 from a2l import _core
 from a2l.atomic import atomic_write_bytes
-from a2l.errors import A2LFileNotFoundError, BundleError
-from a2l.skills.bundle_format import created_by, pack_bundle, read_manifest
+from a2l.errors import BundleError
+from a2l.skills.bundle_format import created_by, pack_bundle, read_bundle
 from a2l.skills.spec import BUNDLE_SCHEMA_VERSION
 
 __all__ = ["DSArrays", "ds_bundle_bytes", "load_ds_bundle", "save_ds_bundle"]
@@ -178,11 +178,5 @@ def load_ds_bundle(path: str | os.PathLike[str]) -> tuple[Any, dict[str, Any]]:
     a2l.A2LFileNotFoundError
         The file does not exist or cannot be read.
     """
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise A2LFileNotFoundError(f"skill bundle '{path}': cannot read ({exc})") from exc
-    ds = _core.load_ds_from_memory(data, str(path))
-    extra = read_manifest(data)[0].get("extra")
-    return ds, dict(extra) if isinstance(extra, dict) else {}
+    view, ds = read_bundle(path, _core.load_ds_from_memory)
+    return ds, view.extra

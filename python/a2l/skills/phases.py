@@ -11,17 +11,17 @@ run), then (or without an end action) the run has converged.
 
 from __future__ import annotations
 
-import json
 import os
-import struct
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from a2l.errors import A2LFileNotFoundError, BundleError
+from a2l import _core
+from a2l.errors import BundleError
+from a2l.skills.bundle_format import read_bundle
+from a2l.skills.ds_bundle import DSArrays
 from a2l.skills.spec import ACTIONS, SkillSpec
 
 __all__ = ["GRIPPER_VALUES", "DSPhase", "ds_phases_section", "load_ds_phases"]
@@ -38,7 +38,7 @@ class DSPhase:
     ----------
     name : str
         Phase name (traces).
-    ds : a2l.lfd.DiffeoDS
+    ds : a2l.lfd.DiffeoDS or a2l._core.DiffeoDS
         3-D DS expressed relative to the object (x = eef - object; its target relative to the
         object). Anything with ``target`` (3,), ``centers`` and ``vectors`` (K, 3), ``rhos``
         (K,) and ``speed`` (and optionally ``direction``, default ``"to_demo"``) will do (e.g.
@@ -115,8 +115,6 @@ def ds_phases_section(
         unknown, or DS arrays of the wrong shapes (the C++ loader checks the rest, naming the
         phase and the field).
     """
-    from a2l.skills.ds_bundle import DSArrays
-
     values = _state_values(phases, spec, states)
     entries, arrays = [], []
     for i, p in enumerate(phases):
@@ -150,6 +148,9 @@ def ds_phases_section(
 def load_ds_phases(path: str | os.PathLike[str]) -> list[DSPhase]:
     """Read the DS phases of a skill bundle (validated by the C++ loader).
 
+    Each phase's DS is built from its manifest entry (target, speed and ``direction``) and
+    its arrays, as the C++ loader builds it.
+
     Parameters
     ----------
     path : str or PathLike
@@ -158,8 +159,9 @@ def load_ds_phases(path: str | os.PathLike[str]) -> list[DSPhase]:
     Returns
     -------
     list of DSPhase
-        In priority order, each ``ds`` an :class:`a2l.lfd.DiffeoDS` (empty if the bundle has
-        no ``ds_phases`` section).
+        In priority order, each ``ds`` an :class:`a2l._core.DiffeoDS` (3-D; wrap it in
+        :class:`a2l.lfd.DiffeoDS` for the fit's helpers); empty if the bundle has no
+        ``ds_phases`` section.
 
     Raises
     ------
@@ -168,33 +170,17 @@ def load_ds_phases(path: str | os.PathLike[str]) -> list[DSPhase]:
     a2l.A2LFileNotFoundError
         The file cannot be read.
     """
-    from a2l import _core
-    from a2l.lfd.ds import DiffeoDS
-
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise A2LFileNotFoundError(f"skill bundle '{path}': cannot read ({exc})") from exc
-    _core.load_bundle_from_memory(data, str(path))  # raises BundleError naming the check
-    (mlen,) = struct.unpack_from("<I", data, 12)
-    manifest = json.loads(data[24 : 24 + mlen].decode("utf-8"))
-    section = manifest.get("ds_phases")
+    view, _ = read_bundle(path, _core.load_bundle_from_memory)
+    section = view.manifest.get("ds_phases")
     if section is None:
         return []
-    blob = (24 + mlen + 7) // 8 * 8
-
-    def array(name: str) -> np.ndarray:
-        a = manifest["arrays"][name]
-        flat = np.frombuffer(data, dtype="<f8", count=int(a["nbytes"]) // 8,
-                             offset=blob + int(a["offset"]))
-        return flat.reshape([int(s) for s in a["shape"]]).astype(np.float64)
-
     out = []
     for i, p in enumerate(section["phases"]):
-        ds = DiffeoDS.from_maps(np.asarray(p["ds"]["target"], dtype=float),
-                                array(f"ds_phase{i}_centers"), array(f"ds_phase{i}_vectors"),
-                                array(f"ds_phase{i}_rhos"), float(p["ds"]["speed"]))
+        entry = p["ds"]
+        ds = _core.DiffeoDS(np.asarray(entry["target"], dtype=np.float64),
+                            view.array(f"ds_phase{i}_centers"), view.array(f"ds_phase{i}_vectors"),
+                            view.array(f"ds_phase{i}_rhos"), float(entry["speed"]),
+                            direction=str(entry["direction"]))
         out.append(DSPhase(p["name"], ds, dict(p["when"]), p["end_action"],
                            float(p["tolerance"])))
     return out
