@@ -132,19 +132,25 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
 
 def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,
                    robot: dict[str, str] | None = None) -> Any:
-    """Learn the network from `dataset`, compile it, and save the skill bundle.
+    """Learn the network from `dataset`, compile it, and save the skill bundle
+    (:func:`a2l.skills.pipeline.learn_bundle`, with the structure, fixed edges, step cap and
+    smoothing of `cfg`).
 
     Returns
     -------
     a2l.skills.PolicyTable
         The compiled table (the bundle holds the same numbers).
+
+    Raises
+    ------
+    ValueError
+        A ``fixed_parents`` name that is no context variable, or a dataset with no usable row.
     """
-    from a2l.skills import compile_policy, learn_network, make_skill_spec, save_bundle
+    # imported here: the pipeline loads pgmpy (seconds), which `a2l experiment push --help`
+    # and the configuration checks do not need
+    from a2l.skills.pipeline import learn_bundle
 
     disc = discretizers(cfg)
-    discrete = disc.discretize(dataset)
-    if len(discrete) == 0:
-        raise ValueError("the dataset has no usable row: nothing moved the object")
     constraints: dict[str, Any] = {}
     if cfg.structure == "hc-k2" and cfg.effect_parent:
         constraints["fixed_edges"] = [(disc.effects.name, disc.movements.name)]
@@ -155,13 +161,10 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
             raise ValueError(f"fixed_parents: {unknown} not context variables; they are {names}")
         constraints.setdefault("fixed_edges", []).extend(
             (v, disc.movements.name) for v in cfg.fixed_parents)
-    network = learn_network(discrete, structure=cfg.structure, state_names=disc.state_names(),
-                            **constraints)
-    table = compile_policy(network, target="move", evidence=disc.evidence)
-    spec = make_skill_spec(table, disc, name="push", robot=robot, step_cap=cfg.step_cap,
+    learned = learn_bundle(dataset, disc, bundle_path, name="push", structure=cfg.structure,
+                           constraints=constraints, robot=robot, step_cap=cfg.step_cap,
                            smoothing=cfg.smoothing, extra={"framework": asdict(cfg)})
-    save_bundle(spec, bundle_path)
-    return table
+    return learned.table
 
 
 def _rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:

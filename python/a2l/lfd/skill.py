@@ -1,11 +1,11 @@
 """Demonstrations -> skill bundle: fit the DSs, build the dataset, learn, compile, save.
 
-The learning, the compiled table and the bundle are the babbling path's
-(:mod:`a2l.skills`: :func:`~a2l.skills.learn_network` with hill-climbing and the K2 score,
-the edge ``effect -> move`` fixed as in :func:`a2l.framework.loop.generate_skill`,
-:func:`~a2l.skills.compile_policy`, :func:`~a2l.skills.make_skill_spec`); only the rows
-differ (:mod:`a2l.lfd.dataset`). The bundle also carries the DS of each behaviour (fitted to
-the time-aligned mean of its demonstrations), so the executor can run the DS alone.
+The learning, the compiled table and the bundle are the babbling path's: the one pipeline
+:func:`a2l.skills.pipeline.learn_bundle` (hill-climbing with the K2 score, the edge
+``effect -> move`` fixed as in :func:`a2l.framework.loop.generate_skill`, the compiled
+table, the bundle); only the rows differ (:mod:`a2l.lfd.dataset`). The bundle also carries
+the DS of each behaviour (fitted to the time-aligned mean of its demonstrations), so the
+executor can run the DS alone.
 """
 
 from __future__ import annotations
@@ -19,11 +19,12 @@ from typing import Any
 
 import pandas as pd
 
-from a2l.atomic import atomic_write_bytes
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.dataset import skill_discretizer, vector_field_rows
 from a2l.lfd.demonstration import Demonstration
 from a2l.lfd.ds import DiffeoDS
+from a2l.skills.ds_bundle import DSArrays
+from a2l.skills.phases import DSPhase
 
 __all__ = ["Behaviour", "LearnedSkill", "fit_fields", "learn_skill"]
 
@@ -134,10 +135,9 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         No behaviour, a behaviour without demonstrations, a state the table does not have,
         or a dataset with no usable row.
     """
-    from a2l.skills import compile_policy, learn_network, make_skill_spec
-    from a2l.skills.bundle import bundle_bytes
-    from a2l.skills.ds_bundle import DSArrays
-    from a2l.skills.phases import DSPhase
+    # imported here: the pipeline loads pgmpy (seconds), which the demonstrators, the
+    # executor and the CLI's argument checks importing this module do not need
+    from a2l.skills.pipeline import learn_bundle
 
     if not behaviours:
         raise ValueError(f"skill {name!r}: no behaviour to learn from")
@@ -168,33 +168,24 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         episode += len(rows)
         timings["fit"] += t1 - t0
         timings["dataset"] += time.perf_counter() - t1
-    t0 = time.perf_counter()
-    discrete = disc.discretize(pd.concat(frames, ignore_index=True))
-    if len(discrete) == 0:
-        raise ValueError(f"skill {name!r}: the dataset has no usable row")
-    timings["dataset"] += time.perf_counter() - t0
-    t0 = time.perf_counter()
-    network = learn_network(discrete, structure="hc-k2", state_names=disc.state_names(),
-                            fixed_edges=[(v, disc.movements.name) for v in
-                                         (disc.evidence if context_edges
-                                          else [disc.effects.name])])
-    timings["learn"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    table = compile_policy(network, target=disc.movements.name, evidence=disc.evidence)
-    timings["compile"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    spec = make_skill_spec(
-        table, disc, name=name, step_cap=cfg.step_cap, smoothing=cfg.smoothing,
-        extra={"lfd": {"config": cfg.to_json(),
-                       "behaviours": [{"effect": b.effect, "states": dict(b.states),
-                                       "n_demonstrations": len(b.demos)} for b in behaviours],
-                       "rows": len(discrete)}})
     first = means[0]
     phases = [DSPhase(b.phase, means[k], dict(b.states), b.end_action, b.tolerance)
               for k, b in enumerate(behaviours) if b.phase]
-    data = bundle_bytes(spec, ds=DSArrays(first.target, first.centers, first.vectors,
-                                          first.rhos, first.speed, first.direction),
-                        ds_phases=phases or None)
-    out = atomic_write_bytes(path, data)
-    timings["save"] = time.perf_counter() - t0
-    return LearnedSkill(name, Path(out), table, means, len(discrete), timings)
+    learned = learn_bundle(
+        pd.concat(frames, ignore_index=True), disc, path, name=name, structure="hc-k2",
+        constraints={"fixed_edges": [(v, disc.movements.name) for v in
+                                     (disc.evidence if context_edges
+                                      else [disc.effects.name])]},
+        step_cap=cfg.step_cap, smoothing=cfg.smoothing,
+        extra=lambda rows: {"lfd": {
+            "config": cfg.to_json(),
+            "behaviours": [{"effect": b.effect, "states": dict(b.states),
+                            "n_demonstrations": len(b.demos)} for b in behaviours],
+            "rows": rows}},
+        ds=DSArrays(first.target, first.centers, first.vectors, first.rhos, first.speed,
+                    first.direction),
+        ds_phases=phases)
+    timings["dataset"] += learned.timings["discretize"]
+    for key in ("learn", "compile", "save"):
+        timings[key] = learned.timings[key]
+    return LearnedSkill(name, learned.path, learned.table, means, learned.rows, timings)

@@ -7,6 +7,10 @@ From a raw interaction dataset to a skill bundle::
     net = learn_network(data, "hc-k2")               # hill-climbing + K2, BDeu parameters
     table = compile_policy(net, "move", disc.evidence)
     spec = make_skill_spec(table, disc, name="push")  # what save_bundle writes
+
+or in one call, the pipeline the framework and LfD use::
+
+    learned = learn_bundle(raw, disc, "push.a2lb", name="push")
 """
 
 from __future__ import annotations
@@ -36,6 +40,8 @@ _EXPORTS: dict[str, str] = {
     "hand_coded_structure": "a2l.skills.learning",
     "learn_network": "a2l.skills.learning",
     "learn_structure": "a2l.skills.learning",
+    "LearnedBundle": "a2l.skills.pipeline",
+    "learn_bundle": "a2l.skills.pipeline",
     "DSPhase": "a2l.skills.phases",
     "load_ds_phases": "a2l.skills.phases",
     "MovementRepertoire": "a2l.skills.repertoire",
@@ -66,6 +72,7 @@ __all__ = [
     "InclinationBins",
     "K2Score",
     "KnownStructure",
+    "LearnedBundle",
     "MovementRepertoire",
     "OffsetBins",
     "OrientationBins",
@@ -79,6 +86,7 @@ __all__ = [
     "hand_coded_structure",
     "k2_local_score",
     "known_structure_dataset",
+    "learn_bundle",
     "learn_network",
     "learn_structure",
     "load_bundle",
