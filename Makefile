@@ -3,7 +3,7 @@
 #   make test    set up, then run the C++ tests (ctest), the real-time tests again with Eigen's
 #                allocation guard, the Python tests (pytest) and the fuzzer; print the counts
 #   make bench   set up, then run the benchmarks and rewrite BENCHMARKS.md
-#   make lint    ruff + clang-format --dry-run
+#   make lint    ruff + the import-layer contracts (lint-imports) + clang-format --dry-run
 # Variables: VENV (virtual environment, default .venv), BUILD (build tree, default build),
 # JOBS (parallel compile jobs).
 SHELL := /bin/bash
@@ -33,7 +33,7 @@ $(shell mkdir -p $(BUILD) && find python -name '*.py' | sort > $(PY_MODULES).new
   rm -f $(PY_MODULES).new)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: help setup demo test test-cpp test-guarded test-python fuzz bench lint format clean
+.PHONY: help setup demo test test-layers test-cpp test-guarded test-python fuzz bench lint format clean
 
 help:
 	@sed -n '2,9p' Makefile | sed 's/^# \{0,1\}//'
@@ -115,7 +115,12 @@ fuzz: setup
 	  || { tail -n 40 $(BUILD)/fuzz/fuzz.log; exit 1; }
 	@grep -E '^stat::number_of_executed_units' $(BUILD)/fuzz/fuzz.log | sed 's/^/[fuzz] /'
 
-test: test-cpp test-guarded test-python fuzz
+# The import-layer contracts of the Python package (pyproject.toml, docs/architecture.md).
+test-layers: setup
+	@echo "[test] import layers (lint-imports)"
+	@$(VENV)/bin/lint-imports --no-cache 2>&1 | tee $(BUILD)/layers.log | grep -E 'KEPT|BROKEN|Contracts:'
+
+test: test-layers test-cpp test-guarded test-python fuzz
 	@echo "[test] C++ (ctest):                 $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
 	@echo "[test] C++ with Eigen's guard:      $$(grep -E 'tests passed' $(BUILD)/cpp-guard/ctest.log)"
 	@echo "[test] Python (pytest):             $$(grep -E '^[0-9]+ passed' $(BUILD)/pytest.log | tail -n 1)"
@@ -129,6 +134,7 @@ bench: setup $(BUILD)/cpp/build.ninja
 # --- style ----------------------------------------------------------------
 lint: setup
 	@$(VENV)/bin/ruff check python tests benchmarks
+	@$(VENV)/bin/lint-imports --no-cache
 	@clang-format --dry-run --Werror $$(find cpp bindings tests/cpp benchmarks/cpp -name '*.cpp' -o -name '*.hpp')
 
 format: setup

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from a2l.cli import main
-from a2l.demo import push_box
+from a2l.experiments.demo import push_box
 
 
 def test_demo_moves_the_box(capsys: pytest.CaptureFixture[str]) -> None:

@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 
 from a2l.acquisition.protocol import drive, drive_ahead
-from a2l.acquisition.waypoints import (
+from a2l.framework import FrameworkConfig, make_env, run_framework
+from a2l.framework.loop import _seed
+from a2l.framework.validation import heldout_task
+from a2l.framework.waypoints import (
     EffectDirected,
     Missed,
     directed_outcome_task,
     directed_task,
 )
-from a2l.framework import FrameworkConfig, make_env, run_framework
-from a2l.framework.loop import _seed
-from a2l.framework.validation import heldout_task
 from a2l.parallel import Executor
 
 

@@ -2,10 +2,6 @@
 protocol (:mod:`a2l.acquisition.protocol`): a strategy proposes trajectories
 (:meth:`~Strategy.ask`) and is told their outcomes (:meth:`~Strategy.tell`).
 
-- :mod:`~a2l.acquisition.random_babbling`: random motor babbling around the object
-  (METHOD.md's acquisition; :class:`RandomBabbling`).
-- :mod:`~a2l.acquisition.waypoints`: effect-directed waypoint trajectories for the pairs a
-  skill keeps failing (:class:`EffectDirected`).
 - :mod:`~a2l.acquisition.noveb`: novelty-driven evolutionary babbling on camera images
   (:class:`NovEB`, with DEAP).
 - :mod:`~a2l.acquisition.goal_babbling`: random goal babbling (:class:`GoalBabbling`) and
@@ -14,6 +10,11 @@ protocol (:mod:`a2l.acquisition.protocol`): a strategy proposes trajectories
   (:mod:`~a2l.acquisition.images`).
 - :mod:`~a2l.acquisition.rollout`: playing a trajectory in a scene, and rollouts as
   interaction-dataset rows.
+
+The A2L loop's own strategies (random babbling around the object from the start positions,
+effect-directed waypoints, NovEB's first iteration) are built on these in
+:mod:`a2l.framework` (:mod:`~a2l.framework.random_babbling`, :mod:`~a2l.framework.waypoints`,
+:mod:`~a2l.framework.noveb_rollouts`).
 """
 
 from a2l.lazy import lazy_exports
@@ -31,9 +32,6 @@ _EXPORTS: dict[str, str] = {
     "Strategy": "a2l.acquisition.protocol",
     "drive": "a2l.acquisition.protocol",
     "drive_ahead": "a2l.acquisition.protocol",
-    "RandomBabbling": "a2l.acquisition.random_babbling",
-    "babble_task": "a2l.acquisition.random_babbling",
-    "random_walk": "a2l.acquisition.random_babbling",
     "Interactions": "a2l.acquisition.rollout",
     "Rollout": "a2l.acquisition.rollout",
     "effect_of": "a2l.acquisition.rollout",
@@ -42,41 +40,26 @@ _EXPORTS: dict[str, str] = {
     "rollouts_to_frame": "a2l.acquisition.rollout",
     "WaypointEncoding": "a2l.acquisition.trajectory",
     "follow_waypoints": "a2l.acquisition.trajectory",
-    "EffectDirected": "a2l.acquisition.waypoints",
-    "Missed": "a2l.acquisition.waypoints",
-    "directed_outcome_task": "a2l.acquisition.waypoints",
-    "directed_task": "a2l.acquisition.waypoints",
-    "heading_chooser": "a2l.acquisition.waypoints",
-    "random_waypoints": "a2l.acquisition.waypoints",
 }
 
 __all__ = [
     "ArchiveThreshold",
-    "EffectDirected",
     "GoalBabbling",
     "Interactions",
-    "Missed",
     "NovEB",
     "NovEBConfig",
-    "RandomBabbling",
     "RandomTrajectories",
     "Rollout",
     "Strategy",
     "WaypointEncoding",
-    "babble_task",
-    "directed_outcome_task",
-    "directed_task",
     "drive",
     "drive_ahead",
     "effect_of",
     "erase_loops",
     "follow_waypoints",
-    "heading_chooser",
     "image_descriptor",
     "novelty",
     "play",
-    "random_walk",
-    "random_waypoints",
     "rollouts_to_frame",
 ]
 

@@ -9,7 +9,7 @@ from a2l.cli.args import UsageError, nonnegative_int, positive_int
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from a2l.demo import run_demo
+    from a2l.experiments.demo import run_demo
 
     return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
                     starts=args.starts, workers=args.workers)

@@ -86,7 +86,7 @@ def _cmd_experiment_babbling(args: argparse.Namespace) -> int:
 
 
 def _cmd_experiment_babbling_compare(args: argparse.Namespace) -> int:
-    from a2l.experiments.babbling_plots import run_babbling_compare
+    from a2l.experiments.babbling_compare import run_babbling_compare
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():

@@ -26,9 +26,11 @@ import pandas as pd
 from a2l.acquisition.goal_babbling import GoalBabbling, RandomTrajectories
 from a2l.acquisition.noveb import NovEB, NovEBConfig
 from a2l.acquisition.protocol import Strategy
+from a2l.atomic import atomic_write_text
+from a2l.experiments.babbling_plots import plot_progress, plot_visits
 from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_task
-from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
 from a2l.parallel import Executor
+from a2l.rundir import make_run_dir, write_json
 
 __all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
 
@@ -201,8 +203,6 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
                "totals": totals, "workers": workers, "cluster": cluster}
     write_json(run_dir / "metrics.json", metrics)
     if plots:
-        from a2l.experiments.babbling_plots import plot_progress, plot_visits
-
         plot_visits({method: paths}, wcfg, run_dir / "visits.png")
         plot_progress({method: [metrics]}, run_dir / "progress.png")
     atomic_write_text(run_dir / "report.md", "\n".join([

@@ -10,9 +10,10 @@ from typing import Any
 
 import numpy as np
 
+from a2l.atomic import atomic_write_text
 from a2l.experiments.push import run_push_experiment
-from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
 from a2l.framework import FrameworkConfig
+from a2l.rundir import make_run_dir, write_json
 
 __all__ = ["run_discretization_study"]
 

@@ -49,10 +49,11 @@ from typing import Any
 
 import numpy as np
 
-from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+from a2l.atomic import atomic_write_text
 from a2l.lfd.fit import FIT_DIRECTIONS
 from a2l.lfd.metrics import dtw_mean_distance, resample_time, swept_error_area, velocity_rmse
 from a2l.parallel import Executor
+from a2l.rundir import make_run_dir, write_json
 
 __all__ = ["LasaConfig", "lasa_shapes", "load_lasa_shape", "run_lasa_experiment", "run_shape"]
 

@@ -147,9 +147,10 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     dict
         The metrics written to ``metrics.json``.
     """
-    from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+    from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, learn_recipe, skill_config
     from a2l.parallel import Executor
+    from a2l.rundir import make_run_dir, write_json
 
     names = list(skills or [n for n in SKILLS if n.startswith("push_")])
     unknown = [n for n in names if n not in SKILLS]

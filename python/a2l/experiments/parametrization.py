@@ -137,9 +137,10 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     """The study (see the module docstring); returns the metrics written to
     ``metrics.json``. A cell's configuration is the skill's own
     (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values."""
-    from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
+    from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
+    from a2l.rundir import make_run_dir, write_json
 
     names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
     unknown = [n for n in names if n not in SKILLS]

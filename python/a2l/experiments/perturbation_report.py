@@ -238,7 +238,7 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
                  frame: pd.DataFrame, trajectories: dict[str, np.ndarray],
                  plots: bool = True) -> str:
     """Write ``report.md`` (and the plots); return the table."""
-    from a2l.experiments.rundir import atomic_write_text
+    from a2l.atomic import atomic_write_text
 
     skills = metrics["skills"]
     table = results_table(skills)

@@ -158,16 +158,12 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     dict
         The content of ``metrics.json``.
     """
+    from a2l.atomic import atomic_write_bytes, atomic_write_text
     from a2l.experiments.lfd_skills import progress_bar
     from a2l.experiments.perturbation_report import summarise, write_report
-    from a2l.experiments.rundir import (
-        atomic_write_bytes,
-        atomic_write_text,
-        make_run_dir,
-        write_json,
-    )
     from a2l.lfd.library import SKILLS
     from a2l.parallel import Executor
+    from a2l.rundir import make_run_dir, write_json
 
     names = list(skills) if skills else list(SKILLS)
     conds = [c for c in CONDITIONS if c in conditions] if conditions else []

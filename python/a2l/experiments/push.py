@@ -17,6 +17,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
+from a2l.atomic import atomic_write_text
 from a2l.experiments.push_report import (
     plot_policy,
     plot_scores,
@@ -25,10 +26,10 @@ from a2l.experiments.push_report import (
     results_table,
     with_heldout,
 )
-from a2l.experiments.rundir import atomic_write_text, make_run_dir, read_json, write_json
 from a2l.framework import FrameworkConfig, IterationResult, run_framework
 from a2l.lazy import lazy_exports
 from a2l.parallel import Executor
+from a2l.rundir import make_run_dir, read_json, write_json
 
 __all__ = [
     "plot_policy",
@@ -82,7 +83,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     acquisition : {"random", "noveb"}
         Iteration 0's interactions: random babbling around the object (METHOD.md), or
         NovEB over the whole reachable table, told camera images only
-        (:mod:`a2l.acquisition.noveb_rollouts`); ignored when resuming.
+        (:mod:`a2l.framework.noveb_rollouts`); ignored when resuming.
     noveb_evaluations : int
         NovEB's trajectories, with ``acquisition="noveb"``.
     executor : a2l.parallel.Executor, optional
@@ -172,10 +173,10 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
 
 
 def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
-    """Iteration 0 by NovEB (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`); what it
+    """Iteration 0 by NovEB (:func:`a2l.framework.noveb_rollouts.noveb_acquire`); what it
     did goes into `log` (evaluations, interactions kept, robot movements, archive)."""
-    from a2l.acquisition.noveb_rollouts import noveb_acquire
     from a2l.acquisition.rollout import Interactions
+    from a2l.framework.noveb_rollouts import noveb_acquire
 
     def first(cfg: FrameworkConfig, executor: Executor, _iteration: int, progress: Any
               ) -> Interactions:

@@ -25,10 +25,11 @@ from typing import Any
 
 import numpy as np
 
+from a2l.atomic import atomic_write_text
 from a2l.experiments.push import run_push_experiment
-from a2l.experiments.rundir import atomic_write_text, make_run_dir, read_json, write_json
 from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
+from a2l.rundir import make_run_dir, read_json, write_json
 
 __all__ = ["iterations_to_full_score", "parse_overrides", "parse_seeds", "run_seed_sweep",
            "seed_run", "summarize_sweep"]

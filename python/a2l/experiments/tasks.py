@@ -109,10 +109,11 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     """
     import pandas as pd
 
+    from a2l.atomic import atomic_write_text
     from a2l.experiments.lfd_skills import progress_bar
-    from a2l.experiments.rundir import atomic_write_text, make_run_dir, write_json
     from a2l.experiments.tasks_report import summarise, write_report
     from a2l.parallel import Executor
+    from a2l.rundir import make_run_dir, write_json
 
     names = list(tasks) if tasks else list(TASKS)
     _check(names, trials, seed, workers)

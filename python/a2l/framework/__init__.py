@@ -96,10 +96,10 @@ _HOME = {
     "Rollout": "a2l.acquisition.rollout",
     "erase_loops": "a2l.acquisition.rollout",
     "rollouts_to_frame": "a2l.acquisition.rollout",
-    "babble_task": "a2l.acquisition.random_babbling",
-    "directed_task": "a2l.acquisition.waypoints",
-    "heading_chooser": "a2l.acquisition.waypoints",
-    "random_waypoints": "a2l.acquisition.waypoints",
+    "babble_task": "a2l.framework.random_babbling",
+    "directed_task": "a2l.framework.waypoints",
+    "heading_chooser": "a2l.framework.waypoints",
+    "random_waypoints": "a2l.framework.waypoints",
 }
 
 

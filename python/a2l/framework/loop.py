@@ -18,11 +18,9 @@ import numpy as np
 import pandas as pd
 
 from a2l.acquisition.protocol import drive_ahead
-from a2l.acquisition.random_babbling import RandomBabbling, babble_task
 from a2l.acquisition.rollout import Interactions, Rollout, rollouts_to_frame
-from a2l.acquisition.waypoints import EffectDirected, directed_outcome_task
-from a2l.experiments.rundir import latest_checkpoint, save_checkpoint
 from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.random_babbling import RandomBabbling, babble_task
 from a2l.framework.scoring import (
     FALSE_POSITIVE,
     SUCCESS,
@@ -32,7 +30,9 @@ from a2l.framework.scoring import (
     score_of,
 )
 from a2l.framework.validation import validate, validate_heldout
+from a2l.framework.waypoints import EffectDirected, directed_outcome_task
 from a2l.parallel import Executor
+from a2l.rundir import latest_checkpoint, save_checkpoint
 
 __all__ = ["MOVEMENT_PHASES", "acquire", "extend", "generate_skill", "run_framework"]
 
@@ -218,7 +218,7 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     first_acquisition : callable, optional
         Where iteration 0's interactions come from (default :func:`acquire`, random
         babbling around the object), with the robot movements they took; e.g. NovEB
-        (:func:`a2l.acquisition.noveb_rollouts.noveb_acquire`).
+        (:func:`a2l.framework.noveb_rollouts.noveb_acquire`).
 
     Returns
     -------

@@ -2,8 +2,8 @@
 
 :data:`SKILLS` maps a skill name to its :class:`SkillRecipe`: the scene it acts in, the
 effect, the scripted demonstrations, the trial start distribution and the high-level states
-of its table. The push skills are here; other modules register theirs with
-:func:`register_skill`.
+of its table (:mod:`a2l.lfd.recipes`). The push skills are defined here; the grasp and press
+skills in :mod:`a2l.lfd.manipulation_skills`; both are registered when this module loads.
 
 A trial (:func:`reset_for_trial`) draws, from its seed only, the object's position (its
 configured home ± ``object_jitter``) and the end-effector's start relative to the object
@@ -15,91 +15,21 @@ to new starts, not to another task.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from a2l.lfd import manipulation_skills
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.demonstrators import PushDemonstrator
+from a2l.lfd.recipes import SKILLS, SkillRecipe, get_recipe, register_skill
 from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
 
 __all__ = ["SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene", "register_skill",
            "reset_for_trial", "skill_config"]
 
 _TRIAL_STREAM = 0x7472696C  # seeds trial draws apart from every other stream
-
-
-@dataclass(frozen=True)
-class SkillRecipe:
-    """How a demonstrated skill is made and tried.
-
-    Attributes
-    ----------
-    name : str
-        Skill name (``"push_right"``).
-    scene : str
-        The :func:`a2l.sim.make_scene` scene it acts in on Baxter.
-    effect : str
-        The effect it produces (the wanted effect of its runs).
-    object_name : str
-        The object it acts on.
-    behaviours : callable ``(cfg, seed) -> list of Behaviour``
-        The seeded scripted demonstrations.
-    start : callable ``(rng) -> ndarray (3,)``
-        A trial's end-effector start relative to the object.
-    high_level : tuple of a2l.skills.HighLevelState
-        High-level states of the table.
-    planar : bool
-        8 planar movements or 26 in 3-D.
-    object_jitter : float
-        A trial places the object within ± this of its home on each table axis (m).
-    setup : callable ``(scene, rng) -> None``, optional
-        Extra trial set-up after the reset (a high-level state to set...).
-    discretizer : callable ``cfg -> a2l.skills.Discretizer``, optional
-        Instead of :func:`a2l.lfd.dataset.skill_discretizer`.
-    description : str
-        One line for humans.
-    config : LfDConfig, optional
-        The skill's own configuration, used when the caller gives none (default:
-        :data:`a2l.lfd.config.DEFAULT`): see :func:`skill_config`.
-    context_edges : bool
-        Learn with every context variable a fixed parent of the movement
-        (:func:`a2l.lfd.skill.learn_skill`).
-    """
-
-    name: str
-    scene: str
-    effect: str
-    object_name: str
-    behaviours: Callable[[LfDConfig, int], list[Behaviour]]
-    start: Callable[[np.random.Generator], np.ndarray]
-    high_level: tuple[Any, ...] = ()
-    planar: bool = True
-    object_jitter: float = 0.02
-    setup: Callable[[Any, np.random.Generator], None] | None = None
-    discretizer: Callable[[LfDConfig], Any] | None = None
-    description: str = ""
-    extra: dict[str, Any] = field(default_factory=dict)
-    config: LfDConfig | None = None
-    context_edges: bool = False
-
-
-#: Skill name -> recipe.
-SKILLS: dict[str, SkillRecipe] = {}
-
-
-def register_skill(recipe: SkillRecipe) -> None:
-    """Add (or replace) a recipe in :data:`SKILLS`."""
-    SKILLS[recipe.name] = recipe
-
-
-def _recipe(name: str) -> SkillRecipe:
-    if name not in SKILLS:
-        raise ValueError(f"unknown skill {name!r}; known: {sorted(SKILLS)}")
-    return SKILLS[name]
 
 
 def _push_recipe(effect: str) -> SkillRecipe:
@@ -119,6 +49,7 @@ def _push_recipe(effect: str) -> SkillRecipe:
 
 for _effect in ("right", "left", "close", "far"):
     register_skill(_push_recipe(_effect))
+manipulation_skills.register()  # grasp, press, grasp_light (after the pushes: SKILLS' order)
 
 
 def skill_config(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
@@ -126,7 +57,7 @@ def skill_config(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
     recipe's own (:attr:`SkillRecipe.config`), else :data:`a2l.lfd.config.DEFAULT`."""
     if cfg is not None:
         return cfg
-    return _recipe(name).config or DEFAULT
+    return get_recipe(name).config or DEFAULT
 
 
 def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
@@ -154,7 +85,7 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     """
     from a2l.sim import make_scene
 
-    recipe = _recipe(name)
+    recipe = get_recipe(name)
     cfg = skill_config(name, cfg)
     config.setdefault("context_source", "ground_truth")
     config.setdefault("object_jitter", 0.0)
@@ -182,7 +113,7 @@ def reset_for_trial(scene: Any, name: str, seed: int) -> dict[str, np.ndarray]:
         ``{"object": (3,), "eef": (3,), "start": (3,)}``: the object's and the
         end-effector's positions and the start relative to the object.
     """
-    recipe = _recipe(name)
+    recipe = get_recipe(name)
     rng = np.random.default_rng(np.random.SeedSequence([int(seed), _TRIAL_STREAM]))
     xy, z = _object_home(scene, recipe.object_name)
     j = recipe.object_jitter
@@ -199,13 +130,9 @@ def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig | No
                  seed: int = 0) -> LearnedSkill:
     """Demonstrate (seeds ``seed ...``), learn and save skill `name` as
     ``out_dir/<name>.a2lb`` (with :func:`skill_config`)."""
-    recipe = _recipe(name)
+    recipe = get_recipe(name)
     cfg = skill_config(name, cfg)
     disc = recipe.discretizer(cfg) if recipe.discretizer else None
     return learn_skill(name, recipe.behaviours(cfg, seed), Path(out_dir) / f"{name}.a2lb",
                        cfg, high_level=recipe.high_level, planar=recipe.planar,
                        discretizer=disc, context_edges=recipe.context_edges)
-
-
-# the manipulation skills (grasp, press, grasp_light) register themselves
-import a2l.lfd.manipulation_skills  # noqa: E402, F401, I001

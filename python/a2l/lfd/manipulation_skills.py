@@ -53,8 +53,8 @@ from a2l.lfd.config import LfDConfig
 from a2l.lfd.dataset import dataset_frame
 from a2l.lfd.demonstration import Demonstration
 from a2l.lfd.effect_tests import Progress, register_effect_test
-from a2l.lfd.library import SkillRecipe, register_skill
 from a2l.lfd.manipulation import GRASP_POINT, PRESS_POINT, SKILL_OBJECTS, _start, demonstrate
+from a2l.lfd.recipes import SkillRecipe, register_skill
 from a2l.lfd.skill import Behaviour
 from a2l.sim.outcomes import AWAY_RADIUS, RETREAT
 
@@ -330,7 +330,8 @@ _DESCRIPTIONS = {
                    "retreat pose and wait",
 }
 
-def _register() -> None:
+def register() -> None:
+    """Register the grasp, press and grasp_light recipes and the ``away`` effect test."""
     from a2l.skills import HighLevelState
 
     for skill in ("grasp", "press", "grasp_light"):
@@ -345,5 +346,3 @@ def _register() -> None:
             else {}))
     register_effect_test("away", away_test)
 
-
-_register()

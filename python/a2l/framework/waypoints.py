@@ -12,10 +12,10 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from a2l.acquisition.random_babbling import random_walk
 from a2l.acquisition.rollout import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.env import scene_env
+from a2l.framework.random_babbling import random_walk
 
 __all__ = ["DirectedTask", "EffectDirected", "Missed", "directed_outcome_task", "directed_task",
            "heading_chooser", "random_waypoints"]

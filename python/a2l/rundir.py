@@ -17,11 +17,9 @@ from typing import Any
 
 import pandas as pd
 
-from a2l.atomic import atomic_write_bytes, atomic_write_text
+from a2l.atomic import atomic_write_text
 
 __all__ = [
-    "atomic_write_bytes",
-    "atomic_write_text",
     "latest_checkpoint",
     "make_run_dir",
     "read_json",

@@ -284,8 +284,8 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     print(f"\n== 2/5  A2L push experiment on the Baxter scene ({starts} starts, 4 effects, "
           f"{iterations} iterations) ==", flush=True)
     from a2l.experiments.push import run_push_experiment
-    from a2l.experiments.rundir import make_run_dir
     from a2l.framework import FrameworkConfig
+    from a2l.rundir import make_run_dir
 
     # held-out starts in proportion to the training ones (the default 32 with 8 starts)
     cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
