@@ -11,10 +11,10 @@ import re
 import shutil
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 import pytest
+import tomllib
 
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "python" / "a2l"
@@ -67,7 +67,8 @@ def package_copy(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
                 lines.append(f"{key} =")
                 lines += [f"    {v}" for v in items]
             else:
-                lines.append(f"{key} = {str(value).replace('a2l', 'a2lcopy') if key != 'name' else value}")
+                text = str(value) if key == "name" else str(value).replace("a2l", "a2lcopy")
+                lines.append(f"{key} = {text}")
     config = tmp / ".importlinter"
     config.write_text("\n".join(lines) + "\n")
     return dst, config
