@@ -30,6 +30,7 @@ from a2l.atomic import atomic_write_text
 from a2l.experiments.babbling_plots import plot_progress, plot_visits
 from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_task
 from a2l.parallel import Executor
+from a2l.progress import ProgressBars
 from a2l.rundir import make_run_dir, write_json
 
 __all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
@@ -73,32 +74,6 @@ def outcome_keys(ev: Evaluation) -> set[tuple[str, str, int, int]]:
 
 def _moved(ev: Evaluation) -> bool:
     return any(np.hypot(dx, dy) > MOVED for dx, dy in ev.displacement.values())
-
-
-class _Progress:
-    """A rich progress bar over evaluations (silent when quiet)."""
-
-    def __init__(self, quiet: bool, total: int, label: str) -> None:
-        self.quiet, self.total, self.label = quiet, total, label
-        self._bar: Any = None
-
-    def __enter__(self) -> _Progress:
-        if not self.quiet:
-            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-            self._bar = Progress("[bold]{task.description}", BarColumn(), MofNCompleteColumn(),
-                                 TimeElapsedColumn(), "{task.fields[info]}")
-            self._bar.start()
-            self._task = self._bar.add_task(self.label, total=self.total, info="")
-        return self
-
-    def update(self, done: int, info: str) -> None:
-        if self._bar is not None:
-            self._bar.update(self._task, completed=done, info=info)
-
-    def __exit__(self, *exc: object) -> None:
-        if self._bar is not None:
-            self._bar.stop()
 
 
 def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
@@ -161,7 +136,9 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
     t0 = time.perf_counter()
     eval_s = 0.0
     with Executor(workers=workers, cluster=cluster) as executor, \
-            _Progress(quiet, evaluations, f"{method} on {scene}") as bar:
+            ProgressBars(quiet) as bars:
+        label = f"{method} on {scene}"
+        bars.update(label, 0, evaluations)
         while not strategy.done:
             asked = strategy.ask(generation_size)
             t = time.perf_counter()
@@ -185,8 +162,9 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
                 "moved_share": moved / len(evs),
                 "moved_share_so_far": float(np.mean([r["moved"] for r in records])),
                 "distinct_outcomes": len(reached), "archive_size": archive})
-            bar.update(len(records), f"moved {generations[-1]['moved_share_so_far']:.0%}, "
-                       f"outcomes {len(reached)}")
+            bars.update(label, len(records), evaluations,
+                        f"moved {generations[-1]['moved_share_so_far']:.0%}, "
+                        f"outcomes {len(reached)}")
     wall = time.perf_counter() - t0
     df = pd.DataFrame(records)
     df.to_parquet(run_dir / "evaluations.parquet", index=False)

@@ -53,6 +53,7 @@ from a2l.atomic import atomic_write_text
 from a2l.lfd.fit import FIT_DIRECTIONS
 from a2l.lfd.metrics import dtw_mean_distance, resample_time, swept_error_area, velocity_rmse
 from a2l.parallel import Executor
+from a2l.progress import progress_bar
 from a2l.rundir import make_run_dir, write_json
 
 __all__ = ["LasaConfig", "lasa_shapes", "load_lasa_shape", "run_lasa_experiment", "run_shape"]
@@ -334,7 +335,8 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
                                          "command": command})
     tasks = [(s, known.index(s), cfg) for s in shapes]
     t0 = time.perf_counter()
-    with Executor(workers=workers) as executor, _progress(quiet, len(tasks)) as update:
+    with Executor(workers=workers) as executor, \
+            progress_bar("LASA shapes", len(tasks), quiet) as update:
         results = executor.map(run_shape, tasks, on_done=update)
     wall = time.perf_counter() - t0
     (run_dir / "ds").mkdir(exist_ok=True)
@@ -382,17 +384,3 @@ def _summary(metrics: dict[str, Any]) -> dict[str, Any]:
         "min_converged_euler": float(min(v["converged_euler"] for v in a2l.values())),
         "roundtrip_max": float(max(v["roundtrip_max"] for v in a2l.values())),
     }
-
-
-@contextlib.contextmanager
-def _progress(quiet: bool, total: int) -> Any:
-    """A rich progress bar over shapes; yields the ``on_done(n)`` callback."""
-    if quiet:
-        yield None
-        return
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-    with Progress("[bold]LASA shapes", BarColumn(), MofNCompleteColumn(),
-                  TimeElapsedColumn()) as bar:
-        task = bar.add_task("shapes", total=total)
-        yield lambda n: bar.update(task, completed=n)

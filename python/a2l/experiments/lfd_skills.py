@@ -11,10 +11,9 @@ mean movements, failures by stop status, learning times) and ``report.md``.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +21,7 @@ import pandas as pd
 
 from a2l.errors import ConfigError
 from a2l.lfd.config import LfDConfig
+from a2l.progress import progress_bar
 
 __all__ = ["evaluate", "run_lfd_skills", "trial_task"]
 
@@ -72,21 +72,6 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
             "success": bool(run.success), "stop": run.stop, "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
             "wall": run.wall}
-
-
-@contextlib.contextmanager
-def progress_bar(label: str, total: int, quiet: bool = False
-                 ) -> Iterator[Callable[[int], None] | None]:
-    """A rich progress bar; yields the ``on_done(n)`` callback (None when quiet)."""
-    if quiet:
-        yield None
-        return
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-    with Progress(f"[bold]{label}", BarColumn(), MofNCompleteColumn(),
-                  TimeElapsedColumn()) as bar:
-        t = bar.add_task(label, total=total)
-        yield lambda n: bar.update(t, completed=n)
 
 
 def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",

@@ -29,8 +29,9 @@ import numpy as np
 import pandas as pd
 
 from a2l.errors import ConfigError
-from a2l.experiments.lfd_skills import _package_dir, progress_bar, trial_task
+from a2l.experiments.lfd_skills import _package_dir, trial_task
 from a2l.lfd.config import LfDConfig
+from a2l.progress import progress_bar
 
 __all__ = ["DEFAULT_GRID", "cell_task", "run_parametrization", "select_default"]
 

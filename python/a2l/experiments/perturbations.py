@@ -66,6 +66,7 @@ from a2l.experiments.perturbation_trials import (
     trial_task,
 )
 from a2l.lfd.config import LfDConfig
+from a2l.progress import progress_bar
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
            "demonstration_seeds", "draw_perturbation", "run_perturbations",
@@ -159,7 +160,6 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         The content of ``metrics.json``.
     """
     from a2l.atomic import atomic_write_bytes, atomic_write_text
-    from a2l.experiments.lfd_skills import progress_bar
     from a2l.experiments.perturbation_report import summarise, write_report
     from a2l.lfd.library import SKILLS
     from a2l.parallel import Executor

@@ -29,6 +29,7 @@ from a2l.experiments.push_report import (
 from a2l.framework import FrameworkConfig, IterationResult, run_framework
 from a2l.lazy import lazy_exports
 from a2l.parallel import Executor
+from a2l.progress import ProgressBars
 from a2l.rundir import make_run_dir, read_json, write_json
 
 __all__ = [
@@ -130,11 +131,11 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     if executor is not None:
         workers, cluster = executor.workers, executor.cluster
     own = Executor(workers=workers, cluster=cluster) if executor is None else None
-    with own or contextlib.nullcontext(), _Progress(quiet) as bar:
+    with own or contextlib.nullcontext(), ProgressBars(quiet) as bars:
         first = _noveb_first(noveb_evaluations, noveb_log) if acquisition == "noveb" else None
-        result = run_framework(cfg, run_dir, executor or own, progress=bar.update,
-                               on_iteration=bar.iteration, robot=_robot_entry(cfg),
-                               first_acquisition=first)
+        result = run_framework(cfg, run_dir, executor or own, progress=bars.update,
+                               on_iteration=lambda m: _iteration_done(bars, m),
+                               robot=_robot_entry(cfg), first_acquisition=first)
     final = run_dir / "skills" / "push.a2lb"
     shutil.copyfile(result["bundle"], final)
     result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
@@ -172,6 +173,14 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     return {**metrics, "run_dir": str(run_dir)}
 
 
+def _iteration_done(bars: ProgressBars, m: IterationResult) -> None:
+    """Print iteration `m`'s line above the bars and clear them for the next iteration."""
+    bars.print(f"iteration {m.iteration}: score {m.score:.1f} "
+               f"({'accepted' if m.accepted else 'rejected'}), dataset {m.dataset_size} rows, "
+               f"{m.wall_s:.1f} s")
+    bars.clear()
+
+
 def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
     """Iteration 0 by NovEB (:func:`a2l.framework.noveb_rollouts.noveb_acquire`); what it
     did goes into `log` (evaluations, interactions kept, robot movements, archive)."""
@@ -189,43 +198,3 @@ def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
         return Interactions(rollouts, movements)
 
     return first
-
-
-class _Progress:
-    """A rich progress bar for acquisition and validation (silent when quiet)."""
-
-    def __init__(self, quiet: bool) -> None:
-        self.quiet = quiet
-        self._progress: Any = None
-        self._tasks: dict[str, Any] = {}
-
-    def __enter__(self) -> _Progress:
-        if not self.quiet:
-            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-            self._progress = Progress("[bold]{task.description}", BarColumn(),
-                                      MofNCompleteColumn(), TimeElapsedColumn())
-            self._progress.start()
-        return self
-
-    def update(self, phase: str, done: int, total: int) -> None:
-        if self._progress is None:
-            return
-        if phase not in self._tasks:
-            self._tasks[phase] = self._progress.add_task(phase, total=total)
-        self._progress.update(self._tasks[phase], completed=done, total=total)
-
-    def iteration(self, m: IterationResult) -> None:
-        if self._progress is None:
-            return
-        self._progress.console.print(
-            f"iteration {m.iteration}: score {m.score:.1f} "
-            f"({'accepted' if m.accepted else 'rejected'}), dataset {m.dataset_size} rows, "
-            f"{m.wall_s:.1f} s")
-        for t in self._tasks.values():
-            self._progress.remove_task(t)
-        self._tasks.clear()
-
-    def __exit__(self, *exc: object) -> None:
-        if self._progress is not None:
-            self._progress.stop()

@@ -57,6 +57,7 @@ from a2l.experiments.task_trials import (
     play_task,
     trial_task,
 )
+from a2l.progress import progress_bar
 
 __all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec",
            "learn_task_skills", "play_task", "run_tasks", "trial_task"]
@@ -110,7 +111,6 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     import pandas as pd
 
     from a2l.atomic import atomic_write_text
-    from a2l.experiments.lfd_skills import progress_bar
     from a2l.experiments.tasks_report import summarise, write_report
     from a2l.parallel import Executor
     from a2l.rundir import make_run_dir, write_json
