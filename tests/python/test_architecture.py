@@ -112,3 +112,29 @@ def test_circle_breaks_the_acyclic_contract(package_copy: tuple[Path, Path]) -> 
         target.write_text(original)
     assert out.returncode != 0
     assert "No cycles are allowed in a2lcopy.lfd" in out.stdout, out.stdout
+
+
+def test_lazy_exports_stay_in_their_package() -> None:
+    """A package's lazy names (:func:`a2l.lazy.lazy_exports`) come from its own modules.
+
+    import-linter does not see an import made by name at run time, so a lazy re-export of
+    another package could hide an upward import or a circle; re-exports stay inside.
+    """
+    import ast
+
+    offenders = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        if not any(isinstance(n, ast.Name) and n.id == "lazy_exports" for n in ast.walk(tree)):
+            continue
+        rel = path.relative_to(PACKAGE.parent).with_suffix("")
+        parts = rel.parts[:-1] if rel.name == "__init__" else rel.parts
+        package = ".".join(parts)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Dict):
+                for value in node.values:
+                    home = value.elts[0] if isinstance(value, ast.Tuple) else value
+                    if isinstance(home, ast.Constant) and isinstance(home.value, str) \
+                            and not home.value.startswith(package + "."):
+                        offenders.append(f"{path.relative_to(ROOT)}: {home.value}")
+    assert not offenders, "lazy exports from outside their package:\n" + "\n".join(offenders)

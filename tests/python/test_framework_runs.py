@@ -151,8 +151,9 @@ def test_dask_worker_threads_do_not_share_a_scene(tmp_path: Path) -> None:
     rollouts of one process (each thread has its own scene and skill state)."""
     from dask.distributed import LocalCluster
 
+    from a2l.acquisition.rollout import rollouts_to_frame
     from a2l.framework import _discretizers as discretizers
-    from a2l.framework import acquire, generate_skill, rollouts_to_frame, validate
+    from a2l.framework import acquire, generate_skill, validate
     from a2l.parallel import Executor
 
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=3)

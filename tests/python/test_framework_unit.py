@@ -13,17 +13,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from a2l.acquisition.rollout import Rollout, erase_loops
 from a2l.cli import main
 from a2l.framework import (
     FAIL,
     FALSE_POSITIVE,
     SUCCESS,
     FrameworkConfig,
-    Rollout,
     _discretizers,
     babble_task,
     directed_task,
-    erase_loops,
     extend,
     heading_chooser,
     random_waypoints,
@@ -126,8 +125,9 @@ def test_fixed_parents_keep_distance_in_a_small_dataset(tmp_path: Path) -> None:
     ``move``'s parents (virtual seed 0, as on every seed of docs/framework.md's sweep);
     ``fixed_parents=("distance",)`` keeps it, and a name that is no context variable is
     refused."""
+    from a2l.acquisition.rollout import rollouts_to_frame
     from a2l.framework import _discretizers as discretizers
-    from a2l.framework import acquire, generate_skill, rollouts_to_frame
+    from a2l.framework import acquire, generate_skill
     from a2l.parallel import Executor
     from a2l.skills import load_bundle
 

@@ -27,7 +27,6 @@ from a2l.experiments.push_report import (
     with_heldout,
 )
 from a2l.framework import FrameworkConfig, IterationResult, run_framework
-from a2l.lazy import lazy_exports
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
 from a2l.rundir import make_run_dir, read_json, write_json
@@ -37,15 +36,9 @@ __all__ = [
     "plot_scores",
     "plot_trajectories",
     "results_table",
-    "run_discretization_study",  # noqa: F822 - lazy, from a2l.experiments.discretization
     "run_push_experiment",
     "with_heldout",
 ]
-
-# The discretization study runs this experiment: imported from its module on first use.
-__getattr__, __dir__ = lazy_exports(
-    __name__, {"run_discretization_study": "a2l.experiments.discretization"})
-
 
 def _robot_entry(cfg: FrameworkConfig) -> dict[str, str] | None:
     if cfg.scene != "baxter":

@@ -26,9 +26,11 @@ checkpoint written after each iteration.
 The modules: :mod:`~a2l.framework.config` (:class:`FrameworkConfig`),
 :mod:`~a2l.framework.env` (the scene a rollout plays in), :mod:`~a2l.framework.runner`
 (a skill bundle through the C++ step), :mod:`~a2l.framework.validation`,
-:mod:`~a2l.framework.scoring` and :mod:`~a2l.framework.loop`. Their names are re-exported
-here, loaded on first use (the acquisition strategies import the configuration, and the
-loop imports the strategies).
+:mod:`~a2l.framework.scoring` and :mod:`~a2l.framework.loop`, with the loop's own
+acquisition strategies (:mod:`~a2l.framework.random_babbling`,
+:mod:`~a2l.framework.waypoints`, :mod:`~a2l.framework.noveb_rollouts`). Their names are
+re-exported here, loaded on first use, so that a worker process that runs one task does not
+import the whole loop.
 """
 
 from __future__ import annotations
@@ -43,13 +45,11 @@ __all__ = [
     "CppSkillRunner",
     "FrameworkConfig",
     "IterationResult",
-    "Rollout",
     "SceneEnv",
     "acquire",
     "babble_task",
     "directed_task",
     "discretizers",
-    "erase_loops",
     "extend",
     "generate_skill",
     "heading_chooser",
@@ -58,7 +58,6 @@ __all__ = [
     "iteration_metrics",
     "make_env",
     "random_waypoints",
-    "rollouts_to_frame",
     "run_framework",
     "scene_env",
     "score_of",
@@ -93,9 +92,6 @@ _HOME = {
     "extend": "a2l.framework.loop",
     "generate_skill": "a2l.framework.loop",
     "run_framework": "a2l.framework.loop",
-    "Rollout": "a2l.acquisition.rollout",
-    "erase_loops": "a2l.acquisition.rollout",
-    "rollouts_to_frame": "a2l.acquisition.rollout",
     "babble_task": "a2l.framework.random_babbling",
     "directed_task": "a2l.framework.waypoints",
     "heading_chooser": "a2l.framework.waypoints",
