@@ -38,6 +38,13 @@ from numpy.typing import NDArray
 from a2l.errors import A2LValueError
 from a2l.lfd.demonstration import Demonstration, save_demonstrations
 from a2l.lfd.manipulation import move_by
+from a2l.sim.keyboard import (
+    KEY_CODES,
+    WindowClosed,
+    keys_pressed,
+    take_keyboard,
+    window_guard,
+)
 
 __all__ = ["COMMANDS", "MOVES", "TeleopRecorder", "key_command", "record_demonstrations",
            "run_commands", "run_gui"]
@@ -49,17 +56,17 @@ MOVES: dict[str, tuple[int, int, int]] = {
 }
 #: Every command the recorder takes.
 COMMANDS: tuple[str, ...] = (*MOVES, "gripper", "record", "quit")
+#: Key code -> command (the table of the module's docstring).
+_KEY_TABLE: dict[int, str] = {
+    KEY_CODES[key]: command for key, command in (
+        ("up", "forward"), ("down", "back"), ("left", "left"), ("right", "right"),
+        ("page_up", "up"), ("page_down", "down"), ("space", "gripper"), ("return", "record"),
+        ("q", "quit"), ("escape", "quit"))}
 
 
 def key_command(key: int) -> str | None:
     """The command of a PyBullet key code (see the module's table), or ``None``."""
-    from a2l.sim._pybullet import p
-
-    table = {p.B3G_UP_ARROW: "forward", p.B3G_DOWN_ARROW: "back",
-             p.B3G_LEFT_ARROW: "left", p.B3G_RIGHT_ARROW: "right",
-             p.B3G_PAGE_UP: "up", p.B3G_PAGE_DOWN: "down", p.B3G_SPACE: "gripper",
-             p.B3G_RETURN: "record", ord("q"): "quit", 27: "quit"}
-    return table.get(int(key))
+    return _KEY_TABLE.get(int(key))
 
 
 class TeleopRecorder:
@@ -228,22 +235,19 @@ def run_gui(scene: Any, out: str | os.PathLike[str], obj: str | None = None,
 
     Returns the recorder; nothing is written when nothing was recorded.
     """
-    from a2l.sim._pybullet import p
-
-    c = scene.client
-    p.configureDebugVisualizer(p.COV_ENABLE_KEYBOARD_SHORTCUTS, 0, physicsClientId=c)
+    take_keyboard(scene)
     rec = TeleopRecorder(scene, obj, step)
     print("teleoperation: arrows move in x/y, Page Up/Down in z, Space toggles the gripper, "
           "Return starts/stops recording, q quits", flush=True)
     while not rec.finished:
         try:
-            events = p.getKeyboardEvents(physicsClientId=c)
-            for key, state in events.items():
+            for key in keys_pressed(scene):
                 command = key_command(key)
-                if command is not None and state & p.KEY_WAS_TRIGGERED:
+                if command is not None:
                     print(rec.handle(command), flush=True)
-            scene.settle(1.0 / 60.0)
-        except p.error:  # the window was closed
+            with window_guard():
+                scene.settle(1.0 / 60.0)
+        except WindowClosed:
             break
     if rec.recording:
         rec.handle("record")
