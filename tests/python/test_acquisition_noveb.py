@@ -158,3 +158,30 @@ def test_waypoint_encoding_and_image_descriptor() -> None:
     assert np.all(image_descriptor(img, img) == 0)
     with pytest.raises(ValueError, match="RGB array of uint8"):
         image_descriptor(np.zeros((10, 10)), None)
+
+
+def test_drive_is_the_loop_written_by_hand() -> None:
+    """Issue 23: the babbling experiment and NovEB's acquisition are driven by ``drive``
+    (told a part of each outcome, recording the rest after each batch): it asks, evaluates,
+    tells and records in the order of the loop they wrote by hand, so a seed gives the same
+    genotypes, archive and records."""
+    def outcomes(g: list[np.ndarray]) -> list[tuple[np.ndarray, float]]:
+        return [(d, float(d.sum())) for d in _toy_world(g)]
+
+    by_hand = NovEB(4, 3, 60, NovEBConfig(mu=10, lambda_=10, k=5))
+    hand_records: list[tuple[np.ndarray, float]] = []
+    while not by_hand.done:
+        asked = by_hand.ask(10)
+        out = outcomes(asked)
+        by_hand.tell(asked, np.array([d for d, _ in out]))
+        hand_records += [(g, s) for g, (_, s) in zip(asked, out, strict=True)]
+    driven = NovEB(4, 3, 60, NovEBConfig(mu=10, lambda_=10, k=5))
+    records: list[tuple[np.ndarray, float]] = []
+    drive(driven, outcomes, 10, told=lambda out: np.array([d for d, _ in out]),
+          on_batch=lambda asked, out: records.extend(
+              (g, s) for g, (_, s) in zip(asked, out, strict=True)))
+    assert len(records) == len(hand_records) == 60
+    for (g, s), (hg, hs) in zip(records, hand_records, strict=True):
+        assert np.array_equal(g, hg) and s == hs
+    assert len(driven.archive) == len(by_hand.archive) > 0
+    assert np.array_equal(np.array(driven.archive), np.array(by_hand.archive))

@@ -48,8 +48,12 @@ class Strategy(Protocol):
 
 
 def drive(strategy: Strategy, evaluate: Callable[[Sequence[Any]], Sequence[Any]],
-          batch: int, on_batch: Callable[[Strategy], None] | None = None) -> Strategy:
+          batch: int, *, told: Callable[[Sequence[Any]], Any] | None = None,
+          on_batch: Callable[[Sequence[Any], Sequence[Any]], None] | None = None) -> Strategy:
     """Ask, evaluate and tell in batches of `batch` until the strategy is done.
+
+    Each batch is asked, evaluated, told, then handed to `on_batch`, in that order: the
+    strategy's random draws are those of a loop written by hand the same way.
 
     Parameters
     ----------
@@ -59,13 +63,23 @@ def drive(strategy: Strategy, evaluate: Callable[[Sequence[Any]], Sequence[Any]]
         ``evaluate(candidates) -> outcomes``, e.g. ``lambda c: executor.map(task, c)``.
     batch : int
         Candidates asked at a time.
+    told : callable, optional
+        What the strategy is told of a batch's outcomes: ``told(outcomes)``, e.g. the
+        descriptors of evaluations that carry more; default: the outcomes themselves.
     on_batch : callable, optional
-        Called with the strategy after each batch is told (progress bars).
+        ``on_batch(asked, outcomes)`` after each batch is told (records, progress bars).
 
     Returns
     -------
     Strategy
         The same strategy, done.
+
+    Raises
+    ------
+    ValueError
+        ``batch < 1``, or `evaluate` returned a number of outcomes other than asked.
+    RuntimeError
+        The strategy is not done but asks for nothing.
     """
     if batch < 1:
         raise ValueError(f"batch must be >= 1, got {batch}")
@@ -77,9 +91,9 @@ def drive(strategy: Strategy, evaluate: Callable[[Sequence[Any]], Sequence[Any]]
         if len(outcomes) != len(asked):
             raise ValueError(f"evaluate returned {len(outcomes)} outcomes for {len(asked)} "
                              "candidates")
-        strategy.tell(asked, outcomes)
+        strategy.tell(asked, outcomes if told is None else told(outcomes))
         if on_batch:
-            on_batch(strategy)
+            on_batch(asked, outcomes)
     return strategy
 
 

@@ -16,6 +16,7 @@ first one): the batches in which strategies are asked and told.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -25,7 +26,7 @@ import pandas as pd
 
 from a2l.acquisition.goal_babbling import GoalBabbling, RandomTrajectories
 from a2l.acquisition.noveb import NovEB, NovEBConfig
-from a2l.acquisition.protocol import Strategy
+from a2l.acquisition.protocol import Strategy, drive
 from a2l.atomic import atomic_write_text
 from a2l.experiments.babbling_plots import plot_progress, plot_visits
 from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_task
@@ -135,36 +136,40 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
     generations: list[dict[str, Any]] = []
     t0 = time.perf_counter()
     eval_s = 0.0
+    label = f"{method} on {scene}"
+
+    def evaluate(asked: Sequence[np.ndarray]) -> list[Evaluation]:
+        nonlocal eval_s
+        t = time.perf_counter()
+        evs: list[Evaluation] = executor.map(evaluate_task, [(wd, g) for g in asked])
+        eval_s += time.perf_counter() - t
+        return evs
+
+    def record(asked: Sequence[np.ndarray], evs: Sequence[Evaluation]) -> None:
+        moved = 0
+        for g, e in zip(asked, evs, strict=True):
+            reached.update(outcome_keys(e))
+            moved += _moved(e)
+            records.append({"evaluation": len(records), "generation": len(generations),
+                            "genotype": [float(v) for v in g], "moved": _moved(e),
+                            "moves": e.moves,
+                            **{f"d{n}": float(np.hypot(*d)) for n, d in e.displacement.items()}})
+            paths.append(e.path)
+        archive = len(strategy.archive) if isinstance(strategy, NovEB) else None
+        generations.append({
+            "generation": len(generations), "evaluations": len(records),
+            "moved_share": moved / len(evs),
+            "moved_share_so_far": float(np.mean([r["moved"] for r in records])),
+            "distinct_outcomes": len(reached), "archive_size": archive})
+        bars.update(label, len(records), evaluations,
+                    f"moved {generations[-1]['moved_share_so_far']:.0%}, "
+                    f"outcomes {len(reached)}")
+
     with Executor(workers=workers, cluster=cluster) as executor, \
             ProgressBars(quiet) as bars:
-        label = f"{method} on {scene}"
         bars.update(label, 0, evaluations)
-        while not strategy.done:
-            asked = strategy.ask(generation_size)
-            t = time.perf_counter()
-            evs: list[Evaluation] = executor.map(evaluate_task, [(wd, g) for g in asked])
-            eval_s += time.perf_counter() - t
-            strategy.tell(asked, np.array([e.descriptor for e in evs]))
-            moved = 0
-            for g, e in zip(asked, evs, strict=True):
-                keys = outcome_keys(e)
-                reached |= keys
-                moved += _moved(e)
-                records.append({"evaluation": len(records), "generation": len(generations),
-                                "genotype": [float(v) for v in g], "moved": _moved(e),
-                                "moves": e.moves,
-                                **{f"d{n}": float(np.hypot(*d))
-                                   for n, d in e.displacement.items()}})
-                paths.append(e.path)
-            archive = len(strategy.archive) if isinstance(strategy, NovEB) else None
-            generations.append({
-                "generation": len(generations), "evaluations": len(records),
-                "moved_share": moved / len(evs),
-                "moved_share_so_far": float(np.mean([r["moved"] for r in records])),
-                "distinct_outcomes": len(reached), "archive_size": archive})
-            bars.update(label, len(records), evaluations,
-                        f"moved {generations[-1]['moved_share_so_far']:.0%}, "
-                        f"outcomes {len(reached)}")
+        drive(strategy, evaluate, generation_size,
+              told=lambda evs: np.array([e.descriptor for e in evs]), on_batch=record)
     wall = time.perf_counter() - t0
     df = pd.DataFrame(records)
     df.to_parquet(run_dir / "evaluations.parquet", index=False)

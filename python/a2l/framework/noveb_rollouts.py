@@ -10,7 +10,7 @@ and labelled with the observed effect), which feed the framework's iteration 0.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict
 from typing import Any
 
@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from a2l.acquisition.noveb import NovEB, NovEBConfig
+from a2l.acquisition.protocol import drive
 from a2l.acquisition.rollout import Rollout, effect_of
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 from a2l.framework.config import FrameworkConfig, discretizers
@@ -32,9 +33,11 @@ NOVEB_START = (0.42, -0.25)
 #: right arm reaches over the table with the gripper pointing down.
 NOVEB_WORKSPACE = ((0.40, -0.72), (0.78, 0.12))
 
+#: What :func:`noveb_task` returns: (descriptor (1024,), rollout or None, movements).
+NovebResult = tuple[NDArray[np.float64], Rollout | None, int]
 
-def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]
-               ) -> tuple[NDArray[np.float64], Rollout | None, int]:
+
+def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]) -> NovebResult:
     """Play one genotype in the framework's scene: ``(config, genotype, max_moves)``.
 
     Returns
@@ -104,14 +107,16 @@ def noveb_acquire(cfg: FrameworkConfig, executor: Executor, evaluations: int,
                   NovEBConfig(mu=generation_size, lambda_=generation_size))
     cfg_d = asdict(cfg)
     kept: list[Rollout] = []
-    done = movements = 0
-    while not noveb.done:
-        asked = noveb.ask(generation_size)
-        results = executor.map(noveb_task, [(cfg_d, g, max_moves) for g in asked])
-        noveb.tell(asked, np.array([d for d, _, _ in results]))
+    count = {"done": 0, "movements": 0}
+
+    def record(asked: Sequence[Any], results: Sequence[NovebResult]) -> None:
         kept.extend(r for _, r, _ in results if r is not None)
-        movements += sum(m for _, _, m in results)
-        done += len(asked)
+        count["movements"] += sum(m for _, _, m in results)
+        count["done"] += len(asked)
         if progress:
-            progress("noveb", done, evaluations)
-    return kept, noveb, movements
+            progress("noveb", count["done"], evaluations)
+
+    drive(noveb, lambda asked: executor.map(noveb_task, [(cfg_d, g, max_moves) for g in asked]),
+          generation_size, told=lambda results: np.array([d for d, _, _ in results]),
+          on_batch=record)
+    return kept, noveb, count["movements"]
