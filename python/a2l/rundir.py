@@ -7,11 +7,14 @@ lost.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import json
 import os
+import shlex
 import shutil
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +23,7 @@ import pandas as pd
 from a2l.atomic import atomic_write_text
 
 __all__ = [
+    "command_line",
     "latest_checkpoint",
     "make_run_dir",
     "read_json",
@@ -111,3 +115,19 @@ def latest_checkpoint(run_dir: str | os.PathLike[str]
     state = read_json(last / "state.json")
     frames = {p.stem: pd.read_parquet(p) for p in last.glob("*.parquet")}
     return int(last.name.split("_")[1]), state, frames
+
+
+def command_line(words: Sequence[Any], config: Any, skip: Sequence[str] = ()) -> str:
+    """The command that reproduces a run (kept in its ``config.json``): `words`, then
+    ``--field VALUE`` for every field of the dataclass `config` but `skip` (VALUE as JSON
+    where it is not a plain string): the options ``a2l`` makes of the fields. Every field is
+    given, so the command does not depend on the defaults of the version that reads it."""
+    out = [str(w) for w in words]
+    for f in dataclasses.fields(config):
+        if not f.init or f.name in skip:
+            continue
+        value = getattr(config, f.name)
+        text = value if isinstance(value, str) else json.dumps(
+            list(value) if isinstance(value, tuple) else value)
+        out += [f"--{f.name}", text]
+    return shlex.join(out)

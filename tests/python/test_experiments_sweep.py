@@ -9,10 +9,9 @@ from pathlib import Path
 import pytest
 
 from a2l.cli import main
+from a2l.cli.args import parse_overrides, parse_seeds
 from a2l.experiments.sweep import (
     iterations_to_full_score,
-    parse_overrides,
-    parse_seeds,
     summarize_sweep,
 )
 

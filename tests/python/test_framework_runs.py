@@ -22,7 +22,8 @@ from typing import Any
 import pandas as pd
 import pytest
 
-from a2l.cli import build_parser
+from a2l.cli import parse
+from a2l.cli.parser import config_from
 from a2l.framework import FrameworkConfig
 
 #: The command line of every run of this module (except the output options).
@@ -77,11 +78,11 @@ def test_reference_run_is_complete_and_rerunnable(reference: Path) -> None:
     assert m["iterations"][1]["dataset_size"] > m["iterations"][0]["dataset_size"] > 0
     # config.json's command reruns the same configuration.
     cfg = json.loads((reference / "config.json").read_text())
-    args = build_parser().parse_args(shlex.split(cfg["command"])[1:])
+    path, ns, _ = parse(shlex.split(cfg["command"])[1:])
     framework = FrameworkConfig.from_dict(cfg["framework"])
-    assert (args.scene, args.effects, args.seed, args.iterations, args.starts) == (
-        framework.scene, framework.n_effects, framework.seed, framework.max_iterations,
-        framework.n_starts) == ("virtual", 4, 0, 2, 2)
+    assert path == ("experiment", "push") and config_from(ns, FrameworkConfig) == framework
+    assert (framework.scene, framework.n_effects, framework.seed, framework.max_iterations,
+            framework.n_starts) == ("virtual", 4, 0, 2, 2)
 
 
 def test_killed_mid_iteration_and_resumed_ends_as_uninterrupted(reference: Path,

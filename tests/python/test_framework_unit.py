@@ -98,6 +98,8 @@ def test_score_of_babbling_rollouts_count_nothing() -> None:
     ("offset_half_y", float("inf")),
     ("fixed_parents", "distance"),
     ("fixed_parents", [1]),
+    ("fixed_parents", ("distance", "light")),
+    ("fixed_parents", ("offset_x",)),
 ])
 def test_validate_names_the_bad_field(field: str, value: object) -> None:
     cfg = FrameworkConfig(**{field: value})
@@ -142,6 +144,8 @@ def test_fixed_parents_keep_distance_in_a_small_dataset(tmp_path: Path) -> None:
     assert "distance" not in names[()]
     assert "distance" in names[("distance",)]
     with pytest.raises(ValueError, match=r"^fixed_parents: \['light'\] not context"):
+        replace(cfg, fixed_parents=("light",)).validate()
+    with pytest.raises(ValueError, match=r"^fixed_parents: \['light'\] not dataset columns"):
         generate_skill(replace(cfg, fixed_parents=("light",)), frame, tmp_path / "x.a2lb")
 
 

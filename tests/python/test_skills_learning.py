@@ -53,10 +53,12 @@ def test_constraints_black_white_fixed_indegree() -> None:
     assert all(len(dag.get_parents(v)) <= 1 for v in dag.nodes())
     dag = learn_structure(df, white_list=[("effect", "move"), ("distance", "move")])
     assert set(dag.edges()) <= {("effect", "move"), ("distance", "move")}
-    dag = learn_structure(df, fixed_edges=[("inclination", "move")])
+    dag = learn_structure(df, fixed_parents=["inclination"])
     assert "inclination" in dag.get_parents("move")
     with pytest.raises(ValueError, match="both required and forbidden"):
-        learn_structure(df, fixed_edges=[("move", "effect")])
+        learn_structure(df, fixed_parents=["inclination"], black_list=[("inclination", "move")])
+    with pytest.raises(ValueError, match=r"fixed_parents: \['speed'\] not dataset columns"):
+        learn_structure(df, fixed_parents=["speed"])
     with pytest.raises(ValueError, match="'speed'"):
         learn_structure(df, black_list=[("speed", "move")])
 

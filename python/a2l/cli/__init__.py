@@ -7,7 +7,8 @@ demo
 demo-record
     Record demonstrations by teleoperation in the PyBullet GUI (keys: a2l.lfd.teleop).
 experiment push
-    The A2L push experiment (see ``a2l experiment push --help``).
+    The A2L push experiment (see ``a2l experiment push --help``: one flag per
+    FrameworkConfig field).
 experiment discretization
     The orientation x distance discretization study.
 experiment lasa
@@ -24,50 +25,88 @@ experiment perturbations
     Demonstrated skills under perturbations: context skill vs DS alone.
 experiment sweep
     The push experiment over many seeds: iterations to reach score 100.
+experiment tasks
+    Planned tasks with the learned skills, with and without faults.
 
-Layout: ``args`` (usage error, argument types), ``demo`` (demo, demo-record),
-``experiments`` (the ``experiment`` group; lasa, babbling), ``push`` (push, discretization,
-sweep), ``lfd`` (lfd-skills, parametrization, perturbations), ``tasks``. Every argument is
-parsed here; the experiments raise :class:`a2l.errors.ConfigError` naming the argument at
-fault, which :func:`main` reports as a usage error (exit code 2).
+Layout: ``parser`` (the jsonargparse parser class, configuration flags, config files),
+``args`` (usage error, argument checks), ``demo`` (demo, demo-record), ``experiments`` (the
+``experiment`` group; lasa, babbling), ``push`` (push, discretization, sweep), ``lfd``
+(lfd-skills, parametrization, perturbations), ``tasks``. Every argument is parsed here,
+and everything, names included, is checked before any work starts; the experiments raise
+:class:`a2l.errors.ConfigError` naming the argument at fault, which :func:`main` reports as
+a usage error (exit code 2).
 """
 
 from __future__ import annotations
 
-import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+
+from jsonargparse import Namespace
 
 from a2l.cli import demo, experiments
 from a2l.cli.args import UsageError
+from a2l.cli.parser import Parser, command_path, normalize_argv
 from a2l.errors import ConfigError
 
-__all__ = ["UsageError", "build_parser", "main"]
+__all__ = ["UsageError", "build_parser", "main", "parse"]
+
+#: A command's handler: its namespace in, the exit code out.
+Handler = Callable[[Namespace], int]
+
+#: The parser of the command :func:`parse` parsed last, by command path (the spellings of
+#: its options, for the messages of :func:`main`).
+_LAST: dict[tuple[str, ...], Parser] = {}
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``a2l`` command (one sub-parser per subcommand)."""
-    parser = argparse.ArgumentParser(
-        prog="a2l",
-        description="Adaptive Affordance Learning: learn manipulation skills and run them.",
-    )
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    demo.add_demo_parser(sub)
-    demo.add_demo_record_parser(sub)
-    experiments.add_experiment_parsers(sub)
-    return parser
+def build_parser() -> tuple[Parser, dict[tuple[str, ...], tuple[Parser, Handler]]]:
+    """The parser of the ``a2l`` command and, per command path (``("experiment",
+    "push")``), its parser and handler."""
+    parser = Parser(prog="a2l", description="Adaptive Affordance Learning: learn "
+                    "manipulation skills and run them.")
+    sub = parser.add_subcommands(metavar="COMMAND")
+    commands: dict[tuple[str, ...], tuple[Parser, Handler]] = {}
+    demo.add_demo_parsers(sub, commands)
+    experiments.add_experiment_parsers(sub, commands)
+    return parser, commands
+
+
+def parse(argv: Sequence[str]) -> tuple[tuple[str, ...], Namespace, Handler]:
+    """Parse `argv` (without the program name): the command path, the command's namespace
+    and its handler. Exits with code 2 on a bad argument (the message names it)."""
+    parser, commands = build_parser()
+    argv = list(argv)
+    for n in range(min(len(argv), 2), 0, -1):  # flags of the command: its own spellings
+        if tuple(argv[:n]) in commands:
+            leaf = commands[tuple(argv[:n])][0]
+            _LAST[tuple(argv[:n])] = leaf
+            argv = argv[:n] + normalize_argv(argv[n:], leaf, getattr(leaf, "aliases", None))
+            break
+    path, ns = command_path(parser.parse_args(argv))
+    return path, ns, commands[path][1]
+
+
+def _spelled(path: tuple[str, ...], field: str) -> str:
+    """The option of a configuration field as the user gave it."""
+    parser = _LAST.get(path)
+    option = field if field.startswith("--") else f"--{field}"
+    return parser.spelled.get(option, option) if isinstance(parser, Parser) else option
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``a2l`` command; returns the exit code."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    path, ns, handler = parse(argv)
+    prog = " ".join(("a2l", *path))
     try:
-        return int(args.func(args) or 0)
+        return int(handler(ns) or 0)
     except UsageError as exc:
-        parser.exit(2, f"{parser.prog}: error: {exc}\n")
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        raise SystemExit(2) from None
     except ConfigError as exc:
-        parser.exit(2, f"{parser.prog}: error: argument {exc.field}: {exc.message}\n")
+        print(f"{prog}: error: argument {_spelled(path, exc.field)}: {exc.message}",
+              file=sys.stderr)
+        raise SystemExit(2) from None
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

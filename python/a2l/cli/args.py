@@ -1,11 +1,17 @@
-"""Shared pieces of the ``a2l`` command: the usage error and the argument types."""
+"""Shared pieces of the ``a2l`` command: the usage error and the argument checks."""
 
 from __future__ import annotations
 
-import argparse
+import dataclasses
+import json
+from collections.abc import Sequence
+from typing import Any
+
+from a2l.errors import ConfigError
+from a2l.framework.config import FrameworkConfig
 
 
-class UsageError(Exception):
+class UsageError(ConfigError):
     """A bad command-line argument found after parsing (exit code 2, no traceback).
 
     Parameters
@@ -17,57 +23,17 @@ class UsageError(Exception):
     """
 
     def __init__(self, argument: str, message: str) -> None:
-        super().__init__(f"argument {argument}: {message}")
+        super().__init__(argument, message)
+        self.args = (f"argument {argument}: {message}",)
         self.argument = argument
+
+    def __str__(self) -> str:
+        return str(self.args[0])
 
 
 def comma_list(text: str | None) -> list[str] | None:
     """Names given as ``"a, b,c"``: stripped, empty ones dropped; None when nothing was given."""
     return [x.strip() for x in text.split(",") if x.strip()] if text else None
-
-
-def positive_int(text: str) -> int:
-    """argparse type: an integer >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
-    return value
-
-
-def nonnegative_int(text: str) -> int:
-    """argparse type: an integer >= 0 (seeds)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
-    return value
-
-
-def framework_config(args: argparse.Namespace, options: dict[str, str]) -> object:
-    """The FrameworkConfig of the given options (defaults for the others).
-
-    Raises
-    ------
-    UsageError
-        A value out of its domain (the message names the option).
-    """
-    from a2l.framework import FrameworkConfig
-
-    given = {field: getattr(args, opt) for opt, field in options.items()
-             if getattr(args, opt, None) is not None}
-    cfg = FrameworkConfig(**given)
-    try:
-        cfg.validate()
-    except ValueError as exc:
-        bad = str(exc).split(":", 1)[0]
-        opt = next((o for o, f in options.items() if f == bad), bad)
-        raise UsageError(f"--{opt}", str(exc)) from None
-    return cfg
 
 
 def check_cluster(address: str | None) -> None:
@@ -85,3 +51,59 @@ def check_cluster(address: str | None) -> None:
                          f"{exc}") from None
 
 
+def parse_seeds(text: str) -> list[int]:
+    """Seeds from ``"0-29"``, ``"0,3,7"`` or a mix (``"0-4,9"``), in the given order.
+
+    Raises
+    ------
+    UsageError
+        Malformed text, a negative seed, an empty range or a seed given twice.
+    """
+    seeds: list[int] = []
+    for part in text.split(","):
+        part = part.strip()
+        try:
+            if "-" in part:
+                lo, hi = (int(x) for x in part.split("-", 1))
+                if hi < lo:
+                    raise ValueError(f"empty range {part!r}")
+                seeds.extend(range(lo, hi + 1))
+            else:
+                seeds.append(int(part))
+        except ValueError as exc:
+            raise UsageError("--seeds", f"expected e.g. '0-29' or '0,3,7', got {text!r} ({exc})"
+                             ) from None
+    if any(s < 0 for s in seeds):
+        raise UsageError("--seeds", f"must be >= 0, got {text!r}")
+    if len(set(seeds)) != len(seeds):
+        raise UsageError("--seeds", f"a seed is given twice in {text!r}")
+    return seeds
+
+
+def parse_overrides(items: Sequence[str]) -> dict[str, Any]:
+    """``FIELD=VALUE`` strings as FrameworkConfig fields; VALUE is read as JSON (numbers,
+    ``true``, ``null``), else kept as text.
+
+    Raises
+    ------
+    UsageError
+        An item without ``=``, or a field FrameworkConfig does not have (the message lists
+        its fields), or one the sweep sets itself (``seed``).
+    """
+    fields = {f.name for f in dataclasses.fields(FrameworkConfig)}
+    out: dict[str, Any] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise UsageError("--set", f"expected FIELD=VALUE, got {item!r}")
+        if name not in fields:
+            raise UsageError("--set", f"FrameworkConfig has no field {name!r}; its fields: "
+                             f"{', '.join(sorted(fields))}")
+        if name == "seed":
+            raise UsageError("--set", "'seed' is set by --seeds")
+        try:
+            out[name] = json.loads(value)
+        except json.JSONDecodeError:
+            out[name] = value
+    return out

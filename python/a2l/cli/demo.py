@@ -2,20 +2,24 @@
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
+from typing import Any
 
-from a2l.cli.args import UsageError, nonnegative_int, positive_int
+from jsonargparse import Namespace
+from jsonargparse.typing import NonNegativeInt, PositiveInt
+
+from a2l.cli.args import UsageError
+from a2l.cli.parser import Parser
 
 
-def _cmd_demo(args: argparse.Namespace) -> int:
+def _cmd_demo(args: Namespace) -> int:
     from a2l.experiments.demo import run_demo
 
     return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
                     starts=args.starts, workers=args.workers)
 
 
-def _cmd_demo_record(args: argparse.Namespace) -> int:
+def _cmd_demo_record(args: Namespace) -> int:
     from a2l.lfd.teleop import record_demonstrations
 
     start = None
@@ -42,10 +46,10 @@ def _cmd_demo_record(args: argparse.Namespace) -> int:
     return 0 if rec.recordings else 1
 
 
-def add_demo_record_parser(sub: argparse._SubParsersAction) -> None:
+def _demo_record_parser() -> Parser:
     """``demo-record``: demonstrations by teleoperation."""
-    rec = sub.add_parser(
-        "demo-record", help="record demonstrations by teleoperation in the PyBullet GUI",
+    rec = Parser(
+        prog="a2l demo-record",
         description="Move Baxter's end-effector with the keyboard in the PyBullet GUI and "
         "record demonstrations (the part-1 demonstration format, relative to the object). "
         "Keys: arrows = x/y, Page Up/Down = z (1 cm steps), Space = gripper, Return = "
@@ -54,7 +58,7 @@ def add_demo_record_parser(sub: argparse._SubParsersAction) -> None:
                      required=True, help="the scene to demonstrate in")
     rec.add_argument("--out", metavar="FILE", required=True,
                      help="demonstration file to write (.csv or .parquet)")
-    rec.add_argument("--seed", type=nonnegative_int, default=0, help="scene seed (default 0)")
+    rec.add_argument("--seed", type=NonNegativeInt, default=0, help="scene seed (default 0)")
     rec.add_argument("--step", type=float, default=0.01, metavar="M",
                      help="length of one move (default 0.01 m)")
     rec.add_argument("--start", metavar="DX,DY,DZ", default=None,
@@ -64,23 +68,35 @@ def add_demo_record_parser(sub: argparse._SubParsersAction) -> None:
                      help="no GUI: run these commands instead of reading the keyboard "
                      "(forward, back, left, right, up, down, gripper, record, quit; "
                      "'down*5' repeats)")
-    rec.set_defaults(func=_cmd_demo_record)
+    return rec
 
 
-def add_demo_parser(sub: argparse._SubParsersAction) -> None:
+DEMO_HELP = ("run the main job: the world, a short A2L push experiment on Baxter, then the "
+             "exported skill in the C++ runtime (a2l-run)")
+
+
+def _demo_parser() -> Parser:
     """``demo``: the main job."""
-    demo = sub.add_parser(
-        "demo", help="run the main job: the world, a short A2L push experiment on Baxter, "
-        "then the exported skill in the C++ runtime (a2l-run)")
-    demo.add_argument("--seed", type=nonnegative_int, default=0,
+    demo = Parser(prog="a2l demo", description=DEMO_HELP)
+    demo.add_argument("--seed", type=NonNegativeInt, default=0,
                       help="random seed (default 0)")
     demo.add_argument("--gui", action="store_true", help="open the PyBullet GUI (part 1)")
     demo.add_argument("--out", metavar="DIR", default=None,
                       help="run directory of the experiment (default runs/demo-<timestamp>)")
-    demo.add_argument("--iterations", type=positive_int, default=2, metavar="N",
+    demo.add_argument("--iterations", type=PositiveInt, default=2, metavar="N",
                       help="iterations of the push experiment (default 2)")
-    demo.add_argument("--starts", type=positive_int, default=8, metavar="N",
+    demo.add_argument("--starts", type=PositiveInt, default=8, metavar="N",
                       help="start positions of the push experiment (default 8)")
-    demo.add_argument("--workers", type=positive_int, default=None, metavar="N",
+    demo.add_argument("--workers", type=PositiveInt | None, default=None, metavar="N",
                       help="worker processes for the rollouts (default: up to 2)")
-    demo.set_defaults(func=_cmd_demo)
+    return demo
+
+
+def add_demo_parsers(sub: Any, commands: dict[tuple[str, ...], Any]) -> None:
+    """Register ``demo`` and ``demo-record`` (parser and handler in `commands`)."""
+    for name, parser, handler, help_ in (
+            ("demo", _demo_parser(), _cmd_demo, DEMO_HELP),
+            ("demo-record", _demo_record_parser(), _cmd_demo_record,
+             "record demonstrations by teleoperation in the PyBullet GUI")):
+        sub.add_subcommand(name, parser, help=help_)
+        commands[(name,)] = (parser, handler)

@@ -3,15 +3,30 @@ skills (a2l.lfd) learned and run by the experiments of a2l.experiments."""
 
 from __future__ import annotations
 
-import argparse
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from jsonargparse import Namespace
+
 from a2l.cli.args import UsageError, comma_list
+from a2l.cli.parser import Parser, add_config_fields, config_from
+from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
+from a2l.lfd.config import DEFAULT, LfDConfig
 
 
-def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
+def lfd_config(args: Namespace) -> LfDConfig | None:
+    """The LfDConfig of the ``--lfd.*`` options: None (each skill's own configuration) when
+    none differs from :data:`a2l.lfd.config.DEFAULT`."""
+    try:
+        cfg = config_from(args.lfd, LfDConfig)
+    except ValueError as exc:  # LfDConfig.<field>: ...
+        field = str(exc).split(":", 1)[0].split(",")[0].replace("LfDConfig.", "--lfd.")
+        raise UsageError(field, str(exc)) from None
+    return None if cfg == DEFAULT else cfg
+
+
+def run_args(args: Namespace) -> tuple[Path, list[str] | None]:
     """The run directory and the skills of an experiment's command line, checked
     (``--out`` not a file, ``--trials`` and ``--workers`` >= 1)."""
     out = Path(args.out)
@@ -23,19 +38,19 @@ def run_args(args: argparse.Namespace) -> tuple[Path, list[str] | None]:
     return out, comma_list(args.skills)
 
 
-def _cmd_lfd_skills(args: argparse.Namespace) -> int:
+def _cmd_lfd_skills(args: Namespace) -> int:
     from a2l.experiments.lfd_skills import run_lfd_skills
 
     out, skills = run_args(args)
     run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
-                   args.workers, quiet=args.quiet)
+                   args.workers, cfg=lfd_config(args), quiet=args.quiet)
     return 0
 
 
-def add_lfd_skills_parser(exps: argparse._SubParsersAction) -> None:
+def _lfd_skills_parser() -> Parser:
     """Register ``a2l experiment lfd-skills``."""
-    p = exps.add_parser(
-        "lfd-skills", help="demonstrated skills: learn, then run on held-out seeds",
+    p = Parser(
+        prog="a2l experiment lfd-skills",
         description="Learn each demonstrated skill from its scripted demonstrations "
         "(vector field -> dataset -> Bayesian network -> compiled table) and run it in closed "
         "loop through the C++ step from held-out trial seeds; write report.md, "
@@ -49,7 +64,8 @@ def add_lfd_skills_parser(exps: argparse._SubParsersAction) -> None:
     p.add_argument("--mode", choices=("table", "ds"), default="table")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_lfd_skills)
+    add_config_fields(p, LfDConfig, nested_key="lfd")
+    return p
 
 
 def _floats(text: str, what: str) -> tuple[float, ...]:
@@ -69,7 +85,7 @@ def _ints(text: str, what: str) -> tuple[int, ...]:
     return tuple(int(v) for v in vals)
 
 
-def _cmd_parametrization(args: argparse.Namespace) -> int:
+def _cmd_parametrization(args: Namespace) -> int:
     from a2l.experiments.parametrization import run_parametrization
 
     grid: dict[str, Sequence[Any]] = {}
@@ -88,14 +104,14 @@ def _cmd_parametrization(args: argparse.Namespace) -> int:
         grid["smoothing"] = tuple(s == "on" for s in sm)
     out, skills = run_args(args)
     run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
-                        args.workers, quiet=args.quiet)
+                        args.workers, base=lfd_config(args), quiet=args.quiet)
     return 0
 
 
-def add_parametrization_parser(exps: argparse._SubParsersAction) -> None:
+def _parametrization_parser() -> Parser:
     """Register ``a2l experiment parametrization``."""
-    p = exps.add_parser(
-        "parametrization", help="grid x step x bins x smoothing study of demonstrated skills",
+    p = Parser(
+        prog="a2l experiment parametrization",
         description="For each cell of grid resolution x movement step x orientation bins x "
         "distance bins x smoothing, learn the skill from its demonstrations and run it from "
         "tuning seeds; write the table, the selected default, report.md and a plot. Values "
@@ -113,24 +129,23 @@ def add_parametrization_parser(exps: argparse._SubParsersAction) -> None:
     p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_parametrization)
+    add_config_fields(p, LfDConfig, nested_key="lfd")
+    return p
 
 
-def _cmd_perturbations(args: argparse.Namespace) -> int:
-    from a2l.experiments.perturbations import CONDITIONS, run_perturbations
+def _cmd_perturbations(args: Namespace) -> int:
+    from a2l.experiments.perturbations import run_perturbations
 
     run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
                       args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
-                      quiet=args.quiet, plots=not args.no_plots)
+                      cfg=lfd_config(args), quiet=args.quiet, plots=not args.no_plots)
     return 0
 
 
-def add_perturbations_parser(exps: argparse._SubParsersAction) -> None:
+def _perturbations_parser() -> Parser:
     """Register ``a2l experiment perturbations``."""
-    from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
-
-    p = exps.add_parser(
-        "perturbations", help="demonstrated skills under perturbations: context skill vs DS",
+    p = Parser(
+        prog="a2l experiment perturbations",
         description="Learn each demonstrated skill, then run it on held-out trial seeds "
         "without perturbation and with the object moved 3-5 cm, the end-effector held 1-2 s "
         "and the light switched mid-action, each as the context skill (table) and as the DS "
@@ -150,4 +165,21 @@ def add_perturbations_parser(exps: argparse._SubParsersAction) -> None:
                    help="address of a Dask scheduler (tcp://host:8786); overrides --workers")
     p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
-    p.set_defaults(func=_cmd_perturbations)
+    add_config_fields(p, LfDConfig, nested_key="lfd")
+    return p
+
+
+def add_lfd_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
+    """Register ``experiment lfd-skills``, ``parametrization`` and ``perturbations``. Every
+    LfDConfig field is an option ``--lfd.<field>``: given, it replaces each skill's own
+    configuration by DEFAULT with the values given."""
+    for name, make, handler, help_ in (
+            ("lfd-skills", _lfd_skills_parser, _cmd_lfd_skills,
+             "demonstrated skills: learn, then run on held-out seeds"),
+            ("parametrization", _parametrization_parser, _cmd_parametrization,
+             "grid x step x bins x smoothing study of demonstrated skills"),
+            ("perturbations", _perturbations_parser, _cmd_perturbations,
+             "demonstrated skills under perturbations: context skill vs DS")):
+        parser = make()
+        exps.add_subcommand(name, parser, help=help_)
+        commands[("experiment", name)] = (parser, handler)

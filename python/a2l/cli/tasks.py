@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
-import argparse
+from typing import Any
 
-from a2l.cli.args import comma_list, nonnegative_int, positive_int
+from jsonargparse import Namespace
+from jsonargparse.typing import NonNegativeInt, PositiveInt
+
+from a2l.cli.args import comma_list
+from a2l.cli.parser import Parser
+from a2l.experiments.tasks import DEFAULT_SEED, TASKS
 
 
-def _cmd_tasks(args: argparse.Namespace) -> int:
+def _cmd_tasks(args: Namespace) -> int:
     # imported here: `a2l --help` and the other commands do not load the planner's stack
     from a2l.experiments.tasks import run_tasks
 
@@ -17,12 +22,13 @@ def _cmd_tasks(args: argparse.Namespace) -> int:
     return 0
 
 
-def add_tasks_parser(exps: argparse._SubParsersAction) -> None:
-    """Register ``a2l experiment tasks``."""
-    from a2l.experiments.tasks import DEFAULT_SEED, TASKS
+TASKS_HELP = "planned tasks with the learned skills, with and without faults"
 
-    p = exps.add_parser(
-        "tasks", help="planned tasks with the learned skills, with and without faults",
+
+def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
+    """Register ``a2l experiment tasks``."""
+    p = Parser(
+        prog="a2l experiment tasks",
         description="Plan and run tasks of 3 to 5 skills on Baxter in PyBullet (PDDL plan, "
         "OMPL transits, the learned grasp and press through the C++ step, replanning when "
         "the world disagrees), each from seeded trials without and with an injected fault; "
@@ -30,11 +36,11 @@ def add_tasks_parser(exps: argparse._SubParsersAction) -> None:
     p.add_argument("--out", metavar="DIR", required=True, help="run directory")
     p.add_argument("--tasks", metavar="A,B,...", default=None,
                    help=f"comma-separated tasks (default: all of {','.join(TASKS)})")
-    p.add_argument("--trials", type=positive_int, default=20, metavar="N",
+    p.add_argument("--trials", type=PositiveInt, default=20, metavar="N",
                    help="trials per task and condition (default 20)")
-    p.add_argument("--seed", type=nonnegative_int, default=DEFAULT_SEED, metavar="S",
+    p.add_argument("--seed", type=NonNegativeInt, default=DEFAULT_SEED, metavar="S",
                    help=f"first trial seed (default {DEFAULT_SEED})")
-    p.add_argument("--workers", type=positive_int, default=1, metavar="N",
+    p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                    help="local worker processes (default 1)")
     p.add_argument("--faults", choices=("both", "without", "with"), default="both",
                    help="run the trials without and/or with the injected fault (default both)")
@@ -42,4 +48,5 @@ def add_tasks_parser(exps: argparse._SubParsersAction) -> None:
                    help="task planner (default pyperplan)")
     p.add_argument("--no-plots", action="store_true", help="no figure")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
-    p.set_defaults(func=_cmd_tasks)
+    exps.add_subcommand("tasks", p, help=TASKS_HELP)
+    commands[("experiment", "tasks")] = (p, _cmd_tasks)

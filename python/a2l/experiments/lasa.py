@@ -54,7 +54,7 @@ from a2l.lfd.fit import FIT_DIRECTIONS
 from a2l.lfd.metrics import dtw_mean_distance, resample_time, swept_error_area, velocity_rmse
 from a2l.parallel import Executor
 from a2l.progress import progress_bar
-from a2l.rundir import make_run_dir, write_json
+from a2l.rundir import command_line, make_run_dir, write_json
 
 __all__ = ["LasaConfig", "lasa_shapes", "load_lasa_shape", "run_lasa_experiment", "run_shape"]
 
@@ -322,14 +322,9 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     if unknown:
         raise ValueError(f"unknown LASA shape(s) {unknown}; known: {', '.join(known)}")
     run_dir = make_run_dir("lasa", out)
-    command = (f"a2l experiment lasa --out {run_dir} --K {cfg.K}"
-               + ("" if cfg.beta is None else f" --beta {cfg.beta}")
-               + ("" if cfg.mu is None else f" --mu {cfg.mu}")
-               + ("" if cfg.arrival == LasaConfig.arrival else f" --arrival {cfg.arrival}")
-               + ("" if cfg.direction == LasaConfig.direction
-                  else f" --direction {cfg.direction}")
-               + f" --starts {cfg.n_starts} --seed {cfg.seed} --workers {workers}"
-               + ("" if shapes == known else f" --shapes {','.join(shapes)}"))
+    command = command_line(["a2l", "experiment", "lasa", "--out", run_dir, "--workers", workers]
+                           + ([] if shapes == known else ["--shapes", ",".join(shapes)]),
+                           cfg)
     write_json(run_dir / "config.json", {"experiment": "lasa", "lasa": asdict(cfg),
                                          "shapes": shapes, "workers": workers,
                                          "command": command})

@@ -29,7 +29,7 @@ from a2l.experiments.push_report import (
 from a2l.framework import FrameworkConfig, IterationResult, run_framework
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
-from a2l.rundir import make_run_dir, read_json, write_json
+from a2l.rundir import command_line, make_run_dir, read_json, write_json
 
 __all__ = [
     "plot_policy",
@@ -112,12 +112,10 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
             "experiment": "push", "framework": asdict(cfg),
             **({"acquisition": {"method": acquisition, "evaluations": noveb_evaluations}}
                if acquisition != "random" else {}),
-            "command": f"a2l experiment push --scene {cfg.scene} --effects {cfg.n_effects} "
-                       f"--seed {cfg.seed} --iterations {cfg.max_iterations} "
-                       f"--starts {cfg.n_starts} --heldout-starts {cfg.heldout_starts} "
-                       f"--out {run_dir}"
-                       + (f" --acquisition {acquisition} --noveb-evaluations "
-                          f"{noveb_evaluations}" if acquisition != "random" else ""),
+            "command": command_line(
+                ["a2l", "experiment", "push", "--out", run_dir]
+                + (["--acquisition", acquisition, "--noveb-evaluations", noveb_evaluations]
+                   if acquisition != "random" else []), cfg),
         })
     t0 = time.perf_counter()
     noveb_log: dict[str, Any] = {}

@@ -31,66 +31,8 @@ from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
 from a2l.rundir import make_run_dir, read_json, write_json
 
-__all__ = ["iterations_to_full_score", "parse_overrides", "parse_seeds", "run_seed_sweep",
+__all__ = ["iterations_to_full_score", "run_seed_sweep",
            "seed_run", "summarize_sweep"]
-
-
-def parse_seeds(text: str) -> list[int]:
-    """Seeds from ``"0-29"``, ``"0,3,7"`` or a mix (``"0-4,9"``), in the given order.
-
-    Raises
-    ------
-    ValueError
-        Malformed text, a negative seed, an empty range or a seed given twice.
-    """
-    seeds: list[int] = []
-    for part in text.split(","):
-        part = part.strip()
-        try:
-            if "-" in part:
-                lo, hi = (int(x) for x in part.split("-", 1))
-                if hi < lo:
-                    raise ValueError(f"empty range {part!r}")
-                seeds.extend(range(lo, hi + 1))
-            else:
-                seeds.append(int(part))
-        except ValueError as exc:
-            raise ValueError(f"seeds: expected e.g. '0-29' or '0,3,7', got {text!r} ({exc})"
-                             ) from None
-    if any(s < 0 for s in seeds):
-        raise ValueError(f"seeds: must be >= 0, got {text!r}")
-    if len(set(seeds)) != len(seeds):
-        raise ValueError(f"seeds: a seed is given twice in {text!r}")
-    return seeds
-
-
-def parse_overrides(items: Sequence[str]) -> dict[str, Any]:
-    """``FIELD=VALUE`` strings as FrameworkConfig fields; VALUE is read as JSON (numbers,
-    ``true``, ``null``), else kept as text.
-
-    Raises
-    ------
-    ValueError
-        An item without ``=``, or a field FrameworkConfig does not have (the message lists
-        its fields), or one the sweep sets itself (``seed``).
-    """
-    fields = {f.name for f in dataclasses.fields(FrameworkConfig)}
-    out: dict[str, Any] = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise ValueError(f"--set: expected FIELD=VALUE, got {item!r}")
-        if name not in fields:
-            raise ValueError(f"--set: FrameworkConfig has no field {name!r}; its fields: "
-                             f"{', '.join(sorted(fields))}")
-        if name == "seed":
-            raise ValueError("--set: 'seed' is set by --seeds")
-        try:
-            out[name] = json.loads(value)
-        except json.JSONDecodeError:
-            out[name] = value
-    return out
 
 
 def iterations_to_full_score(iterations: Sequence[dict[str, Any]]) -> int | None:
@@ -201,7 +143,7 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     seeds : sequence of int
         The seeds, in order.
     overrides : dict, optional
-        FrameworkConfig fields to change from `base` (see :func:`parse_overrides`).
+        FrameworkConfig fields to change from `base` (``a2l experiment sweep --set``).
     out : path, optional
         Sweep directory (default ``runs/sweep-<timestamp>``); rerunning with the same one
         continues an interrupted sweep (it must hold the same configuration).

@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 
+from a2l.errors import ConfigError
+
 __all__ = ["DIRECTED_TRY_CAP", "HELDOUT_REDRAWS", "HELDOUT_STREAM", "FrameworkConfig",
            "discretizers", "heldout_redraw", "task_config"]
 
@@ -172,11 +174,13 @@ class FrameworkConfig:
             self.fixed_parents = tuple(self.fixed_parents)
 
     def validate(self) -> None:
-        """Raise ``ValueError`` naming the first field out of its domain."""
+        """Raise :class:`a2l.errors.ConfigError` (a ValueError) naming the first field out of
+        its domain, variable names in ``fixed_parents`` included."""
         if self.scene not in ("virtual", "baxter"):
-            raise ValueError(f"scene: unknown scene {self.scene!r}; choose 'virtual' or 'baxter'")
+            raise ConfigError("scene", f"unknown scene {self.scene!r}; choose 'virtual' or "
+                              "'baxter'")
         if self.n_effects not in (4, 8):
-            raise ValueError(f"n_effects: must be 4 or 8, got {self.n_effects}")
+            raise ConfigError("n_effects", f"must be 4 or 8, got {self.n_effects}")
         positive_ints = ("n_starts", "max_babble_steps", "try_cap", "max_iterations",
                          "step_cap", "n_orient", "n_dist", "max_extensions",
                          "directed_per_pair", "directed_try_cap", "directed_steps", "stuck_after",
@@ -184,42 +188,49 @@ class FrameworkConfig:
         for name in positive_ints:
             v = getattr(self, name)
             if not isinstance(v, int) or v < 1:
-                raise ValueError(f"{name}: must be a positive integer, got {v!r}")
+                raise ConfigError(name, f"must be a positive integer, got {v!r}")
         for name in ("start_radius", "step", "effect_threshold", "waypoint_aim", "heldout_r_low",
                      "heldout_r_high", "offset_half_x", "offset_half_y"):
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise ValueError(f"{name}: must be a positive length, got {v!r}")
+                raise ConfigError(name, f"must be a positive length, got {v!r}")
         if not 0 < self.dist_low < self.dist_high:
-            raise ValueError(f"dist_low, dist_high: need 0 < low < high, got "
+            raise ConfigError("dist_low, dist_high", f"need 0 < low < high, got "
                              f"{self.dist_low}, {self.dist_high}")
         if not isinstance(self.n_offset, int) or self.n_offset < 0 or (
                 self.n_offset and self.n_offset % 2 == 0):
-            raise ValueError(f"n_offset: must be 0 or an odd positive integer, got "
+            raise ConfigError("n_offset", f"must be 0 or an odd positive integer, got "
                              f"{self.n_offset!r}")
         if self.n_incl < 0:
-            raise ValueError(f"n_incl: must be >= 0, got {self.n_incl}")
+            raise ConfigError("n_incl", f"must be >= 0, got {self.n_incl}")
         if self.extension_cut < 1:
-            raise ValueError(f"extension_cut: must be >= 1, got {self.extension_cut}")
+            raise ConfigError("extension_cut", f"must be >= 1, got {self.extension_cut}")
         if self.structure not in ("hc-k2", "hand-coded"):
-            raise ValueError(f"structure: unknown {self.structure!r}")
+            raise ConfigError("structure", f"unknown {self.structure!r}")
         if not isinstance(self.fixed_parents, tuple | list) or not all(
                 isinstance(v, str) for v in self.fixed_parents):
-            raise ValueError(f"fixed_parents: must be a list of variable names, got "
+            raise ConfigError("fixed_parents", f"must be a list of variable names, got "
                              f"{self.fixed_parents!r}")
         if self.directed_mode not in ("waypoints", "random"):
-            raise ValueError(f"directed_mode: unknown {self.directed_mode!r}; choose "
+            raise ConfigError("directed_mode", f"unknown {self.directed_mode!r}; choose "
                              "'waypoints' or 'random'")
         if not isinstance(self.waypoints_max, int) or self.waypoints_max < 0:
-            raise ValueError(f"waypoints_max: must be an integer >= 0, got "
+            raise ConfigError("waypoints_max", f"must be an integer >= 0, got "
                              f"{self.waypoints_max!r}")
 
         if not isinstance(self.heldout_starts, int) or self.heldout_starts < 0:
-            raise ValueError(f"heldout_starts: must be an integer >= 0, got "
+            raise ConfigError("heldout_starts", f"must be an integer >= 0, got "
                              f"{self.heldout_starts!r}")
         if self.heldout_r_low > self.heldout_r_high:
-            raise ValueError(f"heldout_r_low, heldout_r_high: need low <= high, got "
+            raise ConfigError("heldout_r_low, heldout_r_high", f"need low <= high, got "
                              f"{self.heldout_r_low}, {self.heldout_r_high}")
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise ConfigError("seed", f"must be an integer >= 0, got {self.seed!r}")
+        names = [b.name for b in discretizers(self).context]
+        unknown = [v for v in self.fixed_parents if v not in names]
+        if unknown:
+            raise ConfigError("fixed_parents", f"{unknown} not context variables; they are "
+                             f"{names}")
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> FrameworkConfig:

@@ -144,7 +144,8 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     Raises
     ------
     ValueError
-        A ``fixed_parents`` name that is no context variable, or a dataset with no usable row.
+        A ``fixed_parents`` name that is no dataset column (``cfg.validate()`` refuses it
+        first), or a dataset with no usable row.
     """
     # imported here: the pipeline loads pgmpy (seconds), which `a2l experiment push --help`
     # and the configuration checks do not need
@@ -152,15 +153,9 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
 
     disc = discretizers(cfg)
     constraints: dict[str, Any] = {}
-    if cfg.structure == "hc-k2" and cfg.effect_parent:
-        constraints["fixed_edges"] = [(disc.effects.name, disc.movements.name)]
-    if cfg.structure == "hc-k2" and cfg.fixed_parents:
-        names = [b.name for b in disc.context]
-        unknown = [v for v in cfg.fixed_parents if v not in names]
-        if unknown:
-            raise ValueError(f"fixed_parents: {unknown} not context variables; they are {names}")
-        constraints.setdefault("fixed_edges", []).extend(
-            (v, disc.movements.name) for v in cfg.fixed_parents)
+    if cfg.structure == "hc-k2":  # cfg.validate() checked the names
+        constraints["fixed_parents"] = (([disc.effects.name] if cfg.effect_parent else [])
+                                        + list(cfg.fixed_parents))
     learned = learn_bundle(dataset, disc, bundle_path, name="push", structure=cfg.structure,
                            constraints=constraints, robot=robot, step_cap=cfg.step_cap,
                            smoothing=cfg.smoothing, extra={"framework": asdict(cfg)})

@@ -173,9 +173,8 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
               for k, b in enumerate(behaviours) if b.phase]
     learned = learn_bundle(
         pd.concat(frames, ignore_index=True), disc, path, name=name, structure="hc-k2",
-        constraints={"fixed_edges": [(v, disc.movements.name) for v in
-                                     (disc.evidence if context_edges
-                                      else [disc.effects.name])]},
+        constraints={"fixed_parents": list(disc.evidence if context_edges
+                                           else [disc.effects.name])},
         step_cap=cfg.step_cap, smoothing=cfg.smoothing,
         extra=lambda rows: {"lfd": {
             "config": cfg.to_json(),

@@ -69,7 +69,7 @@ def learn_structure(
     target_has_no_children: bool = True,
     black_list: Iterable[Edge] = (),
     white_list: Iterable[Edge] = (),
-    fixed_edges: Iterable[Edge] = (),
+    fixed_parents: Iterable[str] = (),
     max_indegree: int | None = None,
     state_names: Mapping[str, Sequence] | None = None,
     tabu_length: int = 100,
@@ -90,8 +90,10 @@ def learn_structure(
         Forbidden edges.
     white_list : iterable of (str, str)
         If not empty, the only edges the search may add (every other edge is forbidden).
-    fixed_edges : iterable of (str, str)
-        Edges that must be in the result.
+    fixed_parents : iterable of str
+        Variables that must be parents of `target` in the result (the configurations'
+        ``fixed_parents``: :class:`a2l.framework.FrameworkConfig`, the LfD skills' effect and
+        states).
     max_indegree : int or None
         Most parents a variable may have.
     state_names : mapping, optional
@@ -108,7 +110,11 @@ def learn_structure(
     if target not in variables:
         raise ValueError(f"dataset has no column {target!r} (the target); it has {variables}")
     forbidden = set(_check_edges(black_list, variables, "black_list"))
-    required = set(_check_edges(fixed_edges, variables, "fixed_edges"))
+    bad = [v for v in fixed_parents if v not in variables or v == target]
+    if bad:
+        raise ValueError(f"fixed_parents: {bad} not dataset columns other than the target "
+                         f"{target!r}; they are {[v for v in variables if v != target]}")
+    required = {(v, target) for v in fixed_parents}
     allowed = set(_check_edges(white_list, variables, "white_list"))
     if allowed:
         forbidden |= {(a, b) for a in variables for b in variables if a != b} - allowed - required
@@ -165,7 +171,7 @@ def learn_network(
         BDeu's equivalent sample size.
     **constraints
         For ``"hc-k2"``: the keyword arguments of :func:`learn_structure`
-        (``target_has_no_children=True``, ``black_list``, ``white_list``, ``fixed_edges``,
+        (``target_has_no_children=True``, ``black_list``, ``white_list``, ``fixed_parents``,
         ``max_indegree``, ``tabu_length``, ``epsilon``, ``max_iter``).
 
     Returns
@@ -199,7 +205,7 @@ def learn_network(
             "target_has_no_children",
             "black_list",
             "white_list",
-            "fixed_edges",
+            "fixed_parents",
             "max_indegree",
             "tabu_length",
             "epsilon",

@@ -1,0 +1,133 @@
+"""The ``a2l`` command made from the configurations: every FrameworkConfig field is an
+option of ``a2l experiment push`` (and a key of ``--config FILE``), names are checked
+before any run directory is made, and the command a run records reproduces its
+configuration."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import shlex
+from pathlib import Path
+
+import pytest
+
+from a2l.cli import main, parse
+from a2l.cli.parser import config_from
+from a2l.experiments.lasa import LasaConfig
+from a2l.framework import FrameworkConfig
+from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.rundir import command_line
+
+
+def _refused(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    return capsys.readouterr().err
+
+
+def test_push_help_lists_every_framework_config_field(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as info:
+        main(["experiment", "push", "--help"])
+    assert info.value.code == 0
+    text = capsys.readouterr().out
+    missing = [f.name for f in dataclasses.fields(FrameworkConfig) if f"--{f.name} " not in text]
+    assert missing == []
+
+
+@pytest.mark.parametrize("command", ["push", "discretization", "sweep"])
+def test_every_field_is_an_option(command: str) -> None:
+    skip = {"seed"} if command == "sweep" else set()
+    cfg = FrameworkConfig(scene="baxter", n_effects=8, fixed_parents=("distance", "orientation"),
+                          structure="hand-coded", directed_try_cap=7, erase_loops=True,
+                          n_offset=3, step=0.04, scene_config={"gui": False})
+    argv = shlex.split(command_line(["experiment", command, "--out", "x"], cfg, skip=skip))
+    path, ns, _ = parse(argv)
+    assert path == ("experiment", command)
+    assert config_from(ns, FrameworkConfig) == (
+        dataclasses.replace(cfg, seed=0) if skip else cfg)
+
+
+def test_a_misspelt_option_is_refused_with_the_valid_names(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run"
+    err = _refused(["experiment", "push", "--fixed_parnts", '["distance"]', "--out", str(out)],
+                   capsys)
+    assert "unrecognized arguments: --fixed_parnts" in err
+    assert "did you mean --fixed_parents" in err
+    assert all(f"--{f.name}" in err for f in dataclasses.fields(FrameworkConfig))
+    assert not out.exists()
+
+
+def test_a_misspelt_variable_is_refused_before_any_run_directory(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run"
+    err = _refused(["experiment", "push", "--fixed_parents", '["distance", "orientaton"]',
+                    "--out", str(out)], capsys)
+    assert ("argument --fixed_parents: ['orientaton'] not context variables; they are "
+            "['distance', 'orientation']") in err
+    assert not out.exists()
+    # the same check for a sweep, and for a variable that only some configurations have
+    err = _refused(["experiment", "sweep", "--seeds", "0-1", "--fixed_parents", '["offset_x"]',
+                    "--out", str(out)], capsys)
+    assert "['offset_x'] not context variables" in err
+    assert not out.exists()
+    path, ns, _ = parse(["experiment", "push", "--n_offset", "3",
+                         "--fixed_parents", '["offset_x"]'])
+    config_from(ns, FrameworkConfig).validate()
+
+
+def test_config_file_sets_options_and_its_keys_are_checked(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    good = tmp_path / "good.yaml"
+    good.write_text("n_effects: 8\nfixed_parents: [distance, orientation]\nworkers: 2\n")
+    _, ns, _ = parse(["experiment", "push", "--config", str(good), "--seed", "3"])
+    assert config_from(ns, FrameworkConfig) == FrameworkConfig(
+        n_effects=8, fixed_parents=("distance", "orientation"), seed=3)
+    assert ns.workers == 2
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"n_effects": 8, "fixed_parnts": []}))
+    out = tmp_path / "run"
+    err = _refused(["experiment", "push", "--config", str(bad), "--out", str(out)], capsys)
+    assert "unknown key(s) ['fixed_parnts']" in err and "fixed_parents" in err
+    assert not out.exists()
+
+
+def test_earlier_option_names_still_work_and_are_named_in_messages(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    _, ns, _ = parse(["experiment", "push", "--effects", "8", "--iterations", "3",
+                      "--starts", "4", "--heldout-starts", "0"])
+    assert config_from(ns, FrameworkConfig) == FrameworkConfig(
+        n_effects=8, max_iterations=3, n_starts=4, heldout_starts=0)
+    assert "argument --effects: must be 4 or 8" in _refused(
+        ["experiment", "push", "--effects", "5"], capsys)
+
+
+def test_recorded_push_command_reproduces_the_configuration(tmp_path: Path) -> None:
+    """What run_push_experiment writes: the parse of its command is its configuration."""
+    cfg = FrameworkConfig(seed=4, n_starts=2, fixed_parents=(), directed_per_pair=20,
+                          waypoint_aim=0.06, directed_try_cap=None)
+    command = command_line(["a2l", "experiment", "push", "--out", tmp_path / "r"], cfg)
+    path, ns, _ = parse(shlex.split(command)[1:])
+    assert config_from(ns, FrameworkConfig) == FrameworkConfig.from_dict(
+        json.loads(json.dumps(dataclasses.asdict(cfg))))
+    assert ns.out == str(tmp_path / "r")
+
+
+def test_lasa_and_lfd_configurations_are_options() -> None:
+    lasa = LasaConfig(K=40, beta=0.5, n_starts=40, direction="to_line")
+    _, ns, _ = parse(shlex.split(command_line(["experiment", "lasa", "--out", "x"], lasa)))
+    assert config_from(ns, LasaConfig) == lasa
+    _, ns, _ = parse(["experiment", "lfd-skills", "--out", "x", "--lfd.step", "0.03",
+                      "--lfd.n_demos", "4"])
+    assert config_from(ns.lfd, LfDConfig) == dataclasses.replace(DEFAULT, step=0.03, n_demos=4)
+
+
+def test_an_lfd_value_out_of_its_domain_names_the_option(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run"
+    err = _refused(["experiment", "lfd-skills", "--out", str(out), "--lfd.step", "-1"], capsys)
+    assert "argument --lfd.step: LfDConfig.step: must be a positive length" in err
+    assert not out.exists()
