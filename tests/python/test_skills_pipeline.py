@@ -27,7 +27,7 @@ from a2l.skills.pipeline import learn_bundle
 def test_pipeline_writes_the_bundle_of_the_steps(tmp_path: Path, structure: str) -> None:
     disc = Discretizer(movements=MovementRepertoire(planar=True))
     raw = push_dataset(600, seed=3)
-    constraints = {"fixed_edges": [("effect", "move")]} if structure == "hc-k2" else {}
+    constraints = {"fixed_parents": ["effect"]} if structure == "hc-k2" else {}
     discrete = disc.discretize(raw)
     net = learn_network(discrete, structure, state_names=disc.state_names(), **constraints)
     spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push",
