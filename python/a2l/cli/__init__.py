@@ -27,11 +27,18 @@ experiment sweep
     The push experiment over many seeds: iterations to reach score 100.
 experiment tasks
     Planned tasks with the learned skills, with and without faults.
+skill show BUNDLE
+    What a skill or DS bundle holds.
+skill learn --demos FILE --out BUNDLE --effect E
+    Learn a skill from a demonstrations file (e.g. from ``demo-record``).
+skill run BUNDLE --effect E
+    Run a skill bundle in a scene (table or DS mode); print the outcome and the trace.
 
 Layout: ``parser`` (the jsonargparse parser class, configuration flags, config files),
 ``args`` (usage error, argument checks), ``demo`` (demo, demo-record), ``experiments`` (the
 ``experiment`` group; lasa, babbling), ``push`` (push, discretization, sweep), ``lfd``
-(lfd-skills, parametrization, perturbations), ``tasks``. Every argument is parsed here,
+(lfd-skills, parametrization, perturbations), ``tasks``, ``skill`` (show, learn,
+run). Every argument is parsed here,
 and everything, names included, is checked before any work starts; the experiments raise
 :class:`a2l.errors.ConfigError` naming the argument at fault, which :func:`main` reports as
 a usage error (exit code 2).
@@ -44,7 +51,7 @@ from collections.abc import Callable, Sequence
 
 from jsonargparse import Namespace
 
-from a2l.cli import demo, experiments
+from a2l.cli import demo, experiments, skill
 from a2l.cli.args import UsageError
 from a2l.cli.parser import Parser, command_path, normalize_argv
 from a2l.errors import ConfigError
@@ -68,6 +75,7 @@ def build_parser() -> tuple[Parser, dict[tuple[str, ...], tuple[Parser, Handler]
     commands: dict[tuple[str, ...], tuple[Parser, Handler]] = {}
     demo.add_demo_parsers(sub, commands)
     experiments.add_experiment_parsers(sub, commands)
+    skill.add_skill_parsers(sub, commands)
     return parser, commands
 
 

@@ -31,8 +31,8 @@ def _cmd_demo_record(args: Namespace) -> int:
         if len(start) != 3:
             raise UsageError("--start", f"expected DX,DY,DZ (3 numbers, m), got {args.start!r}")
     keys = None
-    if args.keys is not None:
-        keys = [k for k in args.keys.split(",") if k.strip()]
+    if args["keys"] is not None:
+        keys = [k for k in args["keys"].split(",") if k.strip()]
     if not 0 < args.step <= 0.1:
         raise UsageError("--step", f"must be in (0, 0.1] m, got {args.step}")
     out = Path(args.out)

@@ -1,0 +1,82 @@
+"""The one discretization configuration (:class:`DiscretizationConfig`): bins of the context
+variables, the movement repertoire and the effects, and the :class:`Discretizer` they make.
+
+Both configurations of the package use it: :class:`a2l.framework.FrameworkConfig` (the
+push experiment, :attr:`~a2l.framework.FrameworkConfig.discretization`) and
+:class:`a2l.lfd.config.LfDConfig` (demonstrated skills,
+:meth:`~a2l.lfd.config.LfDConfig.discretization`); each exposes these fields as its own
+options and hands them over here, so the two build their discretizers the same way.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+from a2l.skills.bins import DistanceBins, InclinationBins, OffsetBins, OrientationBins
+from a2l.skills.discretize import Discretizer
+from a2l.skills.effects import EffectDiscretizer
+from a2l.skills.repertoire import MovementRepertoire
+
+__all__ = ["DiscretizationConfig"]
+
+
+@dataclass(frozen=True)
+class DiscretizationConfig:
+    """The discretization of a skill's dataset (defaults: the push experiment's).
+
+    Attributes
+    ----------
+    n_effects : {4, 8}
+        Push effects of the effect variable.
+    effect_threshold : float
+        Smallest object displacement that counts as an effect (m).
+    planar : bool
+        8 planar movements instead of 26 in 3-D.
+    step : float
+        Movement length (m).
+    n_orient, n_dist, n_incl : int
+        Bins of the context variables (``n_incl = 0`` leaves inclination out).
+    dist_low, dist_high : float
+        Range of the distance bins (m).
+    n_offset : int
+        Bins of each planar offset of the end-effector from the object (0: none; odd).
+    offset_half_x, offset_half_y : float
+        Half-width of an offset bin (m).
+    """
+
+    n_effects: int = 4
+    effect_threshold: float = 0.01
+    planar: bool = True
+    step: float = 0.05
+    n_orient: int = 16
+    n_dist: int = 3
+    n_incl: int = 0
+    dist_low: float = 0.05
+    dist_high: float = 0.20
+    n_offset: int = 0
+    offset_half_x: float = 0.045
+    offset_half_y: float = 0.0525
+
+    def discretizer(self) -> Discretizer:
+        """The discretizer of these parameters (built once per set of values: rollouts ask
+        for it for every task)."""
+        return _discretizer(self)
+
+    def context_names(self) -> list[str]:
+        """The context variables' names (``distance``, ``orientation``, ...), in order."""
+        return [b.name for b in self.discretizer().context]
+
+
+@functools.lru_cache(maxsize=16)
+def _discretizer(c: DiscretizationConfig) -> Discretizer:
+    offsets = ((OffsetBins.strip("x", c.offset_half_x, c.n_offset),
+                OffsetBins.strip("y", c.offset_half_y, c.n_offset)) if c.n_offset else ())
+    return Discretizer(
+        distance=DistanceBins(n_bins=c.n_dist, low=c.dist_low, high=c.dist_high),
+        orientation=OrientationBins(n_bins=c.n_orient),
+        inclination=InclinationBins(n_bins=c.n_incl) if c.n_incl > 0 else None,
+        offsets=offsets,
+        movements=MovementRepertoire(planar=c.planar, step=c.step),
+        effects=EffectDiscretizer(n_effects=c.n_effects, threshold=c.effect_threshold),
+    )
