@@ -11,6 +11,8 @@ from typing import Any
 import numpy as np
 
 from a2l.errors import ConfigError
+from a2l.skills.discretization import DiscretizationConfig
+from a2l.skills.discretize import Discretizer
 
 __all__ = ["DIRECTED_TRY_CAP", "HELDOUT_REDRAWS", "HELDOUT_STREAM", "FrameworkConfig",
            "discretizers", "heldout_redraw", "task_config"]
@@ -226,11 +228,21 @@ class FrameworkConfig:
                              f"{self.heldout_r_low}, {self.heldout_r_high}")
         if not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError("seed", f"must be an integer >= 0, got {self.seed!r}")
-        names = [b.name for b in discretizers(self).context]
+        names = self.discretization.context_names()
         unknown = [v for v in self.fixed_parents if v not in names]
         if unknown:
             raise ConfigError("fixed_parents", f"{unknown} not context variables; they are "
                              f"{names}")
+
+    @property
+    def discretization(self) -> DiscretizationConfig:
+        """The discretization fields, as the configuration the LfD skills use too."""
+        return DiscretizationConfig(
+            n_effects=self.n_effects, effect_threshold=self.effect_threshold,
+            planar=self.planar, step=self.step, n_orient=self.n_orient, n_dist=self.n_dist,
+            n_incl=self.n_incl, dist_low=self.dist_low, dist_high=self.dist_high,
+            n_offset=self.n_offset, offset_half_x=self.offset_half_x,
+            offset_half_y=self.offset_half_y)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> FrameworkConfig:
@@ -305,37 +317,7 @@ def task_config(cfg: FrameworkConfig | dict[str, Any]) -> FrameworkConfig:
     return built
 
 
-def discretizers(cfg: FrameworkConfig) -> Any:
-    """The discretization of `cfg` (built once per set of its parameters: rollouts call this
-    for every task)."""
-    return _discretizer_for(cfg.n_dist, cfg.dist_low, cfg.dist_high, cfg.n_orient, cfg.n_incl,
-                            cfg.planar, cfg.step, cfg.n_effects, cfg.effect_threshold,
-                            cfg.n_offset, cfg.offset_half_x, cfg.offset_half_y)
-
-
-@functools.lru_cache(maxsize=16)
-def _discretizer_for(n_dist: int, dist_low: float, dist_high: float, n_orient: int,
-                     n_incl: int, planar: bool, step: float, n_effects: int,
-                     effect_threshold: float, n_offset: int, offset_half_x: float,
-                     offset_half_y: float) -> Any:
-    from a2l.skills.discretize import (
-        Discretizer,
-        DistanceBins,
-        EffectDiscretizer,
-        InclinationBins,
-        MovementRepertoire,
-        OffsetBins,
-        OrientationBins,
-    )
-
-    offsets = ((OffsetBins.strip("x", offset_half_x, n_offset),
-                OffsetBins.strip("y", offset_half_y, n_offset)) if n_offset else ())
-    return Discretizer(
-        distance=DistanceBins(n_bins=n_dist, low=dist_low, high=dist_high),
-        orientation=OrientationBins(n_bins=n_orient),
-        inclination=InclinationBins(n_bins=n_incl) if n_incl > 0 else None,
-        offsets=offsets,
-        movements=MovementRepertoire(planar=planar, step=step),
-        effects=EffectDiscretizer(n_effects=n_effects, threshold=effect_threshold),
-    )
-
+def discretizers(cfg: FrameworkConfig) -> Discretizer:
+    """The discretization of `cfg` (:attr:`FrameworkConfig.discretization`'s discretizer,
+    built once per set of its parameters: rollouts call this for every task)."""
+    return cfg.discretization.discretizer()

@@ -12,6 +12,8 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from a2l.skills.discretization import DiscretizationConfig
+
 __all__ = ["DEFAULT", "LfDConfig"]
 
 
@@ -86,6 +88,13 @@ class LfDConfig:
     def step_cap(self) -> int:
         """Most movements of a run: ``ceil(path_length / step)``."""
         return int(math.ceil(self.path_length / self.step - 1e-9))
+
+    def discretization(self, planar: bool = True, n_effects: int = 4) -> DiscretizationConfig:
+        """The discretization of a skill learned with this configuration: the bins and step
+        here, `planar` and `n_effects` of the skill, the push experiment's defaults else."""
+        return DiscretizationConfig(n_effects=n_effects, planar=planar, step=self.step,
+                                    n_orient=self.n_orient, n_dist=self.n_dist, n_incl=0,
+                                    dist_low=self.dist_low, dist_high=self.dist_high)
 
     def with_(self, **changes: Any) -> LfDConfig:
         """A copy with some fields changed; an unknown field is an error naming it."""

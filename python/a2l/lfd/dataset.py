@@ -4,8 +4,9 @@ Chapter 6 of the thesis (METHOD.md): points are sampled on a grid around the dem
 in the object frame (``x = eef - object``); at each point the DS velocity becomes the nearest
 movement of the repertoire and the point becomes context bins, through the **same**
 :class:`a2l.skills.Discretizer` the babbling path uses (:func:`skill_discretizer` builds it
-with :func:`a2l.framework.config.discretizers`); the demonstration's high-level states and the
-demonstrated effect are added as columns. The result is a raw interaction dataset
+from :class:`a2l.skills.discretization.DiscretizationConfig`, the configuration both paths
+share); the demonstration's high-level states and the demonstrated effect are added as
+columns. The result is a raw interaction dataset
 (:mod:`a2l.data.schema`, one row per grid point, the object at the origin), so that the
 discretization, the learning and the compilation are the babbling path's own
 (:func:`a2l.lfd.skill.learn_skill`).
@@ -56,12 +57,7 @@ def skill_discretizer(cfg: LfDConfig = DEFAULT, high_level: Sequence[Any] = (),
     -------
     a2l.skills.Discretizer
     """
-    from a2l.framework.config import FrameworkConfig, discretizers
-
-    fw = FrameworkConfig(n_effects=n_effects, planar=planar, step=cfg.step,
-                         n_orient=cfg.n_orient, n_dist=cfg.n_dist, dist_low=cfg.dist_low,
-                         dist_high=cfg.dist_high, n_incl=0)
-    disc = discretizers(fw)
+    disc = cfg.discretization(planar, n_effects).discretizer()
     return replace(disc, high_level=tuple(high_level)) if high_level else disc
 
 

@@ -1,0 +1,34 @@
+"""One discretization configuration (a2l.skills.discretization) shared by the push
+experiment's FrameworkConfig and the LfD skills' LfDConfig."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from a2l.framework import FrameworkConfig, discretizers
+from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.lfd.dataset import skill_discretizer
+from a2l.skills.discretization import DiscretizationConfig
+
+
+def test_framework_config_hands_its_fields_over() -> None:
+    cfg = FrameworkConfig(n_effects=8, n_orient=24, n_dist=4, n_incl=3, n_offset=3, step=0.03)
+    d = cfg.discretization
+    assert d == DiscretizationConfig(n_effects=8, n_orient=24, n_dist=4, n_incl=3, n_offset=3,
+                                     step=0.03)
+    assert {f.name for f in dataclasses.fields(d)} <= {
+        f.name for f in dataclasses.fields(FrameworkConfig)}
+    assert discretizers(cfg) is d.discretizer()  # built once per set of values
+    assert d.context_names() == ["distance", "orientation", "inclination", "offset_x",
+                                 "offset_y"]
+
+
+def test_lfd_config_uses_the_same_configuration() -> None:
+    d = LfDConfig(step=0.03, n_orient=8).discretization(planar=False, n_effects=8)
+    assert d == DiscretizationConfig(n_effects=8, planar=False, step=0.03, n_orient=8,
+                                     n_dist=DEFAULT.n_dist, dist_low=DEFAULT.dist_low,
+                                     dist_high=DEFAULT.dist_high)
+    # the LfD discretizer is the framework's of the same values, the very same object
+    fw = FrameworkConfig(step=DEFAULT.step, n_orient=DEFAULT.n_orient, n_dist=DEFAULT.n_dist,
+                         dist_low=DEFAULT.dist_low, dist_high=DEFAULT.dist_high)
+    assert skill_discretizer(DEFAULT) is discretizers(fw)
