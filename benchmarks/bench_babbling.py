@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from a2l.acquisition.noveb import NovEB, NovEBConfig, novelty
+from a2l.acquisition.protocol import drive
 from a2l.acquisition.trajectory import RETURN_REST_S
 from a2l.experiments.babbling import run_babbling
 from a2l.experiments.babbling_world import WorldConfig, _world, evaluate_task
@@ -134,12 +135,10 @@ def _novelty_ms(archive: int) -> float:
 
 def _ask_tell_ms() -> float:
     """Milliseconds of NovEB's ask + tell of one generation (DEAP variation, selection)."""
-    s = NovEB(9, 0, 10**6, NovEBConfig(mu=20, lambda_=20))
+    s = NovEB(9, 0, 20 * 20, NovEBConfig(mu=20, lambda_=20))
     rng = np.random.default_rng(1)
     t = time.perf_counter()
-    for _ in range(20):
-        g = s.ask(20)
-        s.tell(g, rng.random((len(g), 1024)))
+    drive(s, lambda g: rng.random((len(g), 1024)), batch=20)  # 20 generations
     return 1000 * (time.perf_counter() - t) / 20
 
 

@@ -3,9 +3,13 @@
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
+import a2l
 from a2l.acquisition import (
     ArchiveThreshold,
     GoalBabbling,
@@ -185,3 +189,13 @@ def test_drive_is_the_loop_written_by_hand() -> None:
         assert np.array_equal(g, hg) and s == hs
     assert len(driven.archive) == len(by_hand.archive) > 0
     assert np.array_equal(np.array(driven.archive), np.array(by_hand.archive))
+
+
+def test_only_drive_asks_and_tells() -> None:
+    """No module of the package writes the ask/tell loop again: ``drive`` and
+    ``drive_ahead`` (:mod:`a2l.acquisition.protocol`) are the only callers."""
+    root = Path(a2l.__file__).parent
+    home = root / "acquisition" / "protocol.py"
+    loops = [p.relative_to(root).as_posix() for p in sorted(root.rglob("*.py"))
+             if p != home and re.search(r"\.(ask|tell)\(", p.read_text(encoding="utf-8"))]
+    assert loops == []
