@@ -30,11 +30,11 @@ def _reference_evaluation(scene: Any, cfg: WorldConfig, genotype: np.ndarray) ->
     at 240 Hz, then every movement retraced physically back to the start before the image
     (the images and descriptor are left out: only the physics differs)."""
     from a2l.acquisition.trajectory import follow_waypoints
-    from a2l.sim.movement import DIRECTIONS
+    from a2l.skills.repertoire import default_directions
 
     up = np.array([0.0, 0.0, scene.config.table_z])
     start = np.asarray(cfg.start) + up
-    dirs = np.array(DIRECTIONS)
+    dirs = default_directions()
     scene.reset(eef=start)
     out, clean = follow_waypoints(lambda d: bool(scene.execute(d)), scene.eef_position, dirs,
                                   scene.step_length, start,

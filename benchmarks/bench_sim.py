@@ -8,15 +8,18 @@ from collections.abc import Callable
 
 import numpy as np
 
-from a2l.sim import DIRECTIONS, make_scene
+from a2l.sim import make_scene
 from a2l.sim._pybullet import p
 from a2l.sim.bullet import BulletScene
+from a2l.skills.repertoire import default_directions
 
 TITLE = "Simulation (a2l.sim scenes: physics, discrete movements, camera perception)"
 
 N_STEPS = 2000  # physics steps timed per scene
 N_MOVES = 60  # discrete movements timed per scene
 N_FRAMES = 40  # camera frames timed per scene and robot drawing
+#: The 26 movement directions a timed movement is drawn from.
+DIRECTIONS = default_directions()
 
 
 def _times(fn: Callable[[], object], n: int) -> np.ndarray:
@@ -39,7 +42,7 @@ def _moves(scene, rng: np.random.Generator
     times, seen, statuses = [], [], {}
     ticks = 0
     for _ in range(N_MOVES):
-        d = DIRECTIONS[rng.integers(len(DIRECTIONS))]
+        d = tuple(int(s) for s in DIRECTIONS[rng.integers(len(DIRECTIONS))])
         t0 = getattr(scene, "_tick", 0)
         t = time.perf_counter()
         result = scene.execute(d)
@@ -124,7 +127,7 @@ def _breakdown(context_source: str, n_moves: int = N_MOVES) -> dict[str, float]:
         scene.reset(eef=start)
         rows: list[dict[str, float]] = []
         while len(rows) < n_moves:
-            d = DIRECTIONS[rng.integers(len(DIRECTIONS))]
+            d = tuple(int(s) for s in DIRECTIONS[rng.integers(len(DIRECTIONS))])
             spent.clear()
             t, c = time.perf_counter(), time.process_time()
             ok = scene.execute(d)

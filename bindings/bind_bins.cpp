@@ -1,5 +1,5 @@
 // Vectorised bindings of the context bins (discretizer.hpp: Discretizer::context_bin) and the
-// effect classification (scene/scene.hpp: classify_effect): the Python learning side
+// effect classification (effects.hpp: classify_effect): the Python learning side
 // (a2l.skills.bins, a2l.skills.effects) calls these, so each has one implementation.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "a2l/discretizer.hpp"
-#include "a2l/scene/scene.hpp"
+#include "a2l/effects.hpp"
 #include "common.hpp"
 
 namespace py = pybind11;
@@ -156,7 +156,7 @@ A2LValueError
     A shape is wrong, or a variable is invalid (the message names it).
 )doc");
   m.def("classify_effects", &classify_effects, py::arg("displacements"), py::arg("n_effects") = 4,
-        py::arg("threshold") = 0.01, py::arg("ratio") = 3.0, R"doc(
+        py::arg("threshold") = kEffectThreshold, py::arg("ratio") = kEffectRatio, R"doc(
 classify_effect of n object displacements.
 
 Parameters

@@ -1,5 +1,5 @@
 // Bindings of the movement repertoire (movement_repertoire.hpp): MovementAction and
-// MovementRepertoire (directions, then actions).
+// MovementRepertoire (directions, then actions), the default directions and their labels.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -23,6 +23,22 @@ void bind_movement_repertoire(py::module_& m) {
       .value("stay", MovementAction::stay);
   m.def("movement_action_name", &movement_action_name, py::arg("action"),
         "The bundle name of an action ('open', 'close', 'stay'; 'none').");
+
+  m.def(
+      "default_directions",
+      [](bool planar) {
+        const std::vector<Eigen::Vector3i> dirs = default_directions(planar);
+        Eigen::MatrixXi d(static_cast<Eigen::Index>(dirs.size()), 3);
+        for (std::size_t i = 0; i < dirs.size(); ++i) {
+          d.row(static_cast<Eigen::Index>(i)) = dirs[i].transpose();
+        }
+        return d;
+      },
+      py::arg("planar") = false,
+      "The default directions in table order, shape (26, 3) (8 in the plane if `planar`): axis "
+      "moves first (+x, -x, +y, -y, +z, -z), then the diagonals.");
+  m.def("direction_label", &direction_label, py::arg("d"),
+        "The label of sign vector `d` (3,): '+x', '-x+y', ...");
 
   py::class_<MovementRepertoire>(m, "MovementRepertoire",
                                  "The movements of a skill: directions, then actions.")

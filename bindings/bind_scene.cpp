@@ -13,13 +13,6 @@ namespace py = pybind11;
 namespace a2l::bindings {
 
 void bind_scene(py::module_& m) {
-  m.def("classify_effect", &classify_effect, py::arg("displacement"), py::arg("n_effects") = 4,
-        py::arg("threshold") = 0.01, py::arg("ratio") = 3.0, R"doc(
-Effect index of an object displacement (3,), as a2l.skills.EffectDiscretizer: left (+y),
-right (-y), close (-x), far (+x), then close_left, close_right, far_left, far_right with 8
-effects; -1 below `threshold` (m) or when not finite.
-)doc");
-
   py::enum_<ObjectKind>(m, "ObjectKind", "What the virtual scene's object is.")
       .value("box", ObjectKind::box)
       .value("graspable", ObjectKind::graspable)

@@ -10,6 +10,7 @@ void bind_discretizer(py::module_& m);
 void bind_policy_table(py::module_& m);
 void bind_movement_repertoire(py::module_& m);
 void bind_skill(py::module_& m);
+void bind_effects(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_transit(py::module_& m);
 void bind_diffeo(py::module_& m);
@@ -27,6 +28,7 @@ PYBIND11_MODULE(_core, m) {
   a2l::bindings::bind_policy_table(m);
   a2l::bindings::bind_movement_repertoire(m);
   a2l::bindings::bind_skill(m);  // after its parts (discretizer, table, repertoire)
+  a2l::bindings::bind_effects(m);
   a2l::bindings::bind_scene(m);
   a2l::bindings::bind_transit(m);
   a2l::bindings::bind_diffeo(m);

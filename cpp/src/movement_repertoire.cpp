@@ -1,5 +1,7 @@
 #include "a2l/movement_repertoire.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -17,6 +19,43 @@ const char* movement_action_name(MovementAction action) noexcept {
       break;
   }
   return "none";
+}
+
+std::vector<Eigen::Vector3i> default_directions(bool planar) {
+  // Sort key (as a2l.skills.MovementRepertoire documents it): number of non-zero signs, then
+  // for each axis whether it is zero, then for each axis the negated sign.
+  using Key = std::array<int, 7>;
+  auto key = [](const Eigen::Vector3i& d) {
+    Key k{};
+    k[0] = (d.array() != 0).count();
+    for (int i = 0; i < 3; ++i) {
+      k[static_cast<size_t>(1 + i)] = d[i] == 0 ? 1 : 0;
+      k[static_cast<size_t>(4 + i)] = -d[i];
+    }
+    return k;
+  };
+  std::vector<Eigen::Vector3i> dirs;
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        if ((x == 0 && y == 0 && z == 0) || (planar && z != 0)) continue;
+        dirs.emplace_back(x, y, z);
+      }
+    }
+  }
+  std::sort(dirs.begin(), dirs.end(),
+            [&](const Eigen::Vector3i& a, const Eigen::Vector3i& b) { return key(a) < key(b); });
+  return dirs;
+}
+
+std::string direction_label(const Eigen::Vector3i& d) {
+  std::string out;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0) continue;
+    out += d[i] > 0 ? '+' : '-';
+    out += "xyz"[i];
+  }
+  return out;
 }
 
 bool parse_movement_action(const std::string& name, MovementAction& action) noexcept {

@@ -10,7 +10,7 @@
 #include <type_traits>
 
 #include "a2l/discretizer.hpp"
-#include "a2l/scene/scene.hpp"
+#include "a2l/effects.hpp"
 #include "alloc_counter.hpp"
 
 namespace {

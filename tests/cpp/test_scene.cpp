@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "a2l/effects.hpp"
 #include "a2l/executor.hpp"
 #include "a2l/scene/bullet.hpp"
 #include "a2l/scene/virtual.hpp"

@@ -20,8 +20,8 @@ from a2l.lfd.manipulation import (
     replay,
     segment_actions,
 )
+from a2l.rollout.effect_tests import AWAY_RADIUS, scene_outcome, stayed_away
 from a2l.sim import make_scene
-from a2l.sim.outcomes import AWAY_RADIUS, effect_test, stayed_away
 
 
 def test_grasp_light_scene_has_a_lamp_the_camera_sees() -> None:
@@ -50,7 +50,7 @@ def test_grasped_needs_five_centimetres_up_in_the_closed_gripper() -> None:
         scene.reset(eef=block + GRASP_POINT + [0, 0, 0.05])
         assert scene.execute((0, 0, -1))
         scene.close_gripper()
-        test = effect_test("grasped")
+        test = scene_outcome("grasped")
         assert not test(scene)
         # 3 cm up: in the gripper, not high enough
         scene.config.step = 0.03
@@ -62,7 +62,7 @@ def test_grasped_needs_five_centimetres_up_in_the_closed_gripper() -> None:
         assert lifted[2] - block[2] >= 0.05
         assert test(scene)
     with pytest.raises(A2LValueError, match="no effect test"):
-        effect_test("flown")
+        scene_outcome("flown")
 
 
 def test_demonstrations_are_seeded_segments_in_the_object_frame() -> None:
@@ -117,10 +117,10 @@ def test_replayed_demonstrations_produce_their_effect(skill: str) -> None:
             assert replay(scene, demo, obj)
             wanted = {"grasp": "grasped", "press": "pressed"}.get(
                 skill, "grasped" if light == "off" else "away")
-            assert effect_test(wanted)(scene), (skill, light, scene.ground_truth())
+            assert scene_outcome(wanted)(scene), (skill, light, scene.ground_truth())
             if wanted == "away":
                 assert scene.ground_truth()["states"]["light"] == "on"
-                assert not effect_test("grasped")(scene)
+                assert not scene_outcome("grasped")(scene)
             if wanted == "grasped":
                 assert not stayed_away(scene)
 
@@ -131,7 +131,7 @@ def test_the_light_on_behaviour_is_not_a_grasp_and_a_grasp_is_not_away() -> None
         reach, lift = demonstrate("grasp_light", 1, seed=2)[0]
         replay(scene, [reach, Demonstration(lift.positions, lift.times, "object",
                                             {"light": "off", "gripper": "open"})], "block")
-        assert not effect_test("grasped")(scene)
+        assert not scene_outcome("grasped")(scene)
         # staying next to the block is not "away"
         assert not stayed_away(scene)
         # at the retreat pose with the block knocked over is not "away" either

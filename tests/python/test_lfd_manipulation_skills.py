@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.lfd.effect_tests import light_test
 from a2l.lfd.execute import run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial, skill_config
 from a2l.lfd.manipulation import GRASP_POINT, demonstrate
@@ -21,7 +20,7 @@ from a2l.lfd.manipulation_skills import (
     skill_phases,
 )
 from a2l.lfd.skill import fit_fields
-from a2l.sim.outcomes import RETREAT
+from a2l.rollout.effect_tests import RETREAT, light_test
 
 HELD_OUT = range(1000, 1004)
 

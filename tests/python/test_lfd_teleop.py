@@ -11,9 +11,9 @@ from a2l.errors import A2LValueError
 from a2l.lfd import load_demonstrations
 from a2l.lfd.manipulation import replay
 from a2l.lfd.teleop import COMMANDS, TeleopRecorder, key_command, run_commands
+from a2l.rollout.effect_tests import scene_outcome
 from a2l.sim import make_scene
 from a2l.sim._pybullet import p
-from a2l.sim.outcomes import effect_test
 
 
 def test_a_teleoperated_grasp_is_recorded_in_segments_and_replays(tmp_path) -> None:
@@ -22,7 +22,7 @@ def test_a_teleoperated_grasp_is_recorded_in_segments_and_replays(tmp_path) -> N
         scene.reset(eef=block + [0.02, 0.0, 0.08])
         rec = run_commands(scene, ["up", "record", "back*2", "down*9", "gripper", "up*7",
                                    "record"])
-        assert effect_test("grasped")(scene)  # the teleoperated grasp itself worked
+        assert scene_outcome("grasped")(scene)  # the teleoperated grasp itself worked
         assert len(rec.recordings) == 1
         reach, lift = rec.recordings[0]
         assert reach.frame == lift.frame == "object"
@@ -40,7 +40,7 @@ def test_a_teleoperated_grasp_is_recorded_in_segments_and_replays(tmp_path) -> N
         demo = load_demonstrations(tmp_path / "grasp.csv")
         assert [d.states for d in demo] == [reach.states, lift.states]
         assert replay(scene, demo, "block")
-        assert effect_test("grasped")(scene)
+        assert scene_outcome("grasped")(scene)
 
 
 def test_moves_outside_the_workspace_are_logged_and_leave_no_sample() -> None:

@@ -22,6 +22,8 @@ REAL_TIME_CALLS = {
     "Discretizer::context_bin(": "context bins (the step's, and the learning side's through "
     "a2l._core.context_bins)",
     "classify_effect(": "effect classification (a2l-run's loop; a2l._core.classify_effects)",
+    "stayed_away(": "the away test (a2l-run's effect detection; a2l._core.stayed_away)",
+    "push_test(": "the push test (a2l._core.push_test)",
     ".fk(": "forward kinematics",
     ".jacobian(": "Jacobian",
     ".ik(": "inverse kinematics",

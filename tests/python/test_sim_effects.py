@@ -8,11 +8,14 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from a2l.sim import DIRECTIONS, PUSH_EFFECTS_8, make_scene, push_effect
+from a2l.sim import make_scene
 from a2l.sim.bullet import PushScene
+from a2l.skills.effects import EFFECT_NAMES, effect_name
+from a2l.skills.repertoire import default_directions
 
 
 def test_directions_are_the_26_sign_vectors() -> None:
+    DIRECTIONS = [tuple(int(s) for s in d) for d in default_directions()]
     assert len(DIRECTIONS) == 26
     assert len(set(DIRECTIONS)) == 26
     assert all(set(d) <= {-1, 0, 1} and d != (0, 0, 0) for d in DIRECTIONS)
@@ -28,16 +31,16 @@ def test_directions_are_the_26_sign_vectors() -> None:
         ((-0.02, -0.04), 4, "right"), ((0.005, 0.005), 8, "none"), ((0.0, 0.0, 0.2), 8, "none"),
     ],
 )
-def test_push_effect_names(d: tuple, n: int, name: str) -> None:
-    assert push_effect(d, n_effects=n) == name
+def test_effect_names(d: tuple, n: int, name: str) -> None:
+    assert effect_name(d, n_effects=n) == name
 
 
-def test_push_effect_ratio_boundary() -> None:
+def test_effect_name_ratio_boundary() -> None:
     # METHOD.md: an axis effect only when the dominant axis moved more than 3x the other
-    assert push_effect((0.031, 0.01)) == "far"
-    assert push_effect((0.029, 0.01)) == "far_left"
+    assert effect_name((0.031, 0.01)) == "far"
+    assert effect_name((0.029, 0.01)) == "far_left"
     with pytest.raises(ValueError):
-        push_effect((np.nan, 0.0))
+        effect_name((np.nan, 0.0))
 
 
 @pytest.fixture(scope="module")
@@ -71,7 +74,7 @@ def test_scripted_push_produces_each_effect(push: PushScene, direction: tuple[in
     assert effect in step_effects
     moved = np.asarray(push.ground_truth()["objects"]["box"]) - box
     assert np.hypot(*moved[:2]) > 0.03
-    assert effect in PUSH_EFFECTS_8
+    assert effect in EFFECT_NAMES
 
 
 def test_movement_lengths_and_straightness(push: PushScene) -> None:

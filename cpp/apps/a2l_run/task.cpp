@@ -94,13 +94,10 @@ int EffectDetector::detect(const a2l::Scene& scene, const a2l::VirtualScene* vir
   if (task == Task::press) {
     return pressed >= 0 && virt->presses() != presses_start ? pressed : -1;
   }
-  if (grasped >= 0 && virt->holding() && obj.z() - object_start.z() >= lift_threshold) {
+  if (grasped >= 0 && virt->holding() && obj.z() - object_start.z() >= a2l::kLiftThreshold) {
     return grasped;
   }
-  if (away >= 0 && (obj - object_start).norm() < 0.01 &&
-      (scene.eef_position() - obj - retreat).norm() <= away_radius) {
-    return away;
-  }
+  if (away >= 0 && a2l::stayed_away(scene.eef_position(), obj, obj - object_start)) return away;
   return -1;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "a2l/effects.hpp"
 #include "a2l/scene/virtual.hpp"
 #include "a2l/skill.hpp"
 
@@ -47,14 +48,13 @@ struct EffectDetector {
   Task task = Task::push;
   int n_classify = 4;  //!< push: 4 or 8 effects
   int grasped = -1, pressed = -1, away = -1;
-  double lift_threshold = 0.05;               //!< grasped: held this high above the start (m)
-  Eigen::Vector3d retreat{-0.12, 0.0, 0.16};  //!< away: this pose relative to the object
-  double away_radius = 0.04;                  //!< away: within this of it (m)
 
   //! Built from the effect names of the skill.
   static EffectDetector of(Task task, const std::vector<std::string>& effects);
 
-  //! The effect produced since the episode's start, or -1. No allocation.
+  //! The effect produced since the episode's start, or -1: the push effect
+  //! (a2l::classify_effect), grasped (held a2l::kLiftThreshold above the start), pressed, or
+  //! away (a2l::stayed_away, the object's displacement since the start). No allocation.
   int detect(const a2l::Scene& scene, const a2l::VirtualScene* virt, bool box_moved,
              const Eigen::Vector3d& object_start, int presses_start) const noexcept;
 };

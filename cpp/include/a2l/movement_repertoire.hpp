@@ -29,6 +29,15 @@ const char* movement_action_name(MovementAction action) noexcept;
 //! The action named `name` ("open", "close" or "stay"); false for any other name.
 bool parse_movement_action(const std::string& name, MovementAction& action) noexcept;
 
+//! The default directions of a repertoire, in table order: every sign vector but zero (26;
+//! the 8 with z = 0 if `planar`), the axis moves first (+x, -x, +y, -y, +z, -z), then those
+//! with 2 and then 3 non-zero signs; within a count, the sign vectors whose first non-zero
+//! axes come first, then + before - axis by axis (+x+y, +x-y, -x+y, -x-y, +x+z, ...).
+std::vector<Eigen::Vector3i> default_directions(bool planar = false);
+
+//! The label of direction `d`: its signed axes, "+x", "-x+y", "+x-y+z" (empty for zero).
+std::string direction_label(const Eigen::Vector3i& d);
+
 //! Movement i < n_directions() displaces the end-effector by step * d_i / ||d_i||, d_i a
 //! 3-vector of signs; movement n_directions() + j is the action j (no displacement). Immutable
 //! once created.
@@ -40,7 +49,8 @@ class MovementRepertoire {
   //! Build a repertoire.
   //! \param step       movement length (m), finite and > 0
   //! \param directions sign vectors, entries in {-1, 0, 1}, not all zero
-  //! \param labels     one name per direction (empty: "m0", "m1", ...)
+  //! \param labels     one name per direction (empty: "m0", "m1", ...; a bundle without
+  //!                   labels; a2l writes direction_label())
   //! \param actions    actions after the directions (each at most once, never `none`); their
   //!                   labels are their names
   //! \return `invalid_argument` or `size_mismatch` naming the movement, else `ok`.

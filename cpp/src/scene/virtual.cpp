@@ -4,22 +4,6 @@
 
 namespace a2l {
 
-int classify_effect(const Eigen::Vector3d& d, int n_effects, double threshold,
-                    double ratio) noexcept {
-  if (n_effects != 4 && n_effects != 8) return -1;
-  const double dx = d.x(), dy = d.y();
-  if (!std::isfinite(dx) || !std::isfinite(dy)) return -1;
-  if (!(std::hypot(dx, dy) >= threshold)) return -1;
-  const double ax = std::abs(dx), ay = std::abs(dy);
-  const int x_axis = dx > 0 ? 3 : 2;  // far / close
-  const int y_axis = dy > 0 ? 0 : 1;  // left / right
-  int out = ax >= ay ? x_axis : y_axis;
-  if (n_effects == 8 && !(ax > ratio * ay || ay > ratio * ax)) {
-    out = 4 + (dx > 0 ? 2 : 0) + (dy > 0 ? 0 : 1);
-  }
-  return out;
-}
-
 bool VirtualScene::in_contact(const Eigen::Vector3d& p) const noexcept {
   const Eigen::Vector3d rel = (p - object_).cwiseAbs();
   const Eigen::Vector3d grown = options_.half_size.array() + options_.eef_radius;

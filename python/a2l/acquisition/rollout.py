@@ -15,7 +15,6 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from a2l import _core
 from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 
 __all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "play", "rollouts_to_frame"]
@@ -89,12 +88,10 @@ class Interactions:
 
 
 def effect_of(disc: Any, displacement: np.ndarray) -> int:
-    """Effect index of one object displacement (-1: none, or not seen), by the C++
-    classifier the scenes and the runtime use (same indices as ``disc.effects``; tested
-    equal)."""
-    e = disc.effects
-    return int(_core.classify_effect(np.asarray(displacement, dtype=float), e.n_effects,
-                                     e.threshold, e.ratio))
+    """Effect index of one object displacement (-1: none, or not seen):
+    :meth:`a2l.skills.effects.EffectDiscretizer.classify` of ``disc.effects`` (the C++
+    classifier the scenes and the runtime use)."""
+    return disc.effects.classify(displacement)
 
 
 def play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],

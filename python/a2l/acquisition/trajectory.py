@@ -12,6 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from a2l.skills.repertoire import default_directions
+
 __all__ = ["RETURN_REST_S", "WaypointEncoding", "follow_waypoints", "play_and_look"]
 
 #: Seconds of physics between putting the arm back at the start and the image after: a box
@@ -168,10 +170,10 @@ def play_and_look(scene: Any, start: ArrayLike, points: NDArray[np.float64], max
     path : ndarray, shape (m + 1, 3)
         End-effector positions at the start and after each movement tried.
     out : list of int
-        Indices into ``a2l.sim.movement.DIRECTIONS`` of the movements carried out.
+        Indices into :func:`a2l.skills.repertoire.default_directions` (the 26 directions in
+        the C++ core's order) of the movements carried out.
     """
     from a2l.acquisition.images import image_descriptor
-    from a2l.sim.movement import DIRECTIONS
 
     start = np.asarray(start, dtype=float)
     scene.reset(eef=start)
@@ -187,7 +189,7 @@ def play_and_look(scene: Any, start: ArrayLike, points: NDArray[np.float64], max
             observe()
         return ok
 
-    out, _ = follow_waypoints(execute, scene.eef_position, np.array(DIRECTIONS),
+    out, _ = follow_waypoints(execute, scene.eef_position, default_directions(),
                               scene.step_length, start, points, max_moves)
     scene.place_arm(start)
     scene.settle(rest)

@@ -33,6 +33,7 @@ from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_tas
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
 from a2l.rundir import make_run_dir, write_json
+from a2l.skills.effects import effect_name
 
 __all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
 
@@ -61,12 +62,10 @@ def make_strategy(method: str, n_genes: int, seed: int, budget: int,
 def outcome_keys(ev: Evaluation) -> set[tuple[str, str, int, int]]:
     """The outcomes an evaluation reached: for each object that moved, (object, effect
     class, binned final x, binned final y)."""
-    from a2l.sim.effects import push_effect
-
     keys = set()
     for name, (dx, dy) in ev.displacement.items():
         if np.hypot(dx, dy) > MOVED:
-            effect = push_effect((dx, dy), 4, MOVED)
+            effect = effect_name((dx, dy), 4, MOVED)
             x, y = ev.final[name]
             keys.add((name, effect, int(np.floor(x / OUTCOME_BIN)),
                       int(np.floor(y / OUTCOME_BIN))))

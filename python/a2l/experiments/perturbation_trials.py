@@ -135,27 +135,27 @@ def light_effects(recipe: Any, cfg: LfDConfig) -> dict[str, str] | None:
 
 def _effect_test(effect: str) -> Callable[[Any], tuple[bool, bool]]:
     """The test of a light-independent skill's effect, blind to the light."""
-    from a2l.lfd.effect_tests import EFFECT_TESTS, scene_test
-    from a2l.sim.outcomes import EFFECT_TESTS as SCENE_TESTS
+    from a2l.rollout.effect_tests import SCENE_OUTCOMES, effect_test_of, scene_outcome, scene_test
 
     if effect == "pressed":  # pressed by the robot: the toggle alone is no press
         def pressed(pr: Any) -> tuple[bool, bool]:
             ok = pr.scene.presses > 0
             return ok, ok
         return pressed
-    if effect in SCENE_TESTS:  # the scene's outcome, blind to the light
-        return scene_test(SCENE_TESTS[effect])
-    if effect in EFFECT_TESTS:
-        return EFFECT_TESTS[effect]
-    raise ValueError(f"no effect test for {effect!r}")
+    if effect in SCENE_OUTCOMES:  # the scene's outcome, blind to the light
+        return scene_test(scene_outcome(effect))
+    test = effect_test_of(effect)
+    if test is None:
+        raise ValueError(f"no effect test for {effect!r}")
+    return test
 
 
 def skill_test(recipe: Any, by_light: dict[str, str] | None
                ) -> Callable[[Any], tuple[bool, bool]]:
     """The effect test of a trial: a light-independent skill's ignores the light; a
     light-dependent skill's is the test of ``by_light[light]`` for the light seen at each
-    step (:func:`a2l.lfd.effect_tests.light_test`)."""
-    from a2l.lfd.effect_tests import light_test
+    step (:func:`a2l.rollout.effect_tests.light_test`)."""
+    from a2l.rollout.effect_tests import light_test
 
     if by_light is None:
         return _effect_test(recipe.effect)

@@ -24,6 +24,7 @@ from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 from a2l.framework.config import FrameworkConfig, discretizers
 from a2l.framework.env import scene_env
 from a2l.parallel import Executor
+from a2l.skills.repertoire import default_directions
 
 __all__ = ["NOVEB_START", "NOVEB_WORKSPACE", "noveb_acquire", "noveb_task"]
 
@@ -67,13 +68,12 @@ def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]) -> NovebRe
     descriptor, path, out = play_and_look(env.scene, (*NOVEB_START, z), points, max_moves,
                                           observe=observe, on_reset=observe)
     made = len(path) - 1
-    from a2l.sim.movement import DIRECTIONS
-
+    directions = default_directions()  # play_and_look's movements, in the core's order
     repertoire = {tuple(int(s) for s in d): i
                   for i, d in enumerate(disc.movements.directions)}
     moves: list[int] = []
     for k, m in enumerate(out):
-        idx = repertoire.get(DIRECTIONS[m])
+        idx = repertoire.get(tuple(int(s) for s in directions[m]))
         if idx is None:
             return descriptor, None, made
         moves.append(idx)

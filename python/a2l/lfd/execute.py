@@ -13,10 +13,9 @@ the next movement and carries it out in the scene:
 The run ends when the effect test says the effect is produced (or went wrong), when the
 step returns a stop status (``step_cap``, ``unknown_context``...), when a movement cannot be
 carried out for good (``unreachable``, ``workspace_limit``, ``joint_limit``) or at
-``max_steps``. Effect tests (:mod:`a2l.lfd.effect_tests`, whose names are re-exported here)
-are keyed by effect name; the push ones are registered there, other skills register theirs
-with :func:`register_effect_test`; an effect without one falls back on the scene outcome of
-that name (:mod:`a2l.sim.outcomes`: ``grasped``, ``pressed``, ``away``), done once it holds.
+``max_steps``. Effect tests (:mod:`a2l.rollout.effect_tests`, whose names are re-exported
+here) are keyed by effect name: the pushes, ``grasped``, ``pressed`` and ``away`` are
+registered there, other skills register theirs with :func:`register_effect_test`.
 
 The displacement an effect test sees is the one the robot produced: the sum, over the
 executed movements, of the object's displacement during each one, so a perturbation that
@@ -34,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from a2l.errors import A2LValueError
-from a2l.lfd.effect_tests import (
+from a2l.rollout.effect_tests import (
     EFFECT_TESTS,
     PUSH_DISTANCE,
     EffectTest,
@@ -239,8 +238,7 @@ def run_skill(scene: Any, bundle_path: str | os.PathLike[str], effect: str,
         raise ValueError(f"mode must be 'table' or 'ds', got {mode!r}")
     test = effect_test or effect_test_of(effect)
     if test is None:
-        raise ValueError(f"no effect test for effect {effect!r}; known: {sorted(EFFECT_TESTS)} "
-                         "and the scene outcomes of a2l.sim.outcomes")
+        raise ValueError(f"no effect test for effect {effect!r}; known: {sorted(EFFECT_TESTS)}")
     path = os.fspath(bundle_path)
     table = _TableStep(path)
     if abs(scene.step_length - table.step_len) > 1e-9:

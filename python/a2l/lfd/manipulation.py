@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l.errors import A2LValueError
 from a2l.lfd.demonstration import Demonstration
-from a2l.sim.outcomes import RETREAT
+from a2l.rollout.effect_tests import RETREAT
 
 __all__ = [
     "ABOVE",
@@ -171,7 +171,7 @@ def grasp_light_demonstration(seed: int, light: str, start: ArrayLike | None = N
     light : {"off", "on"}
         Off: the grasp (:func:`grasp_demonstration`) with ``light: off`` in every segment's
         states. On: move away from the block (up first, then back) to
-        :data:`a2l.sim.outcomes.RETREAT` and
+        :data:`a2l.rollout.effect_tests.RETREAT` and
         wait there ``1 s`` (the last samples repeat the retreat point), one segment under
         ``light: on``; half the starts are the grasp's, half a point on a grasp's approach
         (the light came on mid-grasp), down to the grasp point itself.

@@ -31,12 +31,12 @@ precision matters, every :data:`FINE_RESOLUTION`; every context variable is a fi
 of the movement (hill-climbing with K2 otherwise drops ``distance -> move``, and the table
 then never knows when to close).
 
-Effect tests: ``grasped`` (the block >= 5 cm up in the closed gripper) and ``pressed``
-are the scene's (:mod:`a2l.sim.outcomes`); ``grasp_light`` wants ``grasped`` with the light
-off and ``away`` with it on (:data:`EFFECT_BY_LIGHT`, in the recipe's ``extra``;
-:func:`a2l.lfd.effect_tests.light_test`): the end-effector at the retreat pose
-(:data:`a2l.sim.outcomes.RETREAT`, within 4 cm) without having moved the block
-(:func:`away_test`, registered for ``away``).
+Effect tests (:mod:`a2l.rollout.effect_tests`): ``grasped`` (the block >= 5 cm up in the
+closed gripper) and ``pressed`` are the scene's; ``grasp_light`` wants ``grasped`` with the
+light off and ``away`` with it on (:data:`EFFECT_BY_LIGHT`, in the recipe's ``extra``;
+:func:`a2l.rollout.effect_tests.light_test`): the end-effector at the retreat pose
+(:data:`a2l.rollout.effect_tests.RETREAT`, within 4 cm) without having moved the block
+(:func:`a2l.rollout.effect_tests.away_test`).
 """
 
 from __future__ import annotations
@@ -52,14 +52,13 @@ from scipy.spatial import cKDTree
 from a2l.lfd.config import LfDConfig
 from a2l.lfd.dataset import dataset_frame
 from a2l.lfd.demonstration import Demonstration
-from a2l.lfd.effect_tests import Progress, register_effect_test
 from a2l.lfd.manipulation import GRASP_POINT, PRESS_POINT, SKILL_OBJECTS, _start, demonstrate
 from a2l.lfd.recipes import SkillRecipe, register_skill
 from a2l.lfd.skill import Behaviour
-from a2l.sim.outcomes import AWAY_RADIUS, RETREAT
+from a2l.rollout.effect_tests import RETREAT
 
 __all__ = ["CONFIG", "EFFECT_BY_LIGHT", "FINE_RADIUS", "FINE_RESOLUTION", "N_INCLINATION",
-           "NamedEffects", "Phase", "away_test", "manipulation_discretizer", "phase_rows",
+           "NamedEffects", "Phase", "manipulation_discretizer", "phase_rows",
            "skill_phases"]
 
 #: The configuration of the manipulation skills (see the module docstring for why).
@@ -283,21 +282,6 @@ def _behaviours(skill: str) -> Any:
     return behaviours
 
 
-def away_test(pr: Progress) -> tuple[bool, bool]:
-    """Effect test of ``away`` (the light-on behaviour of ``grasp_light``), ``(done,
-    success)``: done and successful once the end-effector is within
-    :data:`a2l.sim.outcomes.AWAY_RADIUS` of the retreat pose relative to the block where it
-    is now, the movements having moved the block less than 1 cm (a perturbation that moves
-    it is not the skill's doing); done and failed if the block was grasped."""
-    if pr.scene.observe_effect(since="episode", source="ground_truth") == "grasped":
-        return True, False
-    obj = np.asarray(pr.obj, dtype=float)
-    at = bool(np.all(np.isfinite(obj))) and \
-        float(np.linalg.norm(pr.eef - obj - RETREAT)) <= AWAY_RADIUS
-    ok = at and float(np.linalg.norm(pr.produced)) < 0.01
-    return ok, ok
-
-
 #: The manipulation skills' high-level states (name, values).
 _HIGH_LEVEL: dict[str, tuple[tuple[str, tuple[str, ...]], ...]] = {
     "grasp": (("gripper", ("open", "closed")),),
@@ -331,7 +315,8 @@ _DESCRIPTIONS = {
 }
 
 def register() -> None:
-    """Register the grasp, press and grasp_light recipes and the ``away`` effect test."""
+    """Register the grasp, press and grasp_light recipes (their effect tests, ``away``
+    included, are :data:`a2l.rollout.effect_tests.EFFECT_TESTS`')."""
     from a2l.skills import HighLevelState
 
     for skill in ("grasp", "press", "grasp_light"):
@@ -344,5 +329,3 @@ def register() -> None:
             description=_DESCRIPTIONS[skill], config=CONFIG, context_edges=True,
             extra={"effect_by_light": dict(EFFECT_BY_LIGHT)} if skill == "grasp_light"
             else {}))
-    register_effect_test("away", away_test)
-

@@ -30,14 +30,10 @@ from a2l.sim.config import (
     make_config,
 )
 from a2l.sim.context import Context, ObjectContext, low_level_state
-from a2l.sim.effects import PUSH_EFFECTS_4, PUSH_EFFECTS_8, push_effect
-from a2l.sim.movement import DIRECTIONS, MoveResult
+from a2l.sim.movement import MoveResult
 from a2l.sim.scene import Scene
 
 __all__ = [
-    "DIRECTIONS",
-    "PUSH_EFFECTS_4",
-    "PUSH_EFFECTS_8",
     "SCENES",
     "Context",
     "GraspConfig",
@@ -53,7 +49,6 @@ __all__ = [
     "low_level_state",
     "make_config",
     "make_scene",
-    "push_effect",
 ]
 
 #: Names of the scenes :func:`make_scene` builds.

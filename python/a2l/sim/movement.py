@@ -1,8 +1,11 @@
-"""Discrete movements: the 26 directions, their validation, and the outcome of one."""
+"""Discrete movements: the validation of a direction, and the outcome of one movement.
+
+The directions themselves (their default order and labels) are the C++ core's, read by
+:mod:`a2l.skills.repertoire` (:func:`~a2l.skills.repertoire.default_directions`).
+"""
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 from typing import Any
 
@@ -11,14 +14,7 @@ from numpy.typing import NDArray
 
 from a2l.errors import A2LValueError
 
-__all__ = ["DIRECTIONS", "MoveResult", "as_direction"]
-
-#: The 26 discrete movement directions of METHOD.md: every sign vector but (0, 0, 0),
-#: in lexicographic order.
-DIRECTIONS: tuple[tuple[int, int, int], ...] = tuple(
-    d for d in itertools.product((-1, 0, 1), repeat=3) if d != (0, 0, 0)  # type: ignore[misc]
-)
-
+__all__ = ["MoveResult", "as_direction"]
 
 def as_direction(movement: Any) -> NDArray[np.float64]:
     """Validate a movement (3 signs in {-1, 0, 1}, not all 0); return it as floats (3,)."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from a2l import _core
 from a2l.sim.config_fields import RGBA, field_error, positive_field, vector_field
 from a2l.sim.scene_config import SceneConfig
 
@@ -45,10 +46,11 @@ class GraspConfig(SceneConfig):
 
     The fingers close along the world y axis; ``block_size[1]`` must fit between the open
     finger tips (4.8 cm) and exceed the closed gap (0.65 cm). ``grasped`` needs the block
-    5 cm up (``lift_threshold``), in the closed gripper.
+    5 cm up (``lift_threshold``, the C++ core's ``a2l::kLiftThreshold``, which ``a2l-run``
+    uses), in the closed gripper.
     """
 
-    lift_threshold: float = 0.05
+    lift_threshold: float = _core.LIFT_THRESHOLD
     block_size: tuple[float, float, float] = (0.03, 0.03, 0.06)
     block_mass: float = 0.05
     block_friction: float = 1.0

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from a2l.sim.effects import push_effect
+from a2l.skills.effects import effect_name
 
 __all__ = ["Observation", "observed_effect"]
 
@@ -46,7 +46,7 @@ def observed_effect(before: Observation, after: Observation, movable: Iterable[s
     str
         ``"pressed"`` (the light toggled), ``"grasped"`` (an object lifted in the closed
         gripper, within 8 cm of the end-effector), the push effect of the object that moved
-        most (:func:`a2l.sim.effects.push_effect`) or ``"none"``.
+        most (:func:`a2l.skills.effects.effect_name`) or ``"none"``.
     """
     if "light" in before.states and before.states.get("light") != after.states.get("light"):
         return "pressed"
@@ -64,4 +64,4 @@ def observed_effect(before: Observation, after: Observation, movable: Iterable[s
             best, best_d = a - b, dist
     if best is None:
         return "none"
-    return push_effect(best, cfg.n_push_effects, cfg.effect_threshold, cfg.effect_ratio)
+    return effect_name(best, cfg.n_push_effects, cfg.effect_threshold, cfg.effect_ratio)

@@ -1,8 +1,9 @@
 """The scene interface shared by the PyBullet scenes and the virtual scene.
 
-The movement vocabulary (:data:`DIRECTIONS`, :class:`MoveResult`) lives in
-:mod:`a2l.sim.movement`, observations and their effects in :mod:`a2l.sim.observation`;
-both are re-exported here.
+The movement's validation and outcome (:func:`as_direction`, :class:`MoveResult`) live in
+:mod:`a2l.sim.movement` (the repertoire's directions, order and labels in
+:mod:`a2l.skills.repertoire`, read from the C++ core), observations and their effects in
+:mod:`a2l.sim.observation`; both are re-exported here.
 """
 
 from __future__ import annotations
@@ -15,11 +16,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l.errors import A2LValueError
 from a2l.sim.context import Context, low_level_state
-from a2l.sim.movement import DIRECTIONS, MoveResult, as_direction
+from a2l.sim.movement import MoveResult, as_direction
 from a2l.sim.observation import Observation, observed_effect
 from a2l.skills.spec import ACTIONS
 
-__all__ = ["DIRECTIONS", "MoveResult", "Observation", "Scene", "as_direction"]
+__all__ = ["MoveResult", "Observation", "Scene", "as_direction"]
 
 _PERTURB_PARAMS: dict[str, set[str]] = {
     "move_object": {"delta", "name"},
@@ -266,7 +267,7 @@ class Scene(ABC):
         str
             ``"pressed"`` (the light toggled), ``"grasped"`` (an object lifted in the
             closed gripper), a push effect (``"far"``, ``"close_left"``, ... see
-            :mod:`a2l.sim.effects`) or ``"none"``.
+            :mod:`a2l.skills.effects`) or ``"none"``.
         """
         if since not in ("step", "episode"):
             raise A2LValueError(f"since must be 'step' or 'episode', got {since!r}")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from a2l import _core
 from a2l.sim.bullet import PressScene
 from a2l.sim.object_configs import GraspConfig, PressConfig
 
@@ -20,7 +21,7 @@ class TaskConfig(PressConfig, GraspConfig):
     """The ``task`` scene: :class:`a2l.sim.PressConfig` (button, lamp, box) plus the block
     of :class:`a2l.sim.GraspConfig` (same fields); the box stands out of the way."""
 
-    lift_threshold: float = 0.05  # the grasp scene's (PressConfig's base default is 0.03)
+    lift_threshold: float = _core.LIFT_THRESHOLD  # the grasp scene's (PressConfig's: 0.03)
     block_position: tuple[float, float] = (0.62, -0.3)
     box_position: tuple[float, float] = (0.95, -0.6)
 

@@ -4,10 +4,12 @@ The dominant axis decides the effect (``left``, ``right``, ``close``, ``far``); 
 mode a displacement whose axes are within ``ratio`` of each other is a diagonal; a planar
 displacement below a threshold is no effect (index -1).
 
-There is one implementation of the classification: the C++ ``a2l::classify_effect``, which
-the scenes, ``a2l-run`` and :func:`a2l.sim.effects.push_effect` call;
-:class:`EffectDiscretizer` calls it for all displacements at once through
-``a2l._core.classify_effects``.
+The C++ core owns the effect names, their order and the classification
+(``cpp/include/a2l/effects.hpp``: ``a2l::effect_names``, ``a2l::classify_effect``, which the
+C++ scenes and ``a2l-run`` call); this module reads them from ``a2l._core`` and is the one
+Python home of the names and of the classification: :class:`EffectDiscretizer` (indices, for
+many displacements at once through ``a2l._core.classify_effects``, or one) and
+:func:`effect_name` (a name).
 """
 
 from __future__ import annotations
@@ -15,17 +17,59 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from a2l import _core
 from a2l.skills.bins import _as_points
 from a2l.skills.spec import VariableSpec
 
-__all__ = ["AXIS_EFFECTS", "DIAGONAL_EFFECTS", "EffectDiscretizer"]
+__all__ = ["AXIS_EFFECTS", "DIAGONAL_EFFECTS", "EFFECT_NAMES", "EffectDiscretizer",
+           "effect_name"]
 
+#: The 8 push effects in index order (``a2l::effect_names``): the axis effects, then the
+#: diagonals.
+EFFECT_NAMES: tuple[str, ...] = tuple(_core.effect_names(8))
 #: The 4 axis effects, in this order: object moved +y, −y, −x, +x.
-AXIS_EFFECTS = ("left", "right", "close", "far")
+AXIS_EFFECTS: tuple[str, ...] = tuple(_core.effect_names(4))
 #: The 4 diagonal effects (8-effect mode), after the axis effects.
-DIAGONAL_EFFECTS = ("close_left", "close_right", "far_left", "far_right")
+DIAGONAL_EFFECTS: tuple[str, ...] = EFFECT_NAMES[len(AXIS_EFFECTS):]
+
+
+def effect_name(displacement: ArrayLike, n_effects: int = 8,
+                threshold: float = _core.EFFECT_THRESHOLD,
+                ratio: float = _core.EFFECT_RATIO) -> str:
+    """Name the push effect of an object's planar displacement.
+
+    Parameters
+    ----------
+    displacement : array_like, shape (2,) or (3,)
+        Object displacement (m) in the world frame; z is ignored.
+    n_effects : {4, 8}
+        4: the dominant axis only; 8: an axis effect when the dominant axis moved more than
+        `ratio` times the other, else a diagonal.
+    threshold : float
+        Below this planar distance (m) the effect is ``"none"``.
+    ratio : float
+        Dominance ratio of an axis effect (3).
+
+    Returns
+    -------
+    str
+        One of :data:`EFFECT_NAMES` (the first 4 with 4 effects), or ``"none"``.
+
+    Raises
+    ------
+    ValueError
+        The displacement is not 2 or 3 finite numbers, or `n_effects` is neither 4 nor 8.
+    """
+    d = np.asarray(displacement, dtype=float).reshape(-1)
+    if d.shape[0] not in (2, 3) or not np.all(np.isfinite(d)):
+        raise ValueError(f"displacement must be 2 or 3 finite numbers, got {displacement!r}")
+    if n_effects not in (4, 8):
+        raise ValueError(f"n_effects must be 4 or 8, got {n_effects}")
+    d3 = np.zeros(3)
+    d3[: d.shape[0]] = d
+    return str(_core.effect_name(_core.classify_effect(d3, n_effects, threshold, ratio)))
 
 
 @dataclass(frozen=True)
@@ -50,8 +94,8 @@ class EffectDiscretizer:
     """
 
     n_effects: int = 4
-    threshold: float = 0.01
-    ratio: float = 3.0
+    threshold: float = _core.EFFECT_THRESHOLD
+    ratio: float = _core.EFFECT_RATIO
     name: str = "effect"
 
     def __post_init__(self) -> None:
@@ -84,6 +128,12 @@ class EffectDiscretizer:
         return _core.classify_effects(d, self.n_effects, self.threshold, self.ratio).astype(
             np.int64
         )
+
+    def classify(self, displacement: ArrayLike) -> int:
+        """Effect index of one object displacement (3,) (z ignored): an index into
+        :attr:`values`, or -1 for no effect (or a non-finite input)."""
+        return int(_core.classify_effect(np.asarray(displacement, dtype=float), self.n_effects,
+                                         self.threshold, self.ratio))
 
     def spec(self) -> VariableSpec:
         """The bundle variable of the wanted effect."""

@@ -2,44 +2,44 @@
 actions (open, close, stay).
 
 A step becomes one of 26 directions in 3-D (8 in the table plane) by the signs of its
-components, with a dead-band (see :class:`MovementRepertoire`). After the directions, a
+components, with a dead-band (see :class:`MovementRepertoire`); their default order and labels
+are the C++ core's (:func:`default_directions`, :func:`direction_label`). After the directions, a
 repertoire may hold actions (``docs/bundle_format.md``, ``movements.actions``): ``open`` and
 ``close`` the gripper, ``stay`` (hold still one movement's duration); they displace nothing.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from a2l import _core
 from a2l.skills.bins import _as_points
 from a2l.skills.spec import ACTIONS
 
-__all__ = ["MovementRepertoire"]
+__all__ = ["MovementRepertoire", "default_directions", "direction_label"]
 
 
-def _direction_label(d: Sequence[int]) -> str:
-    return "".join(("+" if s > 0 else "-") + ax for s, ax in zip(d, "xyz", strict=True) if s)
+def default_directions(planar: bool = False) -> np.ndarray:
+    """The default directions in table order (``a2l::default_directions``, the C++ core's
+    definition): axis moves first (+x, -x, +y, -y, +z, -z), then the diagonals.
+
+    Returns
+    -------
+    ndarray of int64, shape (26, 3), or (8, 3) if `planar`
+        Sign vectors (read-only).
+    """
+    dirs = np.array(_core.default_directions(planar), dtype=np.int64, order="C")
+    dirs.setflags(write=False)
+    return dirs
 
 
-def _repertoire(planar: bool) -> np.ndarray:
-    signs = (1, -1, 0)
-    if planar:
-        dirs = [(x, y, 0) for x, y in itertools.product(signs, repeat=2)]
-    else:
-        dirs = list(itertools.product(signs, repeat=3))
-    dirs = [d for d in dirs if any(d)]
-
-    # Axis moves first (+x, -x, +y, -y, +z, -z), then the diagonals.
-    def key(d: tuple[int, ...]) -> tuple[int, ...]:
-        nz = sum(1 for s in d if s)
-        return (nz, *(abs(s) == 0 for s in d), *(-s for s in d))
-
-    return np.array(sorted(dirs, key=key), dtype=np.int64)
+def direction_label(d: Sequence[int]) -> str:
+    """The label of sign vector `d` (3,): ``"+x"``, ``"-x+y"``, ... (``a2l::direction_label``)."""
+    return str(_core.direction_label(np.asarray(d, dtype=np.int32)))
 
 
 @dataclass(frozen=True)
@@ -100,7 +100,7 @@ class MovementRepertoire:
                 f"{self.name}: relative_dead_band must be in [0, 1), got {self.relative_dead_band}"
             )
         if self.directions is None:
-            dirs = _repertoire(self.planar)
+            dirs = default_directions(self.planar)
         else:
             dirs = np.array(self.directions, dtype=np.int64)
             if dirs.ndim != 2 or dirs.shape[1] != 3 or len(dirs) == 0:
@@ -123,7 +123,7 @@ class MovementRepertoire:
             if a in actions[:j]:
                 raise ValueError(f"{self.name}: actions[{j}] = {a!r} repeats an action")
         names = (
-            [_direction_label(d) for d in dirs] if self.labels is None else list(self.labels)
+            [direction_label(d) for d in dirs] if self.labels is None else list(self.labels)
         )
         if len(names) == len(dirs) + len(actions) and tuple(names[len(dirs) :]) == actions:
             names = names[: len(dirs)]
