@@ -117,10 +117,11 @@ def latest_checkpoint(run_dir: str | os.PathLike[str]
     return int(last.name.split("_")[1]), state, frames
 
 
-def command_line(words: Sequence[Any], config: Any, skip: Sequence[str] = ()) -> str:
+def command_line(words: Sequence[Any], config: Any, skip: Sequence[str] = (),
+                 prefix: str = "") -> str:
     """The command that reproduces a run (kept in its ``config.json``): `words`, then
-    ``--field VALUE`` for every field of the dataclass `config` but `skip` (VALUE as JSON
-    where it is not a plain string): the options ``a2l`` makes of the fields. Every field is
+    ``--<prefix>field VALUE`` for every field of the dataclass `config` but `skip` (VALUE as
+    JSON where it is not a plain string): the options ``a2l`` makes of the fields. Every field is
     given, so the command does not depend on the defaults of the version that reads it."""
     out = [str(w) for w in words]
     for f in dataclasses.fields(config):
@@ -129,5 +130,5 @@ def command_line(words: Sequence[Any], config: Any, skip: Sequence[str] = ()) ->
         value = getattr(config, f.name)
         text = value if isinstance(value, str) else json.dumps(
             list(value) if isinstance(value, tuple) else value)
-        out += [f"--{f.name}", text]
+        out += [f"--{prefix}{f.name}", text]
     return shlex.join(out)

@@ -8,8 +8,10 @@ Evaluations cost about a second of physics each: runs here are a few evaluations
 from __future__ import annotations
 
 import json
+import shlex
 import subprocess
 import sys
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -87,6 +89,19 @@ def test_a_seed_reproduces_a_run_and_the_run_directory_is_complete(tmp_path: Pat
     assert a["totals"]["moved"] == int(ea["moved"].sum())
     for name in ("config.json", "paths.npz", "visits.png", "progress.png", "report.md"):
         assert (tmp_path / "a" / name).is_file(), name
+    # config.json's command parses back to the run's settings and world
+    from a2l.cli import parse
+    from a2l.cli.parser import config_from
+    from a2l.experiments.babbling_world import WorldConfig
+
+    cfg = json.loads((tmp_path / "a" / "config.json").read_text())
+    path, ns, _ = parse(shlex.split(cfg["command"])[1:])
+    assert path == ("experiment", "babbling")
+    assert (ns.method, ns.evaluations, ns.seed, ns.scene, ns.generation_size) == (
+        "noveb", 6, 1, "push", 3)
+    world = config_from(ns.world, WorldConfig)
+    assert json.loads(json.dumps(asdict(replace(world, scene=ns.scene, seed=ns.seed)))) == \
+        cfg["world"]
 
 
 def test_babbling_command_rejects_bad_arguments(tmp_path: Path) -> None:

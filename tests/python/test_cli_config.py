@@ -131,3 +131,18 @@ def test_an_lfd_value_out_of_its_domain_names_the_option(
     err = _refused(["experiment", "lfd-skills", "--out", str(out), "--lfd.step", "-1"], capsys)
     assert "argument --lfd.step: LfDConfig.step: must be a positive length" in err
     assert not out.exists()
+
+
+def test_prefixed_commands_parse_back() -> None:
+    """The commands babbling and perturbations record (``--world.*``, ``--lfd.*``)."""
+    from a2l.experiments.babbling_world import WorldConfig
+
+    world = WorldConfig(n_waypoints=4, start=(0.4, -0.2, 0.2), time_step=1 / 120, seed=3)
+    command = command_line(["experiment", "babbling", "--method", "noveb", "--seed", 3],
+                           world, skip=("scene", "seed"), prefix="world.")
+    _, ns, _ = parse(shlex.split(command))
+    assert dataclasses.replace(config_from(ns.world, WorldConfig), seed=ns.seed) == world
+    lfd = dataclasses.replace(DEFAULT, maps=20, step=0.03)
+    command = command_line(["experiment", "perturbations", "--out", "x"], lfd, prefix="lfd.")
+    _, ns, _ = parse(shlex.split(command))
+    assert config_from(ns.lfd, LfDConfig) == lfd

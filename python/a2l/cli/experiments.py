@@ -11,6 +11,7 @@ from jsonargparse.typing import NonNegativeInt, PositiveInt
 from a2l.cli import lfd, push, tasks
 from a2l.cli.args import UsageError, check_cluster, comma_list
 from a2l.cli.parser import Parser, add_config_fields, config_from
+from a2l.experiments.babbling_world import WorldConfig
 from a2l.experiments.lasa import LasaConfig
 
 
@@ -65,9 +66,10 @@ def _cmd_experiment_babbling(args: Namespace) -> int:
         if (out / "metrics.json").exists():
             raise UsageError("--out", f"'{out}' already holds a run; choose another directory")
     check_cluster(args.cluster)
+    world = config_from(args.world, WorldConfig)
     run_babbling(args.method, args.evaluations, args.seed, args.scene, out=args.out,
                  workers=args.workers, cluster=args.cluster,
-                 generation_size=args.generation_size, quiet=args.quiet)
+                 generation_size=args.generation_size, quiet=args.quiet, world=world)
     return 0
 
 
@@ -121,6 +123,7 @@ def _babbling_parsers() -> tuple[Parser, Parser]:
         p.add_argument("--cluster", metavar="ADDRESS", default=None,
                        help="Dask scheduler address (tcp://host:port); evaluations run there")
         p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_config_fields(bab, WorldConfig, skip={"scene", "seed"}, nested_key="world")
     return bab, cmp_
 
 

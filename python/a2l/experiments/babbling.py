@@ -32,7 +32,7 @@ from a2l.experiments.babbling_plots import plot_progress, plot_visits
 from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_task
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
-from a2l.rundir import make_run_dir, write_json
+from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.skills.effects import effect_name
 
 __all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
@@ -120,8 +120,10 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
     base = asdict(world) if world is not None else {}
     wcfg = WorldConfig(**{**base, "scene": scene, "seed": seed})
     run_dir = make_run_dir(f"babbling-{method}-{scene}", out)
-    command = (f"a2l experiment babbling --method {method} --evaluations {evaluations} "
-               f"--seed {seed} --scene {scene} --out {run_dir}")
+    command = command_line(
+        ["a2l", "experiment", "babbling", "--method", method, "--evaluations", evaluations,
+         "--seed", seed, "--scene", scene, "--generation-size", generation_size, "--out",
+         run_dir], wcfg, skip=("scene", "seed"), prefix="world.")
     write_json(run_dir / "config.json", {
         "experiment": "babbling", "method": method, "evaluations": evaluations, "seed": seed,
         "scene": scene, "generation_size": generation_size, "world": asdict(wcfg),

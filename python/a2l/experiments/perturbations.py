@@ -67,6 +67,7 @@ from a2l.experiments.perturbation_trials import (
 )
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
+from a2l.rundir import command_line
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
            "demonstration_seeds", "draw_perturbation", "run_perturbations",
@@ -180,6 +181,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
          ",".join(names), "--trials", str(trials), "--seed", str(seed), "--workers",
          str(workers)] + (["--cluster", cluster] if cluster else [])
         + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)]))
+    if cfg is not None:  # the skills' configuration given: its every field on the command
+        command = command_line(shlex.split(command), cfg, prefix="lfd.")
     config = {"experiment": "perturbations", "skills": names, "conditions": conds,
               "modes": list(MODES), "trial_seeds": [seeds[0], seeds[-1]],
               "demonstration_seeds": demonstration_seeds(cfgs), "scenes": scenes,
