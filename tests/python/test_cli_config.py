@@ -35,6 +35,8 @@ def test_push_help_lists_every_framework_config_field(
     text = capsys.readouterr().out
     missing = [f.name for f in dataclasses.fields(FrameworkConfig) if f"--{f.name} " not in text]
     assert missing == []
+    # each with its description from FrameworkConfig's docstring
+    assert "Push effects to learn." in text and "context variables also fixed as" in text
 
 
 @pytest.mark.parametrize("command", ["push", "discretization", "sweep"])
@@ -146,3 +148,13 @@ def test_prefixed_commands_parse_back() -> None:
     command = command_line(["experiment", "perturbations", "--out", "x"], lfd, prefix="lfd.")
     _, ns, _ = parse(shlex.split(command))
     assert config_from(ns.lfd, LfDConfig) == lfd
+
+
+@pytest.mark.parametrize("command", [["demo"], ["demo-record"], ["experiment", "tasks"],
+                                     ["experiment", "babbling-compare"], ["skill", "run"]])
+def test_every_command_reads_a_config_file(command: list[str], tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("no_such_option: 1\n")
+    err = _refused([*command, "--config", str(bad)], capsys)
+    assert "unknown key(s) ['no_such_option']" in err and "valid keys:" in err

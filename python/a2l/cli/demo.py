@@ -9,7 +9,7 @@ from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
 from a2l.cli.args import UsageError
-from a2l.cli.parser import Parser
+from a2l.cli.parser import Parser, add_config_option
 
 
 def _cmd_demo(args: Namespace) -> int:
@@ -98,5 +98,6 @@ def add_demo_parsers(sub: Any, commands: dict[tuple[str, ...], Any]) -> None:
             ("demo", _demo_parser(), _cmd_demo, DEMO_HELP),
             ("demo-record", _demo_record_parser(), _cmd_demo_record,
              "record demonstrations by teleoperation in the PyBullet GUI")):
+        add_config_option(parser)
         sub.add_subcommand(name, parser, help=help_)
         commands[(name,)] = (parser, handler)

@@ -10,7 +10,7 @@ from jsonargparse.typing import NonNegativeInt, PositiveInt
 
 from a2l.cli import lfd, push, tasks
 from a2l.cli.args import UsageError, check_cluster, comma_list
-from a2l.cli.parser import Parser, add_config_fields, config_from
+from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.experiments.lasa import LasaConfig
 
@@ -146,5 +146,6 @@ def add_experiment_parsers(sub: Any, commands: dict[tuple[str, ...], Any]) -> No
              "one exploration method on Baxter's push scenes"),
             ("babbling-compare", cmp_, _cmd_experiment_babbling_compare,
              "every exploration method over several seeds")):
+        add_config_option(parser)
         exps.add_subcommand(name, parser, help=help_)
         commands[("experiment", name)] = (parser, handler)

@@ -10,7 +10,7 @@ from typing import Any
 from jsonargparse import Namespace
 
 from a2l.cli.args import UsageError, comma_list
-from a2l.cli.parser import Parser, add_config_fields, config_from
+from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
 from a2l.lfd.config import DEFAULT, LfDConfig
 
@@ -181,5 +181,6 @@ def add_lfd_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
             ("perturbations", _perturbations_parser, _cmd_perturbations,
              "demonstrated skills under perturbations: context skill vs DS")):
         parser = make()
+        add_config_option(parser)
         exps.add_subcommand(name, parser, help=help_)
         commands[("experiment", name)] = (parser, handler)

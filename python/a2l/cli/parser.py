@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import inspect
 import re
 from collections.abc import Sequence
 from pathlib import Path
@@ -21,8 +22,8 @@ from typing import Any, NoReturn
 import yaml
 from jsonargparse import ActionConfigFile, ArgumentParser, Namespace
 
-__all__ = ["Parser", "add_config_fields", "command_path", "config_from", "normalize_argv",
-           "option_names"]
+__all__ = ["Parser", "add_config_fields", "add_config_option", "attribute_docs", "command_path",
+           "config_from", "normalize_argv", "option_names"]
 
 
 class Parser(ArgumentParser):
@@ -72,12 +73,44 @@ def add_config_fields(parser: ArgumentParser, cls: type, skip: set[str] | None =
                       nested_key: str | None = None) -> None:
     """Add one flag per field of the dataclass `cls` (``--field``, or ``--<nested_key>.field``)
     and, once per parser, ``--config FILE``."""
+    add_config_option(parser)
+    parser.add_class_arguments(cls, nested_key=nested_key, as_group=True, skip=skip,
+                               instantiate=False)
+    docs = attribute_docs(cls)
+    prefix = f"{nested_key}." if nested_key else ""
+    for action in parser._actions:
+        name = action.dest[len(prefix):] if action.dest.startswith(prefix) else None
+        if name in docs and not action.help:
+            action.help = docs[name].replace("``", "")
+
+
+def attribute_docs(cls: type) -> dict[str, str]:
+    """The description of each field in the numpydoc ``Attributes`` section of `cls`'s
+    docstring (``a, b : type`` lines describe several fields), by field name."""
+    lines = (inspect.getdoc(cls) or "").splitlines()
+    if "Attributes" not in lines:
+        return {}
+    out: dict[str, str] = {}
+    names: list[str] = []
+    text: list[str] = []
+    for line in lines[lines.index("Attributes") + 2:]:
+        if line and not line[0].isspace():
+            if ":" not in line:  # the next section
+                break
+            out.update(dict.fromkeys(names, " ".join(text)))
+            names, text = [n.strip() for n in line.split(":", 1)[0].split(",")], []
+        elif line.strip():
+            text.append(line.strip())
+    out.update(dict.fromkeys(names, " ".join(text)))
+    return out
+
+
+def add_config_option(parser: ArgumentParser) -> None:
+    """Add ``--config FILE`` (JSON or YAML: any option of the command) unless it is there."""
     if "--config" not in {o for a in parser._actions for o in a.option_strings}:
         parser.add_argument("--config", action=ActionConfigFile,
                             help="JSON or YAML file of option values (keys: the option names "
                             "without --); options given after it override it")
-    parser.add_class_arguments(cls, nested_key=nested_key, as_group=True, skip=skip,
-                               instantiate=False)
 
 
 def config_from(ns: Namespace, cls: type) -> Any:

@@ -16,7 +16,7 @@ from jsonargparse import Namespace
 from jsonargparse.typing import PositiveInt
 
 from a2l.cli.args import UsageError, check_cluster, parse_overrides, parse_seeds
-from a2l.cli.parser import Parser, add_config_fields, config_from
+from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.framework.config import FrameworkConfig
 from a2l.rundir import command_line
 
@@ -187,5 +187,6 @@ def add_push_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
              "the push experiment over many seeds: iterations to reach 100")):
         parser = make()
         parser.aliases = ALIASES  # type: ignore[attr-defined]
+        add_config_option(parser)
         exps.add_subcommand(name, parser, help=help_)
         commands[("experiment", name)] = (parser, handler)

@@ -22,7 +22,7 @@ from jsonargparse.typing import NonNegativeInt, PositiveInt
 
 from a2l.cli.args import UsageError
 from a2l.cli.lfd import lfd_config
-from a2l.cli.parser import Parser, add_config_fields
+from a2l.cli.parser import Parser, add_config_fields, add_config_option
 from a2l.errors import BundleError
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.skills.bundle_format import BundleView
@@ -220,5 +220,6 @@ def add_skill_parsers(sub: Any, commands: dict[tuple[str, ...], Any]) -> None:
             ("show", _show_parser(), _cmd_show, "what a bundle holds"),
             ("learn", _learn_parser(), _cmd_learn, "learn a skill from a demonstrations file"),
             ("run", _run_parser(), _cmd_run, "run a bundle in a scene")):
+        add_config_option(parser)
         cmds.add_subcommand(name, parser, help=help_)
         commands[("skill", name)] = (parser, handler)

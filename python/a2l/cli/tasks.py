@@ -8,7 +8,7 @@ from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
 from a2l.cli.args import comma_list
-from a2l.cli.parser import Parser
+from a2l.cli.parser import Parser, add_config_option
 from a2l.experiments.tasks import DEFAULT_SEED, TASKS
 
 
@@ -48,5 +48,6 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
                    help="task planner (default pyperplan)")
     p.add_argument("--no-plots", action="store_true", help="no figure")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
+    add_config_option(p)
     exps.add_subcommand("tasks", p, help=TASKS_HELP)
     commands[("experiment", "tasks")] = (p, _cmd_tasks)
