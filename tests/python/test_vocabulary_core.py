@@ -12,9 +12,17 @@ import pytest
 
 from a2l import _core
 from a2l.acquisition.trajectory import follow_waypoints
+from a2l.lfd.demonstrators import PUSH_DIRECTIONS
+from a2l.planning.repertoire import DIRECTIONS as PLANNING_DIRECTIONS
 from a2l.rollout import effect_tests as et
 from a2l.sim.object_configs import GraspConfig
-from a2l.skills.effects import AXIS_EFFECTS, DIAGONAL_EFFECTS, EFFECT_NAMES, EffectDiscretizer
+from a2l.skills.effects import (
+    AXIS_EFFECTS,
+    DIAGONAL_EFFECTS,
+    EFFECT_DIRECTIONS,
+    EFFECT_NAMES,
+    EffectDiscretizer,
+)
 from a2l.skills.repertoire import MovementRepertoire, default_directions, direction_label
 
 
@@ -26,6 +34,15 @@ def test_effect_names_are_the_cores() -> None:
     assert EffectDiscretizer(8).values == EFFECT_NAMES
     assert [_core.effect_index(n) for n in EFFECT_NAMES] == list(range(8))
     assert _core.effect_name(-1) == "none"
+
+
+def test_effect_directions_are_the_cores() -> None:
+    assert EFFECT_DIRECTIONS == {n: tuple(_core.effect_direction(i))
+                                 for i, n in enumerate(EFFECT_NAMES)}
+    assert EFFECT_DIRECTIONS["far"] == (1.0, 0.0) and EFFECT_DIRECTIONS["left"] == (0.0, 1.0)
+    assert EFFECT_DIRECTIONS["close_right"] == (-1.0, -1.0)
+    assert PUSH_DIRECTIONS == {n: EFFECT_DIRECTIONS[n] for n in AXIS_EFFECTS}
+    assert PLANNING_DIRECTIONS == {n: (int(x), int(y)) for n, (x, y) in EFFECT_DIRECTIONS.items()}
 
 
 def test_effect_constants_are_the_cores() -> None:

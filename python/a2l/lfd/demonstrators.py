@@ -30,12 +30,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from a2l.lfd.demonstration import Demonstration
+from a2l.skills.effects import AXIS_EFFECTS, EFFECT_DIRECTIONS
 
 __all__ = ["PUSH_DIRECTIONS", "PushDemonstrator", "push_start"]
 
-#: Direction (x, y) the object moves for each push effect, in the table plane.
-PUSH_DIRECTIONS: dict[str, tuple[float, float]] = {
-    "far": (1.0, 0.0), "close": (-1.0, 0.0), "left": (0.0, 1.0), "right": (0.0, -1.0)}
+#: Direction (x, y) the object moves for each axis push effect, in the table plane (the C++
+#: core's, :data:`a2l.skills.effects.EFFECT_DIRECTIONS`).
+PUSH_DIRECTIONS: dict[str, tuple[float, float]] = {e: EFFECT_DIRECTIONS[e] for e in AXIS_EFFECTS}
 
 
 def push_start(effect: str, rng: np.random.Generator, r_low: float = 0.14,

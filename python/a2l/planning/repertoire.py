@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 
 from a2l.errors import A2LValueError
 from a2l.planning.pddl import Skill, state_literal
+from a2l.skills.effects import EFFECT_DIRECTIONS
 
 __all__ = [
     "DIRECTIONS",
@@ -31,10 +32,10 @@ __all__ = [
     "push_skill",
 ]
 
-#: Effect name -> unit step in (x, y) region indices.
+#: Effect name -> unit step in (x, y) region indices (the effect's direction,
+#: :data:`a2l.skills.effects.EFFECT_DIRECTIONS`).
 DIRECTIONS: dict[str, tuple[int, int]] = {
-    "left": (0, 1), "right": (0, -1), "close": (-1, 0), "far": (1, 0),
-    "close_left": (-1, 1), "close_right": (-1, -1), "far_left": (1, 1), "far_right": (1, -1),
+    e: (int(x), int(y)) for e, (x, y) in EFFECT_DIRECTIONS.items()
 }
 
 

@@ -23,8 +23,8 @@ from a2l import _core
 from a2l.skills.bins import _as_points
 from a2l.skills.spec import VariableSpec
 
-__all__ = ["AXIS_EFFECTS", "DIAGONAL_EFFECTS", "EFFECT_NAMES", "EffectDiscretizer",
-           "effect_name"]
+__all__ = ["AXIS_EFFECTS", "DIAGONAL_EFFECTS", "EFFECT_DIRECTIONS", "EFFECT_NAMES",
+           "EffectDiscretizer", "effect_name"]
 
 #: The 8 push effects in index order (``a2l::effect_names``): the axis effects, then the
 #: diagonals.
@@ -33,6 +33,12 @@ EFFECT_NAMES: tuple[str, ...] = tuple(_core.effect_names(8))
 AXIS_EFFECTS: tuple[str, ...] = tuple(_core.effect_names(4))
 #: The 4 diagonal effects (8-effect mode), after the axis effects.
 DIAGONAL_EFFECTS: tuple[str, ...] = EFFECT_NAMES[len(AXIS_EFFECTS):]
+#: Effect name -> the planar direction (x, y) the object moves (``a2l::effect_direction``):
+#: a unit axis for an axis effect, (±1, ±1) for a diagonal.
+EFFECT_DIRECTIONS: dict[str, tuple[float, float]] = {
+    e: (float(x), float(y)) for i, e in enumerate(EFFECT_NAMES)
+    for x, y in [_core.effect_direction(i)]
+}
 
 
 def effect_name(displacement: ArrayLike, n_effects: int = 8,
