@@ -120,11 +120,12 @@ def latest_checkpoint(run_dir: str | os.PathLike[str]
 def command_line(words: Sequence[Any], config: Any, skip: Sequence[str] = (),
                  prefix: str = "") -> str:
     """The command that reproduces a run (kept in its ``config.json``): `words`, then
-    ``--<prefix>field VALUE`` for every field of the dataclass `config` but `skip` (VALUE as
-    JSON where it is not a plain string): the options ``a2l`` makes of the fields. Every field is
+    ``--<prefix>field VALUE`` for every field of the dataclass `config` (None: none) but
+    `skip` (VALUE as JSON where it is not a plain string): the options ``a2l`` makes of the
+    fields. Every field is
     given, so the command does not depend on the defaults of the version that reads it."""
     out = [str(w) for w in words]
-    for f in dataclasses.fields(config):
+    for f in dataclasses.fields(config) if config is not None else ():
         if not f.init or f.name in skip:
             continue
         value = getattr(config, f.name)

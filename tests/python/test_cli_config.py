@@ -158,3 +158,17 @@ def test_every_command_reads_a_config_file(command: list[str], tmp_path: Path,
     bad.write_text("no_such_option: 1\n")
     err = _refused([*command, "--config", str(bad)], capsys)
     assert "unknown key(s) ['no_such_option']" in err and "valid keys:" in err
+
+
+def test_lfd_skills_records_a_command_that_reproduces_its_configuration(tmp_path: Path) -> None:
+    from a2l.experiments.lfd_skills import run_lfd_skills
+
+    cfg = dataclasses.replace(DEFAULT, n_demos=3, maps=10)
+    run_lfd_skills(tmp_path / "r", ["push_right"], trials=1, scene="virtual", cfg=cfg,
+                   quiet=True)
+    config = json.loads((tmp_path / "r" / "config.json").read_text())
+    assert config["configs"] == {"push_right": cfg.to_json()}
+    path, ns, _ = parse(shlex.split(config["command"])[1:])
+    assert path == ("experiment", "lfd-skills") and config_from(ns.lfd, LfDConfig) == cfg
+    assert (ns.skills, ns.trials, ns.seed, ns.scene, ns.mode) == (
+        "push_right", 1, 1000, "virtual", "table")

@@ -229,6 +229,7 @@ def test_parametrization_selects_by_success_then_movements_then_table():
 def test_parametrization_runs_cells_and_writes_its_report(tmp_path):
     """A 2-cell study in the virtual scene, through the worker task (1 process)."""
     import json
+    import shlex
 
     from a2l.experiments.parametrization import run_parametrization
 
@@ -242,6 +243,16 @@ def test_parametrization_runs_cells_and_writes_its_report(tmp_path):
     report = (tmp_path / "p" / "report.md").read_text()
     assert report.count("| push_far |") == 2
     assert (tmp_path / "p" / "parametrization.png").stat().st_size > 1000
+    # config.json's command runs the same study: its parse gives the same grid and skills
+    from a2l.cli import parse
+    from a2l.cli.lfd import grid_of
+
+    config = json.loads((tmp_path / "p" / "config.json").read_text())
+    path, ns, _ = parse(shlex.split(config["command"])[1:])
+    assert path == ("experiment", "parametrization") and ns.skills == "push_far"
+    assert {k: list(v) for k, v in grid_of(ns).items()} == config["grid"] == {
+        "resolution": [0.02], "step": [0.05], "n_orient": [8, 16], "n_dist": [3],
+        "smoothing": [False]}
 
 
 def test_a_worker_with_another_package_refuses_to_run():

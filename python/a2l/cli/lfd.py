@@ -85,9 +85,8 @@ def _ints(text: str, what: str) -> tuple[int, ...]:
     return tuple(int(v) for v in vals)
 
 
-def _cmd_parametrization(args: Namespace) -> int:
-    from a2l.experiments.parametrization import run_parametrization
-
+def grid_of(args: Namespace) -> dict[str, Sequence[Any]]:
+    """The grid values of ``a2l experiment parametrization``'s options (those given)."""
     grid: dict[str, Sequence[Any]] = {}
     if args.resolutions:
         grid["resolution"] = _floats(args.resolutions, "--resolutions")
@@ -102,6 +101,13 @@ def _cmd_parametrization(args: Namespace) -> int:
         if not sm or any(s not in ("on", "off") for s in sm):
             raise UsageError("--smoothing", f"expected on and/or off, got {args.smoothing!r}")
         grid["smoothing"] = tuple(s == "on" for s in sm)
+    return grid
+
+
+def _cmd_parametrization(args: Namespace) -> int:
+    from a2l.experiments.parametrization import run_parametrization
+
+    grid = grid_of(args)
     out, skills = run_args(args)
     run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
                         args.workers, base=lfd_config(args), quiet=args.quiet)

@@ -135,13 +135,21 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, learn_recipe, skill_config
     from a2l.parallel import Executor
-    from a2l.rundir import make_run_dir, write_json
+    from a2l.rundir import command_line, make_run_dir, write_json
 
     names = list(skills or [n for n in SKILLS if n.startswith("push_")])
     unknown = [n for n in names if n not in SKILLS]
     if unknown:
         raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
     run_dir = make_run_dir("lfd-skills", out)
+    words = ["a2l", "experiment", "lfd-skills", "--out", run_dir, "--skills", ",".join(names),
+             "--trials", trials, "--seed", seed, "--scene", scene, "--mode", mode,
+             "--workers", workers]
+    write_json(run_dir / "config.json", {
+        "experiment": "lfd-skills", "skills": names, "trials": trials, "seed": seed,
+        "scene": scene, "mode": mode, "workers": workers,
+        "configs": {n: skill_config(n, cfg).to_json() for n in names},
+        "command": command_line(words, cfg, prefix="lfd.")})
     bundles, learning = {}, {}
     for name in names:
         t0 = time.perf_counter()

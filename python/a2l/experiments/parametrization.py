@@ -35,6 +35,10 @@ from a2l.progress import progress_bar
 
 __all__ = ["DEFAULT_GRID", "cell_task", "run_parametrization", "select_default"]
 
+#: The command-line option of each grid dimension (``a2l experiment parametrization``).
+GRID_OPTIONS = {"resolution": "--resolutions", "step": "--steps", "n_orient": "--orients",
+                "n_dist": "--dists", "smoothing": "--smoothing"}
+
 #: The full study's values (``--resolutions`` ... override them).
 DEFAULT_GRID: dict[str, tuple[Any, ...]] = {
     "resolution": (0.005, 0.01, 0.02),
@@ -141,7 +145,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
-    from a2l.rundir import make_run_dir, write_json
+    from a2l.rundir import command_line, make_run_dir, write_json
 
     names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
     unknown = [n for n in names if n not in SKILLS]
@@ -151,6 +155,17 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     combos = list(itertools.product(*(values[k] for k in DEFAULT_GRID)))
     run_dir = make_run_dir("parametrization", out)
     seeds = list(range(seed, seed + trials))
+    words = ["a2l", "experiment", "parametrization", "--out", run_dir, "--skills",
+             ",".join(names), "--trials", trials, "--seed", seed, "--scene", scene,
+             "--workers", workers]
+    for key, option in GRID_OPTIONS.items():
+        words += [option, ",".join(("on" if v else "off") if key == "smoothing" else str(v)
+                                   for v in values[key])]
+    write_json(run_dir / "config.json", {
+        "experiment": "parametrization", "skills": names, "trials": trials, "seed": seed,
+        "scene": scene, "workers": workers, "grid": {k: list(v) for k, v in values.items()},
+        "base": None if base is None else base.to_json(),
+        "command": command_line(words, base, prefix="lfd.")})
     tasks = []
     for name in names:
         for i, combo in enumerate(combos):
