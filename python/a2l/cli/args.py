@@ -40,6 +40,7 @@ def check_cluster(address: str | None) -> None:
     """Fail early, as a usage error, if the Dask scheduler at `address` is unreachable."""
     if address is None:
         return
+    # imported here: parsing and --help do not load this command's stack
     from a2l.parallel import Executor
 
     try:

@@ -13,6 +13,7 @@ from a2l.cli.parser import Parser, add_config_option
 
 
 def _cmd_demo(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.demo import run_demo
 
     return run_demo(seed=args.seed, gui=args.gui, out=args.out, iterations=args.iterations,
@@ -20,6 +21,7 @@ def _cmd_demo(args: Namespace) -> int:
 
 
 def _cmd_demo_record(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.lfd.teleop import record_demonstrations
 
     start = None

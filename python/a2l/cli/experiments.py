@@ -57,6 +57,7 @@ def _lasa_parser() -> Parser:
 
 
 def _cmd_experiment_babbling(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.babbling import run_babbling
 
     if args.out is not None:
@@ -74,6 +75,7 @@ def _cmd_experiment_babbling(args: Namespace) -> int:
 
 
 def _cmd_experiment_babbling_compare(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.babbling_compare import run_babbling_compare
 
     out = Path(args.out)

@@ -39,6 +39,7 @@ def run_args(args: Namespace) -> tuple[Path, list[str] | None]:
 
 
 def _cmd_lfd_skills(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.lfd_skills import run_lfd_skills
 
     out, skills = run_args(args)
@@ -105,6 +106,7 @@ def grid_of(args: Namespace) -> dict[str, Sequence[Any]]:
 
 
 def _cmd_parametrization(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.parametrization import run_parametrization
 
     grid = grid_of(args)
@@ -140,6 +142,7 @@ def _parametrization_parser() -> Parser:
 
 
 def _cmd_perturbations(args: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.perturbations import run_perturbations
 
     run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,

@@ -79,6 +79,7 @@ def _cmd_push(ns: Namespace) -> int:
 
 
 def _cmd_discretization(ns: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.discretization import run_discretization_study
 
     cfg = framework_config(ns)
@@ -89,6 +90,7 @@ def _cmd_discretization(ns: Namespace) -> int:
 
 
 def _cmd_sweep(ns: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.sweep import run_seed_sweep
 
     seeds = parse_seeds(ns.seeds)

@@ -39,6 +39,7 @@ def bundle_summary(path: Path) -> dict[str, Any]:
     UsageError
         Not a file, or not a valid bundle (the loader's message).
     """
+    # imported here: parsing and --help do not load this command's stack
     from a2l.skills.bundle import load_bundle
     from a2l.skills.ds_bundle import load_ds_bundle
     from a2l.skills.phases import load_ds_phases
@@ -146,6 +147,7 @@ def _cmd_learn(ns: Namespace) -> int:
 
 
 def _cmd_run(ns: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
     from a2l.lfd.execute import run_skill
     from a2l.sim import make_scene
 
