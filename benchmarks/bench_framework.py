@@ -13,8 +13,8 @@ from typing import Any
 from a2l.experiments.push import run_push_experiment
 from a2l.experiments.sweep import run_seed_sweep
 from a2l.framework import FrameworkConfig, loop, validation
-from a2l.framework.env import SceneEnv
 from a2l.parallel import Executor
+from a2l.rollout.env import SceneEnv
 from a2l.rundir import read_json
 
 TITLE = "Iterative framework (push experiment: workers, Baxter iteration)"

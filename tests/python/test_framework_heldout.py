@@ -254,8 +254,8 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     reachable start is kept as drawn."""
     from a2l.errors import UnreachableError
     from a2l.framework.config import heldout_redraw
-    from a2l.framework.env import scene_env
     from a2l.framework.validation import reachable_heldout
+    from a2l.rollout.env import scene_env
 
     cfg = FrameworkConfig(scene="baxter", n_effects=4, seed=1)
     raw = cfg.heldout_offsets()

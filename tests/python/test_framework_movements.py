@@ -14,8 +14,8 @@ import pytest
 from a2l.acquisition.rollout import Interactions
 from a2l.experiments.push import results_table, run_push_experiment
 from a2l.framework import FrameworkConfig, loop, run_framework
-from a2l.framework.env import SceneEnv
 from a2l.parallel import Executor
+from a2l.rollout.env import SceneEnv
 
 #: A short virtual run: iteration 0 (acquisition) and 1 (extension with effect-directed
 #: babbling for the stuck pairs), with held-out starts.

@@ -28,8 +28,8 @@ from a2l.framework import (
     random_waypoints,
     score_of,
 )
-from a2l.framework.env import make_env
 from a2l.parallel import Executor
+from a2l.rollout.env import make_env
 
 
 def _rollouts(outcomes: list[str]) -> list[Rollout]:

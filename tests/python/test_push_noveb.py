@@ -11,9 +11,9 @@ import pytest
 from a2l.acquisition import rollouts_to_frame
 from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.framework import FrameworkConfig, discretizers
-from a2l.framework.env import scene_env
 from a2l.framework.noveb_rollouts import noveb_acquire
 from a2l.parallel import Executor
+from a2l.rollout.env import scene_env
 
 
 def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved(

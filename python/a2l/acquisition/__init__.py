@@ -8,8 +8,8 @@ protocol (:mod:`a2l.acquisition.protocol`): a strategy proposes trajectories
   random motor babbling (:class:`RandomTrajectories`) over NovEB's trajectory encoding
   (:mod:`~a2l.acquisition.trajectory`), told the same image descriptors
   (:mod:`~a2l.acquisition.images`).
-- :mod:`~a2l.acquisition.rollout`: playing a trajectory in a scene, and rollouts as
-  interaction-dataset rows.
+- :mod:`~a2l.acquisition.rollout`: playing a trajectory in a scene (through the closed
+  loop of :mod:`a2l.rollout.loop`), and rollouts as interaction-dataset rows.
 
 The A2L loop's own strategies (random babbling around the object from the start positions,
 effect-directed waypoints, NovEB's first iteration) are built on these in

@@ -16,6 +16,8 @@ import numpy as np
 import pandas as pd
 
 from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
+from a2l.rollout.env import SceneEnv
+from a2l.rollout.loop import Decision, closed_loop
 
 __all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "play", "rollouts_to_frame"]
 
@@ -94,36 +96,60 @@ def effect_of(disc: Any, displacement: np.ndarray) -> int:
     return disc.effects.classify(displacement)
 
 
-def play(env: Any, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],
-          choose: Callable[[np.ndarray, np.ndarray], int | None], max_steps: int) -> Rollout:
-    """Start at `offset`, replay `prefix`, then ``choose(eef, obj)`` until the object moves.
+class _EnvWorld:
+    """A framework scene env (:class:`a2l.rollout.env.SceneEnv`) as the world of a closed
+    loop: movements by index into the repertoire, ``"unreachable"`` when the env cannot
+    carry one out."""
 
-    `choose` returns a movement index, or None to stop.
+    def __init__(self, env: SceneEnv, directions: np.ndarray) -> None:
+        self.env = env
+        self.directions = directions
+
+    def observe(self) -> tuple[np.ndarray, np.ndarray, dict[str, str]]:
+        return self.env.eef().copy(), self.env.object().copy(), {}
+
+    def act(self, decision: Decision) -> str:
+        ok = self.env.execute(tuple(int(s) for s in self.directions[decision.movement]))
+        return "ok" if ok else "unreachable"
+
+
+def play(env: SceneEnv, disc: Any, start: int, offset: np.ndarray, prefix: Sequence[int],
+         choose: Callable[[np.ndarray, np.ndarray], int | None], max_steps: int) -> Rollout:
+    """Start at `offset`, replay `prefix`, then ``choose(eef, obj)`` until the object moves
+    (the closed loop of :func:`a2l.rollout.loop.closed_loop`).
+
+    `choose` returns a movement index, or None to stop (``stop == "stopped"``). The run
+    ends ``moved`` when the object moved with an effect (:func:`effect_of`),
+    ``unreachable`` when a movement could not be carried out (it is not recorded), or
+    ``exhausted`` after `max_steps` movements.
     """
     env.begin(offset)
-    obj0 = env.object().copy()
-    eefs, objs, moves = [env.eef().copy()], [obj0.copy()], []
-    stop = "exhausted"
     effect = -1
-    executed = 0
-    for i in range(max_steps):
-        move = prefix[i] if i < len(prefix) else choose(eefs[-1], objs[-1])
+    obj0 = np.zeros(3)
+
+    def moved(k: int, _eef: np.ndarray, obj: np.ndarray, _states: dict[str, str]
+              ) -> str | None:
+        nonlocal effect, obj0
+        if k == 0:
+            obj0 = obj
+            return None
+        effect = effect_of(disc, obj - obj0)
+        return "moved" if effect >= 0 else None
+
+    def policy(k: int, eef: np.ndarray, obj: np.ndarray, _states: dict[str, str]
+               ) -> Decision:
+        move = prefix[k] if k < len(prefix) else choose(eef, obj)
         if move is None:
-            stop = "stopped"
-            break
-        executed += 1
-        if not env.execute(tuple(int(s) for s in disc.movements.directions[move])):
-            stop = "unreachable"
-            break
-        moves.append(int(move))
-        eefs.append(env.eef().copy())
-        objs.append(env.object().copy())
-        effect = effect_of(disc, objs[-1] - obj0)
-        if effect >= 0:
-            stop = "moved"
-            break
-    return Rollout(start, moves, np.array(eefs), np.array(objs), effect=effect, stop=stop,
-                   executed=executed)
+            return Decision("stopped")
+        return Decision("ok", movement=int(move))
+
+    trace = closed_loop(_EnvWorld(env, disc.movements.directions), policy, moved, max_steps,
+                        cap_status="exhausted", fatal=("unreachable",))
+    moves = trace.carried_out()
+    n = len(moves) + 1
+    return Rollout(start, moves, trace.eef[:n].copy(), trace.obj[:n].copy(),
+                   effect=effect if trace.stop == "moved" else -1, stop=trace.stop,
+                   executed=trace.executed)
 
 
 def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:

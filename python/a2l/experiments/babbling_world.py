@@ -15,7 +15,6 @@ An evaluation has two parts that never mix:
 
 from __future__ import annotations
 
-import threading
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -23,6 +22,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
+from a2l.rollout.cache import thread_scene
+from a2l.rollout.protocol import ArmSceneProtocol
 
 __all__ = ["BABBLING_SCENES", "Evaluation", "WorldConfig", "act_and_look", "evaluate_task",
            "make_world", "object_homes"]
@@ -135,22 +136,12 @@ def make_world(cfg: WorldConfig) -> Any:
     return TwoObjectsScene(sim, cfg.seed)
 
 
-_LOCAL = threading.local()
-
-
 def _world(cfg: WorldConfig) -> Any:
     """The scene of this thread for `cfg` (built once, reused)."""
-    cache: dict[WorldConfig, Any] = _LOCAL.__dict__.setdefault("worlds", {})
-    scene = cache.get(cfg)
-    if scene is None:
-        for old in cache.values():
-            old.close()
-        cache.clear()
-        scene = cache[cfg] = make_world(cfg)
-    return scene
+    return thread_scene("worlds", cfg, lambda: make_world(cfg))
 
 
-def act_and_look(scene: Any, cfg: WorldConfig, genotype: NDArray[np.float64]
+def act_and_look(scene: ArmSceneProtocol, cfg: WorldConfig, genotype: NDArray[np.float64]
                  ) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
     """Play `genotype` and look: what a babbling strategy may know of the movement
     (:func:`a2l.acquisition.trajectory.play_and_look`).

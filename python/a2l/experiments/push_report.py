@@ -168,7 +168,7 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     from a2l.framework import discretizers as _discretizers
-    from a2l.framework.runner import CppSkillRunner
+    from a2l.skills.runner import CppSkillRunner
 
     disc = _discretizers(cfg)
     runner = CppSkillRunner(str(bundle))
@@ -187,16 +187,15 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
                 if abs(x) < 0.04 and abs(y) < 0.045:
                     continue
                 runner.reset()
-                move, _status, prob = runner.step_with_probability(
-                    np.array([x, y, 0.0]), np.zeros(3), e)
-                if move is None:
+                out = runner.step(np.array([x, y, 0.0]), np.zeros(3), e)
+                if not out.ok:
                     continue
-                d = disc.movements.displacement(move)
+                d = disc.movements.displacement(out.movement)
                 xs.append(y)
                 ys.append(x)
                 us.append(d[1])
                 vs.append(d[0])
-                ps.append(prob)
+                ps.append(out.probability)
         q = ax.quiver(xs, ys, us, vs, ps, cmap="viridis", clim=(0, 1), scale=1.0,
                       scale_units="xy", angles="xy", width=0.006)
         ax.add_patch(plt.Rectangle((-0.0425, -0.035), 0.085, 0.07, color="0.6"))

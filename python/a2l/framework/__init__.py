@@ -24,8 +24,8 @@ run is reproducible, independent of the number of workers, and resumable from th
 checkpoint written after each iteration.
 
 The modules: :mod:`~a2l.framework.config` (:class:`FrameworkConfig`),
-:mod:`~a2l.framework.env` (the scene a rollout plays in), :mod:`~a2l.framework.runner`
-(a skill bundle through the C++ step), :mod:`~a2l.framework.validation`,
+:mod:`~a2l.framework.validation` (each effect from each start through the C++ step,
+:class:`a2l.skills.CppSkillRunner`, in the scene of :mod:`a2l.rollout.env`),
 :mod:`~a2l.framework.scoring` and :mod:`~a2l.framework.loop`, with the loop's own
 acquisition strategies (:mod:`~a2l.framework.random_babbling`,
 :mod:`~a2l.framework.waypoints`, :mod:`~a2l.framework.noveb_rollouts`). Their names are
@@ -42,7 +42,6 @@ __all__ = [
     "FAIL",
     "FALSE_POSITIVE",
     "SUCCESS",
-    "CppSkillRunner",
     "FrameworkConfig",
     "IterationResult",
     "SceneEnv",
@@ -73,10 +72,9 @@ _HOME = {
     "FrameworkConfig": "a2l.framework.config",
     "discretizers": "a2l.framework.config",
     "_discretizers": ("a2l.framework.config", "discretizers"),
-    "SceneEnv": "a2l.framework.env",
-    "make_env": "a2l.framework.env",
-    "scene_env": "a2l.framework.env",
-    "CppSkillRunner": "a2l.framework.runner",
+    "SceneEnv": "a2l.rollout.env",
+    "make_env": "a2l.rollout.env",
+    "scene_env": "a2l.rollout.env",
     "FAIL": "a2l.framework.scoring",
     "FALSE_POSITIVE": "a2l.framework.scoring",
     "SUCCESS": "a2l.framework.scoring",

@@ -22,8 +22,8 @@ from a2l.acquisition.protocol import drive
 from a2l.acquisition.rollout import Rollout, effect_of
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 from a2l.framework.config import FrameworkConfig, discretizers
-from a2l.framework.env import scene_env
 from a2l.parallel import Executor
+from a2l.rollout.env import scene_env
 from a2l.skills.repertoire import default_directions
 
 __all__ = ["NOVEB_START", "NOVEB_WORKSPACE", "noveb_acquire", "noveb_task"]

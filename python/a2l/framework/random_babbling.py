@@ -16,7 +16,7 @@ import numpy as np
 
 from a2l.acquisition.rollout import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig, discretizers, task_config
-from a2l.framework.env import scene_env
+from a2l.rollout.env import scene_env
 
 __all__ = ["BabbleTask", "RandomBabbling", "babble_task", "random_walk"]
 

@@ -20,10 +20,10 @@ from a2l.framework.config import (
     heldout_redraw,
     task_config,
 )
-from a2l.framework.env import scene_env
-from a2l.framework.runner import CppSkillRunner
 from a2l.framework.scoring import FAIL, FALSE_POSITIVE, SUCCESS
 from a2l.parallel import Executor
+from a2l.rollout.env import scene_env
+from a2l.skills.runner import CppSkillRunner
 
 __all__ = ["heldout_task", "reachable_heldout", "validate", "validate_heldout", "validate_task"]
 
@@ -104,10 +104,11 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
     status: list[str] = []
 
     def choose(eef: np.ndarray, obj: np.ndarray) -> int | None:
-        move, st = runner.step(eef, obj, wanted)
-        if move is None:
-            status.append(st)
-        return move
+        out = runner.step(eef, obj, wanted)
+        if not out.ok:
+            status.append(out.status)
+            return None
+        return out.movement
 
     r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.step_cap + 1)
     r.wanted = wanted

@@ -14,8 +14,8 @@ import numpy as np
 
 from a2l.acquisition.rollout import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig, discretizers, task_config
-from a2l.framework.env import scene_env
 from a2l.framework.random_babbling import random_walk
+from a2l.rollout.env import scene_env
 
 __all__ = ["DirectedTask", "EffectDirected", "Missed", "directed_outcome_task", "directed_task",
            "heading_chooser", "random_waypoints"]

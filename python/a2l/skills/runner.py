@@ -3,16 +3,18 @@
 :class:`CppSkillRunner` holds a loaded :class:`a2l._core.Skill` and its run state, and calls
 the one C++ implementation of a step: ``a2l._core.step`` (the compiled table, ``mode="table"``)
 or ``a2l._core.step_ds`` (the DS phases, ``mode="ds"``). It only converts names to indices
-and the C++ output to a :class:`StepResult`.
+and the C++ output to a :class:`StepResult`. :meth:`CppSkillRunner.cached` keeps one runner
+per bundle per thread (the validation rollouts of a Dask worker).
 """
 
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -85,6 +87,10 @@ class CppSkillRunner:
         An unknown mode.
     """
 
+    #: Runners per thread (a runner's SkillState is mutable: a Dask worker runs tasks in
+    #: several threads), keyed by the bundle's path, mode, size and modification time.
+    _local: ClassVar[threading.local] = threading.local()
+
     def __init__(self, bundle_path: str | os.PathLike[str], mode: str = "table",
                  trace_capacity: int = 1024) -> None:
         if mode not in MODES:
@@ -100,6 +106,26 @@ class CppSkillRunner:
             )
         self.state = _core.SkillState(self.skill, trace_capacity)
         self.labels: list[str] = list(self.skill.movements.labels)
+
+    @classmethod
+    def cached(cls, bundle_path: str | os.PathLike[str], mode: str = "table"
+               ) -> CppSkillRunner:
+        """One runner per bundle and mode per thread (loading validates the whole file).
+
+        A file rewritten at the same path (a new run in the same directory, on a long-lived
+        Dask worker) is loaded again. The caller resets the runner (:meth:`reset`).
+        """
+        cache: dict[tuple[str, str, int, int], CppSkillRunner] = \
+            cls._local.__dict__.setdefault("runners", {})
+        path = os.fspath(bundle_path)
+        st = os.stat(path)
+        key = (path, mode, st.st_size, st.st_mtime_ns)
+        runner = cache.get(key)
+        if runner is None:
+            if len(cache) > 8:
+                cache.clear()
+            runner = cache[key] = cls(path, mode)
+        return runner
 
     @property
     def step_length(self) -> float:
@@ -120,7 +146,7 @@ class CppSkillRunner:
         phase}`` per step."""
         return [r.to_dict() for r in self.state.trace()]
 
-    def step(self, eef: np.ndarray, obj: np.ndarray, effect: str,
+    def step(self, eef: np.ndarray, obj: np.ndarray, effect: str | int,
              states: Mapping[str, str] | None = None) -> StepResult:
         """One step from the current context.
 
@@ -128,8 +154,9 @@ class CppSkillRunner:
         ----------
         eef, obj : array_like, shape (3,)
             End-effector and object positions (m).
-        effect : str
-            The wanted effect (a value of the bundle's effect variable; ignored by the DS).
+        effect : str or int
+            The wanted effect, a value of the bundle's effect variable or its index
+            (ignored by the DS).
         states : mapping of str to str, optional
             High-level states (light, gripper, ...); states the table or the phases do not
             name are ignored.

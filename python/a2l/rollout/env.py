@@ -1,19 +1,22 @@
-"""What the framework needs from a scene: :class:`SceneEnv` wraps an :mod:`a2l.sim` scene
-(``virtual``: the C++ kinematic push model; ``baxter``: the PyBullet push scene with the C++
-IK): start the end-effector at an offset from the object's home, execute discrete
-movements, read positions. :func:`scene_env` keeps one per thread for rollouts.
+"""The push scene a framework rollout plays in: :class:`SceneEnv` wraps an :mod:`a2l.sim`
+scene (``virtual``: the C++ kinematic push model; ``baxter``: the PyBullet push scene with
+the C++ IK): start the end-effector at an offset from the object's home, execute discrete
+movements, read positions. :func:`scene_env` keeps one per thread for rollouts
+(:func:`a2l.rollout.cache.thread_scene`).
 """
 
 from __future__ import annotations
 
-import threading
-from typing import Any
+from collections.abc import Mapping
+from typing import Any, Protocol
 
 import numpy as np
 
-from a2l.framework.config import FrameworkConfig
+from a2l.rollout.cache import thread_scene
+from a2l.rollout.protocol import SceneProtocol
+from a2l.sim import make_scene
 
-__all__ = ["SCENES", "SceneEnv", "make_env", "scene_env"]
+__all__ = ["SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
 
 #: Framework scene name -> a2l.sim scene name.
 SCENES = {"virtual": "virtual", "baxter": "push"}
@@ -30,7 +33,7 @@ class SceneEnv:
         Where object positions come from (the camera, or the simulator's truth).
     """
 
-    def __init__(self, scene: Any, source: str | None = None) -> None:
+    def __init__(self, scene: SceneProtocol, source: str | None = None) -> None:
         self.scene = scene
         self.source = source
         self.obj_name = scene.primary_object
@@ -74,8 +77,6 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
     from), which an env reading ground truth never looks at (about 15 ms of a 35 ms Baxter
     movement).
     """
-    from a2l.sim import make_scene
-
     if scene not in SCENES:
         raise ValueError(f"unknown scene {scene!r}; choose one of {sorted(SCENES)}")
     source = source or "ground_truth"
@@ -90,22 +91,22 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
     return SceneEnv(make_scene(SCENES[scene], seed=seed, step=step, **config), source)
 
 
+class EnvSpec(Protocol):
+    """What :func:`scene_env` reads of a configuration (e.g.
+    :class:`a2l.framework.FrameworkConfig`)."""
 
-#: Scenes per thread: a Dask worker runs tasks in several threads, and two rollouts must
-#: never share a scene.
-_LOCAL = threading.local()
+    @property
+    def scene(self) -> str: ...
+    @property
+    def scene_config(self) -> Mapping[str, Any]: ...
+    @property
+    def step(self) -> float: ...
+    @property
+    def seed(self) -> int: ...
 
 
-def scene_env(cfg: FrameworkConfig) -> SceneEnv:
+def scene_env(cfg: EnvSpec) -> SceneEnv:
     """The scene of this thread for `cfg` (built once per thread and reused)."""
-    cache: dict[str, Any] = _LOCAL.__dict__.setdefault("envs", {})
     key = repr((cfg.scene, sorted(cfg.scene_config.items()), cfg.step, cfg.seed))
-    env: SceneEnv | None = cache.get(key)
-    if env is None:
-        for old in cache.values():
-            old.close()
-        cache.clear()
-        env = make_env(cfg.scene, seed=cfg.seed, step=cfg.step, **cfg.scene_config)
-        cache[key] = env
-    return env
-
+    return thread_scene("envs", key, lambda: make_env(cfg.scene, seed=cfg.seed, step=cfg.step,
+                                                      **cfg.scene_config))
