@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from a2l.acquisition.protocol import drive, drive_ahead
-from a2l.framework import FrameworkConfig, make_env, run_framework
+from a2l.framework import FrameworkConfig, run_framework
 from a2l.framework.loop import _seed
 from a2l.framework.validation import heldout_task
 from a2l.framework.waypoints import (
@@ -21,6 +21,7 @@ from a2l.framework.waypoints import (
     directed_task,
 )
 from a2l.parallel import Executor
+from a2l.rollout.env import make_env
 
 
 def test_heldout_offsets_lie_in_their_ring_at_uniform_angles() -> None:

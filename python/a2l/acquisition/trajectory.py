@@ -7,11 +7,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from a2l.rollout.protocol import ArmSceneProtocol
 from a2l.skills.repertoire import default_directions
 
 __all__ = ["RETURN_REST_S", "WaypointEncoding", "follow_waypoints", "play_and_look"]
@@ -123,8 +123,8 @@ def follow_waypoints(execute: Callable[[tuple[int, int, int]], bool],
     return done, clean
 
 
-def play_and_look(scene: Any, start: ArrayLike, points: NDArray[np.float64], max_moves: int,
-                  image_size: int = 32,
+def play_and_look(scene: ArmSceneProtocol, start: ArrayLike, points: NDArray[np.float64],
+                  max_moves: int, image_size: int = 32,
                   observe: Callable[[], None] | None = None,
                   on_reset: Callable[[], None] | None = None,
                   rest: float = RETURN_REST_S

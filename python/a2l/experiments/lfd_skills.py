@@ -29,7 +29,7 @@ __all__ = ["evaluate", "run_lfd_skills", "trial_task"]
 _SCENES: dict[str, Any] = {}
 
 
-def _package_dir() -> str:
+def package_dir() -> str:
     import a2l
 
     return os.path.dirname(os.path.abspath(a2l.__file__))
@@ -48,8 +48,8 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
     from a2l.rollout.effect_tests import light_test
 
-    if task.get("package") and task["package"] != _package_dir():
-        raise RuntimeError(f"this worker imported a2l from {_package_dir()}, the parent from "
+    if task.get("package") and task["package"] != package_dir():
+        raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "
                            f"{task['package']}: start the experiment with the interpreter of "
                            "the package under test")
     cfg = LfDConfig(**task["cfg"])
@@ -98,7 +98,7 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
     from a2l.parallel import Executor
 
     tasks = [{"skill": n, "bundle": str(b), "seed": int(s), "scene": scene, "mode": mode,
-              "cfg": skill_config(n, cfg).to_json(), "package": _package_dir()}
+              "cfg": skill_config(n, cfg).to_json(), "package": package_dir()}
              for n, b in bundles.items() for s in seeds]
     if executor is None:
         with Executor(1) as ex:

@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from a2l.errors import ConfigError
-from a2l.experiments.lfd_skills import _package_dir, trial_task
+from a2l.experiments.lfd_skills import package_dir, trial_task
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
 
@@ -56,8 +56,8 @@ def cell_task(task: dict[str, Any]) -> dict[str, Any]:
     """
     from a2l.lfd.library import learn_recipe
 
-    if task["package"] != _package_dir():
-        raise RuntimeError(f"this worker imported a2l from {_package_dir()}, the parent from "
+    if task["package"] != package_dir():
+        raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "
                            f"{task['package']}: start the experiment with the interpreter of "
                            "the package under test")
     cfg = LfDConfig(**task["cfg"])
@@ -172,7 +172,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
             cfg = skill_config(name, base).with_(**dict(zip(DEFAULT_GRID, combo, strict=True)))
             tasks.append({"skill": name, "cell": i, "cfg": cfg.to_json(), "seeds": seeds,
                           "scene": scene, "dir": str(run_dir / "skills" / name),
-                          "package": _package_dir()})
+                          "package": package_dir()})
     t0 = time.perf_counter()
     # long cells first: the small steps take the most movements
     order = sorted(range(len(tasks)), key=lambda k: tasks[k]["cfg"]["step"])

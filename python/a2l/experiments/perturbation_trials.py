@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from a2l.lfd.config import LfDConfig
+from a2l.rollout.protocol import SceneProtocol
 
 __all__ = ["CONDITIONS", "EFFECT_BY_LIGHT", "HOLD_RANGE", "LIT_SCENES", "MODES", "MOVE_RANGE",
            "WINDOW", "Perturbation", "draw_perturbation", "light_effects", "movement_seconds",
@@ -116,7 +117,7 @@ def skill_scene(recipe: Any) -> str:
     return LIT_SCENES.get(recipe.scene, recipe.scene)
 
 
-def movement_seconds(scene: Any) -> float:
+def movement_seconds(scene: SceneProtocol) -> float:
     """Simulated time of one movement (and of one held movement) in a Baxter scene (s)."""
     cfg = scene.config
     return max(1, round(cfg.step / cfg.speed / cfg.time_step)) * cfg.time_step
@@ -174,11 +175,11 @@ def _scene(skill: str, scene_name: str, cfg: LfDConfig) -> Any:
     return _SCENES[key]
 
 
-def _truth(scene: Any, name: str) -> np.ndarray:
+def _truth(scene: SceneProtocol, name: str) -> np.ndarray:
     return np.asarray(scene.ground_truth()["objects"][name], dtype=float)
 
 
-def _perturbed_run(scene: Any, task: dict[str, Any], plan: Perturbation | None,
+def _perturbed_run(scene: SceneProtocol, task: dict[str, Any], plan: Perturbation | None,
                    test: Callable[[Any], tuple[bool, bool]]) -> tuple[Any, dict[str, Any]]:
     """Reset for the trial and run the skill, applying `plan` after its step."""
     from a2l.lfd.execute import run_skill

@@ -15,6 +15,8 @@ from typing import Any
 
 import numpy as np
 
+from a2l.rollout.protocol import SceneProtocol
+
 __all__ = ["JITTER", "TASKS", "Played", "TaskSpec", "learn_task_skills", "play_task",
            "task_skills", "trial_task"]
 
@@ -106,7 +108,7 @@ def _fault_hook(spec: TaskSpec, rng: np.random.Generator, regions: Any, goal: st
     """The ``after_step`` hook that injects the task's fault once (a moved block lands
     neither where it is nor in a region the goal names)."""
 
-    def hook(k: int, step: Any, scene: Any) -> None:
+    def hook(k: int, step: Any, scene: SceneProtocol) -> None:
         if fired:
             return
         if spec.fault == "light_on" and step.name == "press-light-off":

@@ -25,6 +25,7 @@ from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.demonstrators import PushDemonstrator
 from a2l.lfd.recipes import SKILLS, SkillRecipe, get_recipe, register_skill
 from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
+from a2l.rollout.protocol import SceneProtocol
 
 __all__ = ["SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene", "register_skill",
            "reset_for_trial", "skill_config"]
@@ -93,7 +94,7 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     return make_scene(scene or recipe.scene, seed=seed, **config)
 
 
-def _object_home(scene: Any, name: str) -> tuple[np.ndarray, float]:
+def _object_home(scene: SceneProtocol, name: str) -> tuple[np.ndarray, float]:
     """Configured (x, y) of object `name` and the height of its centre."""
     cfg = scene.config
     if hasattr(cfg, "box_half_size") and name == "box":  # the virtual scene
@@ -104,7 +105,7 @@ def _object_home(scene: Any, name: str) -> tuple[np.ndarray, float]:
     return np.asarray(pos, float), cfg.table_z + size[2] / 2
 
 
-def reset_for_trial(scene: Any, name: str, seed: int) -> dict[str, np.ndarray]:
+def reset_for_trial(scene: SceneProtocol, name: str, seed: int) -> dict[str, np.ndarray]:
     """Reset `scene` for a trial of skill `name`, every draw from `seed`.
 
     Returns

@@ -30,7 +30,6 @@ what the tests check).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from a2l.errors import A2LValueError
 from a2l.lfd.demonstration import Demonstration
 from a2l.rollout.effect_tests import RETREAT
+from a2l.rollout.protocol import ArmSceneProtocol
 
 __all__ = [
     "ABOVE",
@@ -46,6 +46,7 @@ __all__ = [
     "PRESS_POINT",
     "RETREAT",
     "SKILL_OBJECTS",
+    "demo_start",
     "demonstrate",
     "grasp_demonstration",
     "grasp_light_demonstration",
@@ -70,7 +71,7 @@ _SPEED = 0.10       # nominal end-effector speed of the demonstrator (m/s)
 _WAIT = 1.0         # how long the light-on demonstration waits at the retreat point (s)
 
 
-def _start(rng: np.random.Generator) -> NDArray[np.float64]:
+def demo_start(rng: np.random.Generator) -> NDArray[np.float64]:
     """A start relative to the object: above it, a little in front or beside."""
     return np.array([rng.uniform(-0.10, 0.06), rng.uniform(-0.10, 0.10),
                      rng.uniform(0.14, 0.22)])
@@ -102,7 +103,7 @@ def _timed(points: NDArray[np.float64], speed: float, t0: float = 0.0
 def _from_above(rng: np.random.Generator, goal: NDArray[np.float64], start: ArrayLike | None
                 ) -> NDArray[np.float64]:
     """start -> a curved path to a point above `goal` -> straight down onto `goal`."""
-    p0 = _start(rng) if start is None else np.asarray(start, dtype=float).reshape(3)
+    p0 = demo_start(rng) if start is None else np.asarray(start, dtype=float).reshape(3)
     above = goal + np.array([rng.normal(0, 0.004), rng.normal(0, 0.004),
                              ABOVE + rng.uniform(-0.02, 0.02)])
     # the curve leaves the start upward-ish and arrives above the goal vertically
@@ -187,7 +188,7 @@ def grasp_light_demonstration(seed: int, light: str, start: ArrayLike | None = N
     if start is not None:
         p0 = np.asarray(start, dtype=float).reshape(3)
     elif rng.uniform() < 0.5:
-        p0 = _start(rng)
+        p0 = demo_start(rng)
     else:  # the light came on during a grasp: from a point of a grasp's approach
         reach = _from_above(rng, GRASP_POINT, None)
         p0 = reach[rng.integers(len(reach) // 3, len(reach))]
@@ -249,7 +250,7 @@ def segment_actions(segments: Sequence[Demonstration]) -> list[str | None]:
     return out
 
 
-def replay(scene: Any, segments: Sequence[Demonstration], obj: str,
+def replay(scene: ArmSceneProtocol, segments: Sequence[Demonstration], obj: str,
            spacing: float = 0.02, on_segment: Callable[[int], None] | None = None) -> bool:
     """Play a demonstration in a PyBullet scene, from where it starts.
 
@@ -290,7 +291,7 @@ def replay(scene: Any, segments: Sequence[Demonstration], obj: str,
     here = np.asarray(scene.ground_truth()["objects"][obj], dtype=float) + start
     ok = True
     if np.linalg.norm(here - scene.eef_position()) > 1e-3:
-        ok = bool(move_by(scene, here - scene.eef_position()))
+        ok = bool(scene.move_by(here - scene.eef_position()))
     # the high-level states the demonstration was given under (those the scene has)
     for name, value in segments[0].states.items():
         now = scene.ground_truth()["states"]
@@ -314,7 +315,7 @@ def replay(scene: Any, segments: Sequence[Demonstration], obj: str,
             target = origin + point
             disp = target - scene.eef_position()
             if np.linalg.norm(disp) > 1e-3:
-                ok = bool(move_by(scene, disp)) and ok
+                ok = bool(scene.move_by(disp)) and ok
             last = point
         if actions[k] == "close":
             scene.close_gripper()
@@ -322,17 +323,3 @@ def replay(scene: Any, segments: Sequence[Demonstration], obj: str,
             scene.open_gripper()
     return ok
 
-
-def move_by(scene: Any, displacement: ArrayLike) -> Any:
-    """Move the end-effector of a PyBullet scene by an arbitrary displacement (m).
-
-    :meth:`a2l.sim.Scene.execute` moves by one discrete movement of the repertoire; the
-    demonstrators and the teleoperation recorder need any displacement. Same checks
-    (workspace, IK, reach) and the same ``MoveResult``; the step's start is recorded so
-    that ``observe_effect()`` covers this move.
-    """
-    d = np.asarray(displacement, dtype=float).reshape(3)
-    if not np.all(np.isfinite(d)):
-        raise A2LValueError(f"displacement must be 3 finite numbers, got {displacement!r}")
-    scene._step_start = scene._snapshot()
-    return scene._move(d)

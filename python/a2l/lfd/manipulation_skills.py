@@ -52,10 +52,17 @@ from scipy.spatial import cKDTree
 from a2l.lfd.config import LfDConfig
 from a2l.lfd.dataset import dataset_frame
 from a2l.lfd.demonstration import Demonstration
-from a2l.lfd.manipulation import GRASP_POINT, PRESS_POINT, SKILL_OBJECTS, _start, demonstrate
+from a2l.lfd.manipulation import (
+    GRASP_POINT,
+    PRESS_POINT,
+    SKILL_OBJECTS,
+    demo_start,
+    demonstrate,
+)
 from a2l.lfd.recipes import SkillRecipe, register_skill
 from a2l.lfd.skill import Behaviour
 from a2l.rollout.effect_tests import RETREAT
+from a2l.rollout.protocol import SceneProtocol
 
 __all__ = ["CONFIG", "EFFECT_BY_LIGHT", "FINE_RADIUS", "FINE_RESOLUTION", "N_INCLINATION",
            "NamedEffects", "Phase", "manipulation_discretizer", "phase_rows",
@@ -298,7 +305,7 @@ def _setup(skill: str) -> Any:
     if skill != "grasp_light":
         return None
 
-    def setup(scene: Any, rng: np.random.Generator) -> None:
+    def setup(scene: SceneProtocol, rng: np.random.Generator) -> None:
         # half the trials under each light state
         if rng.uniform() < 0.5:
             scene.perturb("toggle", state="light")
@@ -322,7 +329,7 @@ def register() -> None:
     for skill in ("grasp", "press", "grasp_light"):
         register_skill(SkillRecipe(
             name=skill, scene=skill, effect=_EFFECTS[skill], object_name=SKILL_OBJECTS[skill],
-            behaviours=_behaviours(skill), start=_start,
+            behaviours=_behaviours(skill), start=demo_start,
             high_level=tuple(HighLevelState(n, v) for n, v in _HIGH_LEVEL[skill]),
             planar=False, object_jitter=0.03, setup=_setup(skill),
             discretizer=lambda cfg, s=skill: manipulation_discretizer(s, cfg),

@@ -30,14 +30,13 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from a2l.errors import A2LValueError
 from a2l.lfd.demonstration import Demonstration, save_demonstrations
-from a2l.lfd.manipulation import move_by
+from a2l.rollout.protocol import ArmSceneProtocol
 from a2l.sim.keyboard import (
     KEY_CODES,
     WindowClosed,
@@ -90,7 +89,8 @@ class TeleopRecorder:
         What each command did, for a human (failed moves say why).
     """
 
-    def __init__(self, scene: Any, obj: str | None = None, step: float = 0.01) -> None:
+    def __init__(self, scene: ArmSceneProtocol, obj: str | None = None, step: float = 0.01
+                 ) -> None:
         if not hasattr(scene, "close_gripper"):
             raise A2LValueError(f"teleoperation needs a PyBullet scene with a gripper, not "
                                 f"'{getattr(scene, 'name', scene)}'")
@@ -119,7 +119,7 @@ class TeleopRecorder:
 
     def _now(self) -> float:
         """Simulated time (s) of the scene."""
-        return float(self.scene._tick * self.scene.config.time_step)
+        return self.scene.sim_time
 
     def _object(self) -> NDArray[np.float64]:
         return np.asarray(self.scene.ground_truth()["objects"][self.obj], dtype=float)
@@ -154,7 +154,7 @@ class TeleopRecorder:
         if command in MOVES:
             d = np.asarray(MOVES[command], dtype=float) * self.step
             before = self.scene.eef_position()
-            res = move_by(self.scene, d)
+            res = self.scene.move_by(d)
             msg = f"{command}: " + ("ok" if res else f"not carried out ({res.status}: "
                                                      f"{res.message})")
             # a sample where the end-effector went (none when it did not move)
@@ -209,7 +209,7 @@ class TeleopRecorder:
         return save_demonstrations(path, demos)
 
 
-def run_commands(scene: Any, commands: Iterable[str], obj: str | None = None,
+def run_commands(scene: ArmSceneProtocol, commands: Iterable[str], obj: str | None = None,
                  step: float = 0.01) -> TeleopRecorder:
     """Feed a sequence of commands to a recorder (headless use and tests).
 
@@ -229,7 +229,7 @@ def run_commands(scene: Any, commands: Iterable[str], obj: str | None = None,
     return rec
 
 
-def run_gui(scene: Any, out: str | os.PathLike[str], obj: str | None = None,
+def run_gui(scene: ArmSceneProtocol, out: str | os.PathLike[str], obj: str | None = None,
             step: float = 0.01) -> TeleopRecorder:
     """Teleoperate in the PyBullet GUI until ``quit`` (or the window closes); save to `out`.
 

@@ -31,6 +31,7 @@ from a2l.planning.pddl import PerceivedState, Skill, domain_pddl, problem_pddl
 from a2l.planning.planners import PlanStep, solve
 from a2l.planning.repertoire import TableRegions
 from a2l.planning.simulate import apply_step, goal_literals, unmet
+from a2l.rollout.protocol import ArmSceneProtocol, SceneProtocol
 
 __all__ = ["APPROACH", "SCRIPTED", "ExecutedStep", "TaskResult", "execute_task", "perceive_state"]
 
@@ -49,7 +50,7 @@ PLACE_HEIGHT = 0.10
 PLACE_GAP = 0.01
 
 
-def perceive_state(scene: Any, regions: TableRegions, static: Sequence[str] = (),
+def perceive_state(scene: SceneProtocol, regions: TableRegions, static: Sequence[str] = (),
                    source: str = "ground_truth",
                    objects: Sequence[str] | None = None) -> PerceivedState:
     """The planner's state from the scene.
@@ -170,7 +171,7 @@ class TaskResult:
                 f"{self.last_skill}; {self.replans} replans; {self.message}")
 
 
-def _transit_to(scene: Any, transit: Any, target: np.ndarray, held: tuple[str, ...],
+def _transit_to(scene: ArmSceneProtocol, transit: Any, target: np.ndarray, held: tuple[str, ...],
                 seed: int, times: list[float]) -> str:
     """Move the arm to the end-effector position `target` (3,); returns ``"ok"`` or why not.
     The OMPL planning time (ms) is appended to `times`."""
@@ -206,7 +207,8 @@ def _transit_to(scene: Any, transit: Any, target: np.ndarray, held: tuple[str, .
     return "ok" if err < 0.05 else "not_reached"
 
 
-def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str | os.PathLike[str]],
+def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
+                 bundles: Mapping[str, str | os.PathLike[str]],
                  goal: str, out_dir: str | os.PathLike[str], regions: TableRegions | None = None,
                  planner: str = "pyperplan", time_limit: float = 10.0, max_replans: int = 3,
                  transit: Any = None, seed: int = 0,
@@ -312,7 +314,7 @@ def execute_task(scene: Any, skills: Sequence[Skill], bundles: Mapping[str, str 
     return result
 
 
-def _place(scene: Any, transit: Any, step: PlanStep, regions: TableRegions, seed: int,
+def _place(scene: ArmSceneProtocol, transit: Any, step: PlanStep, regions: TableRegions, seed: int,
            times: list[float]) -> str:
     """The scripted ``place`` primitive: carry the held object above the centre of the
     step's region (transit), lower it until it is within :data:`PLACE_GAP` of the table,
@@ -336,7 +338,7 @@ def _place(scene: Any, transit: Any, step: PlanStep, regions: TableRegions, seed
     return "done" if res.carried_out else res.status
 
 
-def _run_step(scene: Any, skill: Skill, step: PlanStep, bundles: Mapping[str, Any],
+def _run_step(scene: ArmSceneProtocol, skill: Skill, step: PlanStep, bundles: Mapping[str, Any],
               transit: Any, state: PerceivedState, seed: int, run_skill: Any,
               regions: TableRegions, times: list[float]) -> str:
     """Carry out one plan step; returns why it stopped."""

@@ -12,7 +12,6 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from a2l import _core
 from a2l.errors import A2LError, A2LValueError, URDFError
 from a2l.robot import arm_spec, pybullet_urdf
+from a2l.rollout.protocol import ArmSceneProtocol
 from a2l.sim.assets import mesh_vertices
 
 __all__ = ["ArmTransit", "TransitPlan", "execute_transit", "urdf_collision_meshes"]
@@ -145,7 +145,7 @@ class ArmTransit:
             [_core.CollisionBox(n, np.asarray(c, float), np.asarray(h, float))
              for n, c, h in boxes], self.padding)
 
-    def sync(self, scene: Any, ignore: tuple[str, ...] = ()) -> None:
+    def sync(self, scene: ArmSceneProtocol, ignore: tuple[str, ...] = ()) -> None:
         """Take the other joints and the obstacles from a PyBullet scene
         (:class:`a2l.sim.bullet.BulletScene`), leaving out the objects named in `ignore`
         (an object in the gripper moves with it: it is no obstacle)."""
@@ -184,7 +184,7 @@ class ArmTransit:
         return v * self.options.velocity_scale
 
 
-def execute_transit(scene: Any, plan: TransitPlan) -> float:
+def execute_transit(scene: ArmSceneProtocol, plan: TransitPlan) -> float:
     """Run a planned transit in a PyBullet scene as joint position targets.
 
     Returns

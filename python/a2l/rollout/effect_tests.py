@@ -26,13 +26,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from a2l import _core
 from a2l.errors import A2LValueError
+from a2l.rollout.protocol import SceneProtocol
 from a2l.skills.effects import AXIS_EFFECTS
 
 __all__ = ["AWAY_RADIUS", "AWAY_TOLERANCE", "EFFECT_TESTS", "PUSH_DISTANCE", "RETREAT",
@@ -76,19 +76,19 @@ class Progress:
     eef: np.ndarray
     start_states: dict[str, str]
     states: dict[str, str]
-    scene: Any
+    scene: SceneProtocol
 
 
 #: An effect test: ``progress -> (done, success)``.
 EffectTest = Callable[[Progress], tuple[bool, bool]]
 
 
-def stayed_away(scene: Any, obj: str | None = None) -> bool:
+def stayed_away(scene: SceneProtocol, obj: str | None = None) -> bool:
     """The scene's ``away`` outcome: the end-effector at the retreat pose of object `obj`
     (default: the scene's primary object), which has not moved since the episode's start
     (ground truth; ``a2l::stayed_away``)."""
     name = obj or scene.primary_object
-    start = scene._episode_start["ground_truth"].objects.get(name)
+    start = scene.episode_start()["objects"].get(name)
     now = scene.ground_truth()["objects"].get(name)
     if start is None or now is None:
         return False
@@ -97,15 +97,15 @@ def stayed_away(scene: Any, obj: str | None = None) -> bool:
                                   now - np.asarray(start, dtype=float)))
 
 
-def _effect_named(effect: str) -> Callable[[Any], bool]:
-    def test(scene: Any) -> bool:
+def _effect_named(effect: str) -> Callable[[SceneProtocol], bool]:
+    def test(scene: SceneProtocol) -> bool:
         return bool(scene.observe_effect(since="episode", source="ground_truth") == effect)
 
     test.__name__ = effect
     return test
 
 
-_SCENE_OUTCOMES: dict[str, Callable[[Any], bool]] = {
+_SCENE_OUTCOMES: dict[str, Callable[[SceneProtocol], bool]] = {
     "grasped": _effect_named("grasped"),
     "pressed": _effect_named("pressed"),
     "away": stayed_away,
@@ -114,7 +114,7 @@ _SCENE_OUTCOMES: dict[str, Callable[[Any], bool]] = {
 SCENE_OUTCOMES: tuple[str, ...] = tuple(_SCENE_OUTCOMES)
 
 
-def scene_outcome(effect: str) -> Callable[[Any], bool]:
+def scene_outcome(effect: str) -> Callable[[SceneProtocol], bool]:
     """The scene's test ``f(scene) -> bool`` of `effect` over the episode so far (ground
     truth); a clear error for an effect not in :data:`SCENE_OUTCOMES`."""
     if effect not in _SCENE_OUTCOMES:
@@ -122,7 +122,7 @@ def scene_outcome(effect: str) -> Callable[[Any], bool]:
     return _SCENE_OUTCOMES[effect]
 
 
-def scene_test(fn: Callable[[Any], bool]) -> EffectTest:
+def scene_test(fn: Callable[[SceneProtocol], bool]) -> EffectTest:
     """An effect test from a test of the scene's episode so far (``f(scene) -> bool``, such
     as :func:`scene_outcome`'s): done (and successful) once it holds."""
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterator
-from typing import Any
 
 from a2l.sim._pybullet import p
+from a2l.sim.bullet.base import BulletScene
 
 __all__ = ["KEY_CODES", "WindowClosed", "keys_pressed", "take_keyboard", "window_guard"]
 
@@ -22,7 +22,7 @@ class WindowClosed(Exception):
     """The scene's GUI window was closed."""
 
 
-def take_keyboard(scene: Any) -> None:
+def take_keyboard(scene: BulletScene) -> None:
     """Turn the GUI's own keyboard shortcuts off, so that every key reaches the caller.
 
     Parameters
@@ -34,7 +34,7 @@ def take_keyboard(scene: Any) -> None:
                                physicsClientId=scene.client)
 
 
-def keys_pressed(scene: Any) -> list[int]:
+def keys_pressed(scene: BulletScene) -> list[int]:
     """The keys pressed in the scene's window since the last call (key codes).
 
     Raises

@@ -14,13 +14,13 @@ are the side cameras rendered (see :class:`a2l.sim.bullet.BulletScene`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from a2l.sim._pybullet import p
+from a2l.sim.scene import Scene
 
 __all__ = ["Camera", "ColorTarget", "Perception", "hue_of", "perception_errors"]
 
@@ -226,7 +226,7 @@ class Perception:
         return objects, lamp, visible
 
 
-def perception_errors(scene: Any, n: int = 200, seed: int = 0, name: str | None = None,
+def perception_errors(scene: Scene, n: int = 200, seed: int = 0, name: str | None = None,
                       margin: float = 0.02) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Perceived minus true position of an object placed at `n` random spots on the table.
 
@@ -251,7 +251,7 @@ def perception_errors(scene: Any, n: int = 200, seed: int = 0, name: str | None 
     """
     rng = np.random.default_rng(seed)
     cfg = scene.config
-    obj = name or scene._movable_names()[0]
+    obj = name or scene.movable_names[0]
     size = getattr(cfg, f"{obj}_size")
     (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
     hx, hy = size[0] / 2 + margin, size[1] / 2 + margin

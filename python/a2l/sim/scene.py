@@ -196,6 +196,31 @@ class Scene(ABC):
                                 f"{self.step_length}] m, got {displacement!r}")
         return self._carry_out(disp)
 
+    def move_by(self, displacement: ArrayLike) -> MoveResult:
+        """Move the end-effector by any displacement (m), of any length.
+
+        :meth:`execute` moves by one discrete movement of the repertoire,
+        :meth:`execute_displacement` by at most one movement's length; the demonstrators
+        and the teleoperation recorder need any displacement. Same checks (workspace, IK,
+        reach) and the same ``MoveResult``; the step's start is recorded so that
+        ``observe_effect()`` covers this move. A hold perturbation does not hold it.
+
+        Parameters
+        ----------
+        displacement : array_like, shape (3,)
+            Finite (m).
+
+        Raises
+        ------
+        a2l.A2LValueError
+            Not 3 finite numbers.
+        """
+        d = np.asarray(displacement, dtype=float).reshape(3)
+        if not np.all(np.isfinite(d)):
+            raise A2LValueError(f"displacement must be 3 finite numbers, got {displacement!r}")
+        self._step_start = self._snapshot()
+        return self._move(d)
+
     def ground_truth(self) -> dict[str, dict[str, Any]]:
         """True object positions and high-level states.
 
@@ -231,6 +256,27 @@ class Scene(ABC):
         if self._source(None) == "perceived":
             snap["perceived"] = self._perceive()
         return snap
+
+    def episode_start(self, source: str = "ground_truth") -> dict[str, dict[str, Any]]:
+        """Object positions and high-level states at the start of the episode (the last
+        :meth:`reset` or :meth:`start_episode`), as :meth:`ground_truth` lays them out.
+
+        Parameters
+        ----------
+        source : {"ground_truth", "perceived"}
+            ``"perceived"`` only when the scene's ``context_source`` is (it is recorded
+            then only).
+
+        Raises
+        ------
+        a2l.A2LValueError
+            No such observation was recorded.
+        """
+        start = self._episode_start.get(self._source(source))
+        if start is None:
+            raise A2LValueError(f"no '{source}' observation was recorded at the start of the "
+                                "episode; use source='ground_truth' or set context_source")
+        return start.as_dict()
 
     def start_episode(self) -> None:
         """Start a new effect episode now, without resetting anything:
@@ -279,10 +325,12 @@ class Scene(ABC):
         return self._effect(start, self._observe(src))
 
     def _effect(self, before: Observation, after: Observation) -> str:
-        return observed_effect(before, after, self._movable_names(), self.config)
+        return observed_effect(before, after, list(self.movable_names), self.config)
 
-    def _movable_names(self) -> list[str]:
-        return [n for n in self._object_names() if n != "button"]
+    @property
+    def movable_names(self) -> tuple[str, ...]:
+        """Names of the objects a push can move (every object but the button)."""
+        return tuple(n for n in self._object_names() if n != "button")
 
     def perturb(self, kind: str, **params: Any) -> None:
         """Perturb the scene between two steps.

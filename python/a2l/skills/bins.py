@@ -35,10 +35,10 @@ from a2l import _core
 from a2l.skills.spec import VariableSpec
 
 __all__ = ["ContextBins", "DistanceBins", "InclinationBins", "OffsetBins", "OrientationBins",
-           "context_bins"]
+           "as_points", "context_bins"]
 
 
-def _as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
+def as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
     """`a` as a float64 array of shape (n, 3) (a single (3,) point becomes (1, 3))."""
     arr = np.asarray(a, dtype=np.float64)
     if arr.ndim == 1:
@@ -49,8 +49,8 @@ def _as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
 
 
 def _pair(eef: np.ndarray, obj: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    e = _as_points(eef, "eef")
-    o = _as_points(obj, "object")
+    e = as_points(eef, "eef")
+    o = as_points(obj, "object")
     if e.shape != o.shape:
         raise ValueError(f"eef and object shapes differ: {e.shape} vs {o.shape}")
     return e, o

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from a2l import _core
-from a2l.skills.bins import _as_points
+from a2l.skills.bins import as_points
 from a2l.skills.spec import VariableSpec
 
 __all__ = ["AXIS_EFFECTS", "DIAGONAL_EFFECTS", "EFFECT_DIRECTIONS", "EFFECT_NAMES",
@@ -130,7 +130,7 @@ class EffectDiscretizer:
         ndarray of int64, shape (n,)
             Index into :attr:`values`, or -1 for no effect (or a non-finite input).
         """
-        d = _as_points(displacement, "displacement")
+        d = as_points(displacement, "displacement")
         return _core.classify_effects(d, self.n_effects, self.threshold, self.ratio).astype(
             np.int64
         )

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from a2l import _core
-from a2l.skills.bins import _as_points
+from a2l.skills.bins import as_points
 from a2l.skills.spec import ACTIONS
 
 __all__ = ["MovementRepertoire", "default_directions", "direction_label"]
@@ -192,7 +192,7 @@ class MovementRepertoire:
             the dead-band on every axis (no movement), not finite, or not a direction of a
             repertoire given its own `directions`.
         """
-        d = _as_points(displacement, "displacement").copy()
+        d = as_points(displacement, "displacement").copy()
         if self.planar:
             d[:, 2] = 0.0
         a = np.abs(d)

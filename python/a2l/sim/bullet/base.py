@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 from a2l.errors import A2LError, A2LValueError
 from a2l.sim._pybullet import p
 from a2l.sim.bodies import BodyCache
-from a2l.sim.bullet.build import _FLOOR_Z, _PARK, BuildMixin, _Object
+from a2l.sim.bullet.build import FLOOR_Z, PARK, BuildMixin, SceneObject
 from a2l.sim.bullet.motion import MotionMixin
 from a2l.sim.bullet.transit import TransitMixin
 from a2l.sim.observation import Observation
@@ -52,7 +52,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
         self._tick = 0
         self._perceived_cache: tuple[int, Observation] | None = None
-        self._objects: dict[str, _Object] = {}
+        self._objects: dict[str, SceneObject] = {}
         self._states: dict[str, str] = cfg.initial_states()
         #: Every body but the robot, rebuilt at each reset (a2l.sim.bodies).
         self._bodies = BodyCache(c)
@@ -116,7 +116,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         self._episode_start = self._snapshot()
         self._step_start = self._episode_start
 
-    def _place_base(self, o: _Object, xy: NDArray[np.float64]) -> None:
+    def _place_base(self, o: SceneObject, xy: NDArray[np.float64]) -> None:
         pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=self._client)
         if o.link == -1:
             z = self.config.table_z + o.size[2] / 2
@@ -136,7 +136,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
     def _object_names(self) -> list[str]:
         return list(self._objects)
 
-    def _object_position(self, o: _Object) -> tuple[float, float, float]:
+    def _object_position(self, o: SceneObject) -> tuple[float, float, float]:
         c = self._client
         if o.link == -1:
             pos = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[0]
@@ -194,7 +194,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         c = self._client
         orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[1]
         k = list(self._objects).index(name)
-        self._teleport(o.body, (_PARK[0], _PARK[1] + 0.5 * k, _FLOOR_Z + o.size[2] / 2 + 0.05),
+        self._teleport(o.body, (PARK[0], PARK[1] + 0.5 * k, FLOOR_Z + o.size[2] / 2 + 0.05),
                        orn)
         self._tick += 1
 
@@ -219,6 +219,12 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
             except p.error:
                 pass
             self._client = -1
+
+    @property
+    def sim_time(self) -> float:
+        """Simulated time (s): the scene's ticks (physics steps, and resets, placements and
+        toggles, one each) times the physics time step."""
+        return float(self._tick * self.config.time_step)
 
     @property
     def client(self) -> int:

@@ -13,15 +13,15 @@ from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
 from a2l.sim.bodies import BodyCache
 
-__all__ = ["BuildMixin"]
+__all__ = ["FINGER_OPEN", "FLOOR_Z", "PARK", "BuildMixin", "SceneObject"]
 
-_FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
-_FINGER_OPEN = 0.020833
-_PARK = np.array([3.5, 2.0])  # where removed objects rest on the floor: behind the camera
+FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
+FINGER_OPEN = 0.020833
+PARK = np.array([3.5, 2.0])  # where removed objects rest on the floor: behind the camera
 
 
 @dataclass
-class _Object:
+class SceneObject:
     """An object of the scene as built: its PyBullet body (renewed at every reset), size,
     colour and configured place."""
 
@@ -39,7 +39,7 @@ class BuildMixin:
 
     _client: int
     _bodies: BodyCache
-    _objects: dict[str, _Object]
+    _objects: dict[str, SceneObject]
     config: Any
 
     def _build_world(self) -> None:
@@ -53,14 +53,14 @@ class BuildMixin:
             p.GEOM_BOX, halfExtents=(3, 3, 0.001) if cfg.gui else (0.01, 0.01, 0.001),
             rgbaColor=(0.45, 0.45, 0.47, 1), physicsClientId=c)
         self._bodies.add("floor", baseMass=0, baseCollisionShapeIndex=floor,
-                         baseVisualShapeIndex=floor_vis, basePosition=(0, 0, _FLOOR_Z))
+                         baseVisualShapeIndex=floor_vis, basePosition=(0, 0, FLOOR_Z))
         (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
         top_h = 0.04
         top = p.createCollisionShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
                                      physicsClientId=c)
         top_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
                                       rgbaColor=(0.78, 0.76, 0.72, 1), physicsClientId=c)
-        leg_len = cfg.table_z - top_h - _FLOOR_Z
+        leg_len = cfg.table_z - top_h - FLOOR_Z
         legs = []
         if leg_len > 0:
             leg_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(0.025, 0.025, leg_len / 2),
@@ -126,8 +126,8 @@ class BuildMixin:
                     neutral, strict=True):
                 self._targets[self._joint_index[name]] = q
         for arm in ("l", "r"):
-            self._targets[self._joint_index[f"{arm}_gripper_l_finger_joint"]] = _FINGER_OPEN
-            self._targets[self._joint_index[f"{arm}_gripper_r_finger_joint"]] = -_FINGER_OPEN
+            self._targets[self._joint_index[f"{arm}_gripper_l_finger_joint"]] = FINGER_OPEN
+            self._targets[self._joint_index[f"{arm}_gripper_r_finger_joint"]] = -FINGER_OPEN
 
     def _build_objects(self) -> None:
         """Create the scene's objects (subclasses)."""
@@ -142,7 +142,7 @@ class BuildMixin:
         body = self._bodies.add(name, [(-1, {"lateralFriction": friction})], baseMass=mass,
                                 baseCollisionShapeIndex=col, baseVisualShapeIndex=vis,
                                 basePosition=(xy[0], xy[1], self.config.table_z + half[2]))
-        self._objects[name] = _Object(name, body, tuple(size), tuple(rgba), tuple(xy))
+        self._objects[name] = SceneObject(name, body, tuple(size), tuple(rgba), tuple(xy))
 
     def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
         return None

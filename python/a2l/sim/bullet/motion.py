@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 import a2l
 from a2l.errors import A2LValueError, UnreachableError
 from a2l.sim._pybullet import p
-from a2l.sim.bullet.build import _FINGER_OPEN
+from a2l.sim.bullet.build import FINGER_OPEN
 from a2l.sim.movement import MoveResult
 
 __all__ = ["GRIPPER_DOWN", "MotionMixin"]
@@ -79,8 +79,8 @@ class MotionMixin:
 
     def _set_fingers(self, closed: bool) -> None:
         l_, r_ = self._fingers
-        self._targets[l_] = 0.0 if closed else _FINGER_OPEN
-        self._targets[r_] = 0.0 if closed else -_FINGER_OPEN
+        self._targets[l_] = 0.0 if closed else FINGER_OPEN
+        self._targets[r_] = 0.0 if closed else -FINGER_OPEN
 
     @property
     def neutral_joint_positions(self) -> NDArray[np.float64]:

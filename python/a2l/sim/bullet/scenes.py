@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from a2l.sim._pybullet import p
 from a2l.sim.bullet.base import BulletScene
-from a2l.sim.bullet.build import _Object
+from a2l.sim.bullet.build import SceneObject
 from a2l.sim.lamp import LampMixin
 from a2l.sim.object_configs import GraspConfig, PressConfig, PushConfig
 
@@ -77,7 +77,7 @@ class PressScene(LampMixin, BulletScene):
             linkOrientations=[(0, 0, 0, 1)], linkInertialFramePositions=[(0, 0, 0)],
             linkInertialFrameOrientations=[(0, 0, 0, 1)], linkParentIndices=[0],
             linkJointTypes=[p.JOINT_PRISMATIC], linkJointAxis=[(0, 0, 1)])
-        self._objects["button"] = _Object("button", body, (sx, sy, sz), tuple(cfg.button_color),
+        self._objects["button"] = SceneObject("button", body, (sx, sy, sz), tuple(cfg.button_color),
                                           (bx, by), movable=False, link=0)
         self._build_lamp()
         self._presses = 0

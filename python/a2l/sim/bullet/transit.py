@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from a2l.sim._pybullet import p
 from a2l.sim.bodies import BodyCache
-from a2l.sim.bullet.build import _FLOOR_Z, _Object
+from a2l.sim.bullet.build import FLOOR_Z, SceneObject
 
 __all__ = ["TransitMixin"]
 
@@ -24,7 +24,7 @@ class TransitMixin:
     _movable: list[int]
     _joint_index: dict[str, int]
     _bodies: BodyCache
-    _objects: dict[str, _Object]
+    _objects: dict[str, SceneObject]
     _removed: set[str]
     config: Any
 
@@ -54,7 +54,7 @@ class TransitMixin:
             button's housing and cap, the lamp...) and of the floor.
         """
         c = self._client
-        out = [("floor", np.array([0.0, 0.0, _FLOOR_Z - 0.05]), np.array([3.0, 3.0, 0.05]))]
+        out = [("floor", np.array([0.0, 0.0, FLOOR_Z - 0.05]), np.array([3.0, 3.0, 0.05]))]
         ids = self._bodies.ids  # rebuilt at every reset: read the current ids
         bodies = [("table", ids["table"], [-1])]
         bodies += [(o.name, o.body, list(range(-1, p.getNumJoints(o.body, physicsClientId=c))))
