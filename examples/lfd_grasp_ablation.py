@@ -24,7 +24,7 @@ import numpy as np
 import a2l.lfd.library as library
 import a2l.lfd.manipulation_skills as manip
 from a2l.lfd.config import LfDConfig
-from a2l.lfd.execute import run_skill
+from a2l.rollout.run import run_skill
 
 #: The push skills' configuration when the manipulation skills were made (the README's
 #: ``push_default`` row); the push default has since moved to 2 cm moves, 4 distance bins.

@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.lfd.execute import run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial, skill_config
 from a2l.lfd.manipulation import GRASP_POINT, demonstrate
 from a2l.lfd.manipulation_skills import (
@@ -21,6 +20,7 @@ from a2l.lfd.manipulation_skills import (
 )
 from a2l.lfd.skill import fit_fields
 from a2l.rollout.effect_tests import RETREAT, light_test
+from a2l.rollout.run import run_skill
 
 HELD_OUT = range(1000, 1004)
 

@@ -16,10 +16,10 @@ import pytest
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.dataset import grid_points, skill_discretizer, vector_field_rows
 from a2l.lfd.demonstrators import PUSH_DIRECTIONS, PushDemonstrator
-from a2l.lfd.execute import run_skill
 from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial
 from a2l.lfd.skill import fit_fields
 from a2l.rollout.effect_tests import EFFECT_TESTS
+from a2l.rollout.run import run_skill
 from a2l.skills import load_bundle, load_ds_phases
 from a2l.skills.ds_bundle import load_ds_bundle
 

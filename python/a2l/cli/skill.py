@@ -4,7 +4,7 @@ to a bundle run in a scene.
 ``show`` prints what a bundle holds (kind, variables and their bins, movements, effects, DS
 phases, robot, checksums); ``learn`` learns a skill from a demonstrations file such as
 ``a2l demo-record`` writes (the LfD pipeline, :func:`a2l.lfd.skill.learn_skill`); ``run``
-runs a bundle in closed loop in a scene (:func:`a2l.lfd.execute.run_skill`) and prints the
+runs a bundle in closed loop in a scene (:func:`a2l.rollout.run.run_skill`) and prints the
 outcome and the trace summary.
 """
 
@@ -148,7 +148,7 @@ def _cmd_learn(ns: Namespace) -> int:
 
 def _cmd_run(ns: Namespace) -> int:
     # imported here: parsing and --help do not load this command's stack
-    from a2l.lfd.execute import run_skill
+    from a2l.rollout.run import run_skill
     from a2l.sim import make_scene
 
     summary = bundle_summary(Path(ns.bundle))

@@ -121,8 +121,8 @@ def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
     from a2l.errors import A2LError
     from a2l.lfd.config import DEFAULT
     from a2l.lfd.dataset import skill_discretizer
-    from a2l.lfd.execute import run_skill
     from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial
+    from a2l.rollout.run import run_skill
 
     t0 = time.perf_counter()
     recipe = SKILLS[skill]

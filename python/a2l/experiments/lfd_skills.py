@@ -44,9 +44,9 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         The worker imported another copy of a2l than the parent (``package``): its results
         would not be the code under test's.
     """
-    from a2l.lfd.execute import run_skill
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
     from a2l.rollout.effect_tests import light_test
+    from a2l.rollout.run import run_skill
 
     if task.get("package") and task["package"] != package_dir():
         raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "

@@ -2,7 +2,7 @@
 under each perturbation from the same start (:func:`trial_task`).
 
 A perturbation (:class:`Perturbation`) is drawn from the trial's seed and the condition only
-(:func:`draw_perturbation`) and applied between two steps of :func:`a2l.lfd.execute.run_skill`
+(:func:`draw_perturbation`) and applied between two steps of :func:`a2l.rollout.run.run_skill`
 through :meth:`a2l.sim.Scene.perturb`; the record says what was measured of it (the object's
 displacement, how long and how still the arm was held, the light before and after).
 """
@@ -182,8 +182,8 @@ def _truth(scene: SceneProtocol, name: str) -> np.ndarray:
 def _perturbed_run(scene: SceneProtocol, task: dict[str, Any], plan: Perturbation | None,
                    test: Callable[[Any], tuple[bool, bool]]) -> tuple[Any, dict[str, Any]]:
     """Reset for the trial and run the skill, applying `plan` after its step."""
-    from a2l.lfd.execute import run_skill
     from a2l.lfd.library import SKILLS, reset_for_trial
+    from a2l.rollout.run import run_skill
 
     recipe = SKILLS[task["skill"]]
     obj = recipe.object_name

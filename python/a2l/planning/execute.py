@@ -8,7 +8,7 @@
    pyperplan by default, in a killable child process with a time limit);
 3. per plan step: move the arm above the step's object along a collision-free transit
    (:class:`a2l.planning.transit.ArmTransit`), run the learned skill in closed loop through
-   the C++ step (:func:`a2l.lfd.execute.run_skill`; its trace ends it early: ``step_cap``,
+   the C++ step (:func:`a2l.rollout.run.run_skill`; its trace ends it early: ``step_cap``,
    ``unknown_context``...), perceive again and compare with the facts the step should give
    (:func:`a2l.planning.apply_step`);
 4. an effect not produced, or a fact changed behind the robot's back, replans from the
@@ -108,7 +108,7 @@ class ExecutedStep:
     ----------
     step : PlanStep
     stop : str
-        Why the skill ended (:attr:`a2l.lfd.execute.SkillRun.stop`, ``"done"`` for a gripper
+        Why the skill ended (:attr:`a2l.rollout.run.SkillRun.stop`, ``"done"`` for a gripper
         primitive, ``"transit:<status>"`` when the arm could not get to the start).
     expected, perceived : frozenset of str
         Facts the step should give and facts perceived after it.
@@ -258,7 +258,7 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
     a2l.A2LValueError
         A plan step whose skill has no bundle, a bad goal (unknown predicate or object).
     """
-    from a2l.lfd.execute import run_skill
+    from a2l.rollout.run import run_skill
 
     regions = regions or TableRegions(tuple(scene.config.table_center),
                                       tuple(scene.config.table_size))

@@ -8,6 +8,8 @@ and the rooms that run rollouts (:mod:`a2l.acquisition`, :mod:`a2l.lfd`,
 - :mod:`~a2l.rollout.policy`: a skill bundle as its policy, through the C++ step (table or
   DS mode);
 - :mod:`~a2l.rollout.world`: an :mod:`a2l.sim` scene as its world;
+- :mod:`~a2l.rollout.run`: a skill bundle run in closed loop in a scene until its effect
+  test says done (:func:`run_skill`);
 - :mod:`~a2l.rollout.env`: the framework's push scene (:class:`SceneEnv`);
 - :mod:`~a2l.rollout.cache`: the one per-thread scene cache (:func:`thread_scene`);
 - :mod:`~a2l.rollout.effect_tests`: did a run produce its effect?
@@ -29,6 +31,7 @@ from a2l.rollout.loop import (
 )
 from a2l.rollout.policy import PhasePolicy, TablePolicy, skill_policy
 from a2l.rollout.protocol import ArmSceneProtocol, SceneProtocol
+from a2l.rollout.run import SkillRun, run_skill
 from a2l.rollout.world import SceneWorld, observe
 
 __all__ = [
@@ -43,6 +46,7 @@ __all__ = [
     "SceneEnv",
     "SceneProtocol",
     "SceneWorld",
+    "SkillRun",
     "SkillStep",
     "StopTest",
     "TablePolicy",
@@ -50,6 +54,7 @@ __all__ = [
     "closed_loop",
     "make_env",
     "observe",
+    "run_skill",
     "scene_env",
     "skill_policy",
     "thread_scene",

@@ -4,7 +4,7 @@ movement, carry it out, and again (:func:`closed_loop`).
 
 The three rooms that run rollouts use it: babbling and validation trajectories
 (:func:`a2l.acquisition.rollout.play`, a framework scene env), and the demonstrated skills
-(:func:`a2l.lfd.execute.run_skill`, an :mod:`a2l.sim` scene, table or DS mode). What
+(:func:`a2l.rollout.run.run_skill`, an :mod:`a2l.sim` scene, table or DS mode). What
 differs between them is what a :class:`World` observes and does, the policy and the stop
 test; the order of the loop, its trace (:class:`SkillStep`) and its stop statuses are
 here only.

@@ -1,4 +1,5 @@
-"""Running a demonstrated skill in closed loop on a scene (:func:`run_skill`).
+"""Running a skill bundle in closed loop on a scene (:func:`run_skill`): a demonstrated
+skill, a skill of the framework's loop, a plan step.
 
 Every step reads the context (end-effector, object, high-level states), asks the skill for
 the next movement and carries it out in the scene:
@@ -17,9 +18,9 @@ The loop is :func:`a2l.rollout.loop.closed_loop`, the scene its
 The run ends when the effect test says the effect is produced (or went wrong), when the
 step returns a stop status (``step_cap``, ``unknown_context``...), when a movement cannot be
 carried out for good (``unreachable``, ``workspace_limit``, ``joint_limit``) or at
-``max_steps``. Effect tests (:mod:`a2l.rollout.effect_tests`, whose names are re-exported
-here) are keyed by effect name: the pushes, ``grasped``, ``pressed`` and ``away`` are
-registered there, other skills register theirs with :func:`register_effect_test`.
+``max_steps``. Effect tests (:mod:`a2l.rollout.effect_tests`) are keyed by effect name: the
+pushes, ``grasped``, ``pressed`` and ``away`` are registered there, other skills register
+theirs with :func:`~a2l.rollout.effect_tests.register_effect_test`.
 
 The displacement an effect test sees is the one the robot produced: the sum, over the
 executed movements, of the object's displacement during each one, so a perturbation that
@@ -36,24 +37,13 @@ from typing import Any
 
 import numpy as np
 
-from a2l.rollout.effect_tests import (
-    EFFECT_TESTS,
-    PUSH_DISTANCE,
-    EffectTest,
-    Progress,
-    effect_test_of,
-    light_test,
-    push_test,
-    register_effect_test,
-    scene_test,
-)
+from a2l.rollout.effect_tests import EFFECT_TESTS, EffectTest, Progress, effect_test_of
 from a2l.rollout.loop import SkillStep, closed_loop
 from a2l.rollout.policy import TablePolicy, skill_policy
 from a2l.rollout.protocol import SceneProtocol
 from a2l.rollout.world import SceneWorld
 
-__all__ = ["EFFECT_TESTS", "PUSH_DISTANCE", "Progress", "SkillRun", "SkillStep", "push_test",
-           "light_test", "register_effect_test", "run_skill", "scene_test"]
+__all__ = ["SkillRun", "run_skill"]
 
 
 @dataclass
