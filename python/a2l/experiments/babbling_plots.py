@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from a2l.experiments.babbling_world import WorldConfig, object_homes
+from a2l.sim import make_config
 
 __all__ = ["plot_progress", "plot_visits", "summary_table"]
 
@@ -33,8 +34,6 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
     """
     plt = _plt()
     from matplotlib.colors import LogNorm
-
-    from a2l.sim import make_config
 
     boxes = object_homes(world, make_config("push"))
     fig, axes = plt.subplots(1, len(paths), figsize=(max(5.0, 3.6 * len(paths)), 3.0),

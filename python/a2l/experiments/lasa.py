@@ -50,7 +50,17 @@ from typing import Any
 import numpy as np
 
 from a2l.atomic import atomic_write_text
-from a2l.lfd.fit import FIT_DIRECTIONS
+from a2l.experiments.lasa_report import plot_lasa, report_markdown, results_table
+from a2l.lfd import DiffeoDS
+from a2l.lfd.fit import (
+    BETA_SCHEDULE,
+    FIT_DIRECTIONS,
+    MU_SCHEDULE,
+    fit_diffeo,
+    mean_demonstration,
+    schedule,
+    speed_gain,
+)
 from a2l.lfd.metrics import dtw_mean_distance, resample_time, swept_error_area, velocity_rmse
 from a2l.parallel import Executor
 from a2l.progress import progress_bar
@@ -142,8 +152,6 @@ class LasaConfig:
     def fit_parameters(self) -> dict[str, Any]:
         """Keyword arguments of :func:`a2l.lfd.fit.fit_diffeo` (K, beta, mu, regularisation,
         direction)."""
-        from a2l.lfd.fit import BETA_SCHEDULE, MU_SCHEDULE, schedule
-
         beta = schedule(BETA_SCHEDULE, max(self.K - 1, 1)) if self.beta is None else self.beta
         mu = schedule(MU_SCHEDULE, self.K) if self.mu is None else self.mu
         return {"K": self.K, "beta": beta, "mu": mu, "regularisation": self.regularisation,
@@ -209,9 +217,6 @@ def _box(demos: list[np.ndarray], enlarge: float) -> tuple[np.ndarray, np.ndarra
 
 def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
     """Everything measured on one shape (a picklable task: name, index, config)."""
-    from a2l.lfd import DiffeoDS
-    from a2l.lfd.fit import fit_diffeo, mean_demonstration, speed_gain
-
     name, index, cfg = task
     demos, durations = load_lasa_shape(name)
     ref = mean_demonstration(demos)
@@ -311,9 +316,6 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     dict
         The content of ``metrics.json`` plus ``run_dir``.
     """
-    from a2l.experiments.lasa_report import plot_lasa, report_markdown, results_table
-    from a2l.lfd import DiffeoDS
-
     cfg = cfg or LasaConfig()
     cfg.validate()
     known = lasa_shapes()

@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from a2l.atomic import atomic_write_text
+
 __all__ = ["SIGNIFICANCE", "results_table", "summarise", "target", "write_report"]
 
 #: p-value of Fisher's exact test below which context and DS are marked as different.
@@ -238,8 +240,6 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
                  frame: pd.DataFrame, trajectories: dict[str, np.ndarray],
                  plots: bool = True) -> str:
     """Write ``report.md`` (and the plots); return the table."""
-    from a2l.atomic import atomic_write_text
-
     skills = metrics["skills"]
     table = results_table(skills)
     figures = []

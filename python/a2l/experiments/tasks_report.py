@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from a2l.atomic import atomic_write_bytes, atomic_write_text
+
 __all__ = ["results_table", "summarise", "write_report"]
 
 
@@ -89,8 +91,6 @@ def plot(path: Path, frame: pd.DataFrame, tasks: dict[str, dict[str, Any]]) -> N
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.atomic import atomic_write_bytes
-
     names = list(tasks)
     x = np.arange(len(names))
     fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
@@ -134,8 +134,6 @@ def plot(path: Path, frame: pd.DataFrame, tasks: dict[str, dict[str, Any]]) -> N
 def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
                  frame: pd.DataFrame, plots: bool = True) -> str:
     """Write ``report.md`` (and ``tasks.png``); return the results table."""
-    from a2l.atomic import atomic_write_text
-
     tasks = metrics["tasks"]
     table = results_table(tasks)
     if plots:

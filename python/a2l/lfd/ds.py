@@ -18,6 +18,7 @@ import numpy as np
 from a2l import _core
 from a2l.lfd.demonstration import Demonstration
 from a2l.lfd.fit import fit_diffeo, mean_demonstration, speed_gain
+from a2l.skills.ds_bundle import DSArrays, load_ds_bundle, save_ds_bundle
 
 __all__ = ["DiffeoDS"]
 
@@ -128,8 +129,6 @@ class DiffeoDS:
     # --- files --------------------------------------------------------------------------------
     def save(self, path: str | os.PathLike[str], name: str = "ds") -> Path:
         """Write a skill bundle (kind ``"ds"``) holding this DS and its metadata, atomically."""
-        from a2l.skills.ds_bundle import DSArrays, save_ds_bundle
-
         arrays = DSArrays(self.target, self.centers, self.vectors, self.rhos, self.speed,
                           self.direction)
         return save_ds_bundle(path, arrays, name=name, metadata=self.metadata)
@@ -143,8 +142,6 @@ class DiffeoDS:
         a2l.BundleError
             A malformed bundle or a map breaking the bound (named by its index).
         """
-        from a2l.skills.ds_bundle import load_ds_bundle
-
         core, meta = load_ds_bundle(path)
         return cls(core, meta)
 

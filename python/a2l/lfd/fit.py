@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from a2l import _core
 from a2l.lfd.reference import SQRT_E_HALF
 
 __all__ = [
@@ -199,8 +200,6 @@ def _undo_map(q: np.ndarray, c: np.ndarray, v: np.ndarray, rho: float) -> np.nda
     equation in the weight, bracketed Halley; points beyond the map's reach are not moved):
     the fit moves its points with the very solve a velocity query uses.
     """
-    from a2l import _core
-
     one = _core.DiffeoDS(c, c[None, :], v[None, :], np.array([rho]), 1.0)
     return np.asarray(one.inverse(q))
 

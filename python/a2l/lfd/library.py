@@ -26,6 +26,7 @@ from a2l.lfd.demonstrators import PushDemonstrator
 from a2l.lfd.recipes import SKILLS, SkillRecipe, get_recipe, register_skill
 from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
 from a2l.rollout.protocol import SceneProtocol
+from a2l.sim import make_scene
 
 __all__ = ["SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene", "register_skill",
            "reset_for_trial", "skill_config"]
@@ -84,8 +85,6 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     -------
     a2l.sim.Scene
     """
-    from a2l.sim import make_scene
-
     recipe = get_recipe(name)
     cfg = skill_config(name, cfg)
     config.setdefault("context_source", "ground_truth")

@@ -63,6 +63,15 @@ from a2l.lfd.recipes import SkillRecipe, register_skill
 from a2l.lfd.skill import Behaviour
 from a2l.rollout.effect_tests import RETREAT
 from a2l.rollout.protocol import SceneProtocol
+from a2l.skills import (
+    Discretizer,
+    DistanceBins,
+    HighLevelState,
+    InclinationBins,
+    MovementRepertoire,
+    OrientationBins,
+)
+from a2l.skills.spec import VariableSpec
 
 __all__ = ["CONFIG", "EFFECT_BY_LIGHT", "FINE_RADIUS", "FINE_RESOLUTION", "N_INCLINATION",
            "NamedEffects", "Phase", "manipulation_discretizer", "phase_rows",
@@ -105,8 +114,6 @@ class NamedEffects:
                          "'effect'); a displacement does not say it")
 
     def spec(self) -> Any:
-        from a2l.skills.spec import VariableSpec
-
         return VariableSpec(self.name, "effect", len(self.values), values=self.values)
 
 
@@ -254,15 +261,6 @@ def manipulation_discretizer(skill: str, cfg: LfDConfig = CONFIG) -> Any:
     ``[cfg.dist_low, cfg.dist_high]``), orientation (``cfg.n_orient``), inclination
     (:data:`N_INCLINATION`), its high-level states, 26 directions of ``cfg.step`` plus its
     actions, its named effect."""
-    from a2l.skills import (
-        Discretizer,
-        DistanceBins,
-        HighLevelState,
-        InclinationBins,
-        MovementRepertoire,
-        OrientationBins,
-    )
-
     states = _HIGH_LEVEL[skill]
     return Discretizer(
         distance=DistanceBins(cfg.n_dist, cfg.dist_low, cfg.dist_high),
@@ -324,8 +322,6 @@ _DESCRIPTIONS = {
 def register() -> None:
     """Register the grasp, press and grasp_light recipes (their effect tests, ``away``
     included, are :data:`a2l.rollout.effect_tests.EFFECT_TESTS`')."""
-    from a2l.skills import HighLevelState
-
     for skill in ("grasp", "press", "grasp_light"):
         register_skill(SkillRecipe(
             name=skill, scene=skill, effect=_EFFECTS[skill], object_name=SKILL_OBJECTS[skill],

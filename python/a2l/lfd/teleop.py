@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 from a2l.errors import A2LValueError
 from a2l.lfd.demonstration import Demonstration, save_demonstrations
 from a2l.rollout.protocol import ArmSceneProtocol
+from a2l.sim import make_scene
 from a2l.sim.keyboard import (
     KEY_CODES,
     WindowClosed,
@@ -279,8 +280,6 @@ def record_demonstrations(scene_name: str, out: str | os.PathLike[str], seed: in
     step : float
         Length of one move (m).
     """
-    from a2l.sim import make_scene
-
     if scene_name == "virtual":
         raise A2LValueError("teleoperation needs a PyBullet scene, not 'virtual'")
     with make_scene(scene_name, seed=seed, gui=keys is None,

@@ -26,12 +26,14 @@ from typing import Any
 
 import numpy as np
 
+import a2l
 from a2l.errors import A2LValueError
 from a2l.planning.pddl import PerceivedState, Skill, domain_pddl, problem_pddl
 from a2l.planning.planners import PlanStep, solve
 from a2l.planning.repertoire import TableRegions
 from a2l.planning.simulate import apply_step, goal_literals, unmet
 from a2l.rollout.protocol import ArmSceneProtocol, SceneProtocol
+from a2l.rollout.run import run_skill
 
 __all__ = ["APPROACH", "SCRIPTED", "ExecutedStep", "TaskResult", "execute_task", "perceive_state"]
 
@@ -175,8 +177,6 @@ def _transit_to(scene: ArmSceneProtocol, transit: Any, target: np.ndarray, held:
                 seed: int, times: list[float]) -> str:
     """Move the arm to the end-effector position `target` (3,); returns ``"ok"`` or why not.
     The OMPL planning time (ms) is appended to `times`."""
-    import a2l
-
     for _ in range(int(round(CLEARANCE / scene.step_length))):  # up, clear of what it touched
         if not scene.execute_displacement([0.0, 0.0, scene.step_length]).carried_out:
             break
@@ -258,8 +258,6 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
     a2l.A2LValueError
         A plan step whose skill has no bundle, a bad goal (unknown predicate or object).
     """
-    from a2l.rollout.run import run_skill
-
     regions = regions or TableRegions(tuple(scene.config.table_center),
                                       tuple(scene.config.table_size))
     missing = sorted(s.name for s in skills

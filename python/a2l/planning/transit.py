@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from a2l import _core
+from a2l import Kinematics, _core
 from a2l.errors import A2LError, A2LValueError, URDFError
 from a2l.robot import arm_spec, pybullet_urdf
 from a2l.rollout.protocol import ArmSceneProtocol
@@ -176,8 +176,6 @@ class ArmTransit:
 
     def velocity_limits(self) -> NDArray[np.float64]:
         """Joint velocity limits (n,) the trajectories respect (URDF x velocity_scale)."""
-        from a2l import Kinematics
-
         k = Kinematics(self.spec.urdf, self.spec.base_link, self.spec.tip_link)
         v = np.asarray(k.velocity_limits, dtype=float)
         v = np.where(v > 0, v, self.options.default_velocity)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from a2l._core import VirtualScene
 from a2l.skills.discretize import Discretizer
 from a2l.skills.repertoire import MovementRepertoire
 
@@ -75,8 +76,6 @@ def push_dataset(
     RuntimeError
         Fewer than `n_trajectories` kept after `max_tries`.
     """
-    from a2l._core import VirtualScene
-
     if n_trajectories < 1:
         raise ValueError(f"n_trajectories must be >= 1, got {n_trajectories}")
     rng = np.random.default_rng(seed)
