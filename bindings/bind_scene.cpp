@@ -19,7 +19,7 @@ void bind_scene(py::module_& m) {
       .value("button", ObjectKind::button);
 
   py::class_<VirtualScene>(m, "VirtualScene", R"doc(
-METHOD.md's kinematic model (docs/virtual_scene.md): an end-effector point and a box (pushed),
+The fast kinematic model (docs/virtual_scene.md): an end-effector point and a box (pushed),
 a graspable block or a button toggling a light.
 
 Parameters

@@ -26,7 +26,7 @@ import a2l.lfd.manipulation_skills as manip
 from a2l.lfd.config import LfDConfig
 from a2l.rollout.run import run_skill
 
-#: The push skills' configuration when the manipulation skills were made (the README's
+#: The push skills' configuration when the manipulation skills were made (the
 #: ``push_default`` row); the push default has since moved to 2 cm moves, 4 distance bins.
 PUSH_FIRST = LfDConfig(step=0.05, n_dist=3, dist_low=0.05, dist_high=0.20, n_orient=16,
                        smoothing=False, n_demos=8)

@@ -37,7 +37,7 @@ def test_cli_runs_the_whole_demo(tmp_path, capfd: pytest.CaptureFixture[str]) ->
     assert (out / "skills" / "push.trace.csv").is_file(), "a2l-run wrote its trace"
     m = json.loads((out / "metrics.json").read_text())
     (it,) = m["iterations"]
-    # METHOD.md's score recomputed here from the success rates and false positives (not by
+    # The score (docs/method.md) recomputed here from the success rates and false positives (not by
     # the framework's score_of): 4 per success, 1 per false positive, over 4 x effects x starts.
     starts, rates = 2, it["success_rate"]
     successes = sum(round(r * starts) for r in rates.values())

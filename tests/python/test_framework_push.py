@@ -1,12 +1,12 @@
 """The push experiment with the default configuration (virtual scene, 4 effects, seed 0),
-run once through ``a2l experiment push``: the run directory of DESIGN.md, the acceptance
+run once through ``a2l experiment push``: the run directory, the acceptance
 rule, and convergence to score 100.
 
 Issue 5 asks for score 100 within 3 iterations on the virtual scene; the test asserts it
 (:data:`ITERATIONS_TO_100`). Measured with the default FrameworkConfig (waypoint
 effect-directed babbling, 40 trajectories a stuck pair): seed 0 reaches 100 in 2 iterations
 (iteration 0 included) with hill-climbing + K2, neighbour smoothing and ``distance -> move``
-fixed, the defaults since issue 14 (README's results table has seeds 0-29).
+fixed, the defaults since issue 14 (docs/experiments/push.md has seeds 0-29).
 """
 
 from __future__ import annotations
@@ -105,8 +105,8 @@ def test_reaches_score_100(metrics: dict[str, Any]) -> None:
 
 
 def test_scores_are_the_readmes(metrics: dict[str, Any]) -> None:
-    """README's results row (virtual, 4 effects, seed 0): 2 iterations, 41.4, 100; the
-    virtual scene is deterministic, so the row is asserted as written."""
+    """The results row of docs/experiments/push.md (virtual, 4 effects, seed 0): 2
+    iterations, 41.4, 100; the virtual scene is deterministic, so the row is asserted as written."""
     assert [round(it["score"], 1) for it in metrics["iterations"]] == [41.4, 100.0]
 
 

@@ -2,7 +2,7 @@
 
 The acceptance test of issue 11: a skill learned from a scripted demonstration reproduces
 its effect in the virtual scene, on held-out trial seeds (1000-1019: no demonstration and no
-tuning used them). The full Baxter figures are ``a2l experiment lfd-skills`` (README).
+tuning used them). The full Baxter figures are ``a2l experiment lfd-skills`` (docs/experiments/).
 """
 
 from __future__ import annotations

@@ -36,7 +36,7 @@ def test_effect_names(d: tuple, n: int, name: str) -> None:
 
 
 def test_effect_name_ratio_boundary() -> None:
-    # METHOD.md: an axis effect only when the dominant axis moved more than 3x the other
+    # docs/method.md: an axis effect only when the dominant axis moved more than 3x the other
     assert effect_name((0.031, 0.01)) == "far"
     assert effect_name((0.029, 0.01)) == "far_left"
     with pytest.raises(ValueError):

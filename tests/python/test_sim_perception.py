@@ -18,7 +18,7 @@ def test_perception_error_over_200_random_positions() -> None:
     err = np.linalg.norm(errors, axis=1)
     print(f"perception error over 200 positions: median {np.median(err) * 1000:.2f} mm, "
           f"max {err.max() * 1000:.2f} mm")
-    # README: 1.2 mm median, 4.4 mm max (these 200 positions, seed 0: 1.23 and 4.38 mm)
+    # docs/tabletop.md: 1.2 mm median, 4.4 mm max (these 200 positions, seed 0: 1.23 and 4.38 mm)
     assert np.median(err) <= 0.0015
     assert err.max() <= 0.005
 

@@ -1,6 +1,6 @@
 //! \file diffeo.hpp
 //! \brief The diffeomorphic dynamical system of fast diffeomorphic matching (Perrin &
-//! Schlehuber-Caissier 2016; METHOD.md, chapter 6): evaluation for d = 2 and d = 3.
+//! Schlehuber-Caissier 2016; docs/method.md): evaluation for d = 2 and d = 3.
 //!
 //! K elementary maps psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i, each invertible because
 //! rho_i ||v_i|| < sqrt(e/2), composed in index order: C = psi_{K-1} o ... o psi_0. The

@@ -1,7 +1,7 @@
 //! \file discretizer.hpp
 //! \brief Context -> bins: the evidence variables of a skill and their bin math.
 //!
-//! The bin formulas are those of docs/bundle_format.md (and METHOD.md's discretization):
+//! The bin formulas are those of docs/bundle_format.md (and docs/method.md, "Context"):
 //! distance saturating at both ends, orientation in sections offset by half a section,
 //! inclination from the vertical, and the planar offsets along the base frame's x and y axes
 //! (binned like a distance: they tell a point beside a face of a box from one in front of

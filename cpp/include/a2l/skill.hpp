@@ -34,7 +34,7 @@ struct RobotInfo {
 //! How step() chooses among the movements of a known context.
 struct SkillSettings {
   int step_cap = 12;                //!< most movements a run may take
-  bool smoothing = false;           //!< METHOD.md's chapter-6 neighbour smoothing
+  bool smoothing = false;           //!< neighbour smoothing (docs/method.md)
   double uniform_tolerance = 1e-9;  //!< a row within this of uniform carries no information
 };
 
@@ -85,7 +85,7 @@ class Skill {
   DSPhaseSet ds_phases_;
 };
 
-//! One step of a skill as the trace records it (METHOD.md: context bins, movement,
+//! One step of a skill as the trace records it (docs/method.md: context bins, movement,
 //! probability). Fixed size.
 struct TraceRecord {
   std::int64_t step = 0;  //!< index of the step() call since the last reset
@@ -190,7 +190,7 @@ class SkillState {
 //! - `state.steps()` reached the skill's step cap: `step_cap`;
 //! - the context is unknown (a non-finite position, an effect or high-level index out of
 //!   range, or a uniform table row = argmax -1): `unknown_context`. It never guesses.
-//! With smoothing (METHOD.md chapter 6), the posterior is averaged over the current point and
+//! With smoothing (docs/method.md), the posterior is averaged over the current point and
 //! its 6 neighbours (eef +- step/2 along x, y, z), uniform (uninformative) neighbours left
 //! out; the top movement is taken if it is alone, has p > 0.95, or the second is below 0.75
 //! times the first; otherwise the one of the two that is the argmax at more of the 7 points

@@ -1,4 +1,4 @@
-"""Random goal babbling (IMGEP in its simplest form, Forestier & Oudeyer; METHOD.md) and
+"""Random goal babbling (IMGEP in its simplest form, Forestier & Oudeyer; ``docs/method.md``) and
 random motor babbling over the same trajectory encoding, behind the ask/tell protocol.
 
 Both are told the same outcomes as NovEB, image descriptors, so the three strategies see

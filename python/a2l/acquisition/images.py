@@ -1,4 +1,4 @@
-"""Behaviour descriptors from camera images (NovEB's, METHOD.md): the image grey,
+"""Behaviour descriptors from camera images (NovEB's, ``docs/method.md``): the image grey,
 downsampled and normalised, or its difference with the image before the movement.
 
 Only pixels enter a descriptor: nothing here knows what an object is.

@@ -1,4 +1,4 @@
-"""NovEB: novelty-driven evolutionary babbling (METHOD.md, thesis chapter 4), with DEAP.
+"""NovEB: novelty-driven evolutionary babbling (``docs/method.md``; thesis chapter 4), with DEAP.
 
 Genotypes are trajectory parameters in [0, 1] (:class:`a2l.acquisition.trajectory.
 WaypointEncoding`); the behaviour of a genotype is a descriptor of the camera image after

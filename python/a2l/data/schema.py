@@ -1,6 +1,6 @@
 """Schema of the raw interaction dataset (one row per step), before discretization.
 
-A raw dataset is a :class:`pandas.DataFrame` (stored as Parquet, see DESIGN.md) with the
+A raw dataset is a :class:`pandas.DataFrame` (stored as Parquet) with the
 columns below; :func:`a2l.skills.Discretizer.discretize` turns it into the discrete dataset a
 Bayesian network is learned from.
 

@@ -1,1 +1,1 @@
-"""Reproduced experiments; each writes a run directory (DESIGN.md's contract)."""
+"""Reproduced experiments; each writes a run directory (``a2l.rundir``)."""

@@ -1,7 +1,7 @@
 """The push experiment (thesis chapter 5).
 
 ``a2l experiment push`` runs the iterative framework (:mod:`a2l.framework`) on the push
-effects and writes a run directory (DESIGN.md): ``config.json``, ``metrics.json``,
+effects and writes a run directory: ``config.json``, ``metrics.json``,
 ``dataset.parquet``, ``skills/push.a2lb`` (the final skill) and one bundle per iteration,
 ``score.png``, ``trajectories.png``, ``policy.png`` and ``report.md``
 (:mod:`a2l.experiments.push_report`, whose names are re-exported here). The discretization
@@ -75,7 +75,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     plots : bool
         Write the PNG plots.
     acquisition : {"random", "noveb"}
-        Iteration 0's interactions: random babbling around the object (METHOD.md), or
+        Iteration 0's interactions: random babbling around the object (``docs/method.md``), or
         NovEB over the whole reachable table, told camera images only
         (:mod:`a2l.framework.noveb_rollouts`); ignored when resuming.
     noveb_evaluations : int

@@ -1,6 +1,6 @@
 """The A2L iterative framework: acquire interactions, generate skills, validate, repeat.
 
-METHOD.md's loop, for the push effects:
+The A2L loop (``docs/method.md``), for the push effects:
 
 1. **Interaction acquisition** (:mod:`a2l.acquisition`) by random motor babbling: from start
    positions evenly on a circle around the object, up to ``max_babble_steps`` random

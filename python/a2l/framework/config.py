@@ -27,7 +27,7 @@ HELDOUT_STREAM = 0x68656C64
 
 @dataclass
 class FrameworkConfig:
-    """Every parameter of an A2L run (METHOD.md defaults).
+    """Every parameter of an A2L run (defaults explained in ``docs/method.md``).
 
     Attributes
     ----------
@@ -67,9 +67,9 @@ class FrameworkConfig:
     effect_threshold : float
         Smallest object displacement that counts as an effect (m).
     structure : str
-        ``"hc-k2"`` (default: METHOD.md's hill-climbing + K2; it drops ``distance`` while the
+        ``"hc-k2"`` (default: hill-climbing + K2; it drops ``distance`` while the
         dataset is small, ``docs/framework.md``, "The aliasing cell") or ``"hand-coded"``
-        (METHOD.md's baseline: every context variable a parent of ``move`` from iteration 0).
+        (the baseline: every context variable a parent of ``move`` from iteration 0).
     effect_parent : bool
         With ``hc-k2``, fix the edge ``effect -> move`` (the action generator is queried with
         the wanted effect; without the edge, small datasets give a skill that ignores it).
@@ -78,7 +78,7 @@ class FrameworkConfig:
         With ``hc-k2``, context variables also fixed as parents of ``move``, like the effect
         (default ``("distance",)``, since issue 14: hill-climbing + K2 drops ``distance`` while
         the dataset is small, and the orientation wedges around the object then alias,
-        ``docs/framework.md``; the README's results table is measured with it). Hill-climbing
+        ``docs/framework.md``; ``docs/experiments/push.md`` is measured with it). Hill-climbing
         still chooses every other parent; ``()`` leaves ``distance`` to it too.
     extension_cut : int
         Most steps cut from the end of a trajectory before extending it (each extension
@@ -86,7 +86,7 @@ class FrameworkConfig:
     erase_loops : bool
         Cut the loops out of babbling trajectories (:func:`erase_loops`).
     smoothing : bool
-        METHOD.md's chapter-6 neighbour smoothing in the C++ step (default on: with
+        Neighbour smoothing (``docs/method.md``) in the C++ step (default on: with
         hill-climbing + K2, 27 of virtual seeds 0-29 reach 100 within 3 iterations, 21
         without it; with the hand-coded structure 30 and 23; ``docs/framework.md``).
     keep_validation : bool

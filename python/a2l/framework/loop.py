@@ -83,7 +83,7 @@ def _ahead(executor: Executor) -> int:
 
 def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
            validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> Interactions:
-    """New trajectories for iteration `iteration` (METHOD.md's dataset extension).
+    """New trajectories for iteration `iteration` (the dataset extension, ``docs/method.md``).
 
     - successful and false-positive validation trajectories (themselves, with
       ``keep_validation``), and cut back 1 to ``extension_cut`` steps and extended with

@@ -1,4 +1,4 @@
-"""Random motor babbling (METHOD.md's acquisition): from start positions around the object,
+"""Random motor babbling (``docs/method.md``, acquisition): from start positions around the object,
 uniformly random movements until the object moves; only the trajectories that moved it are
 kept.
 
@@ -28,7 +28,7 @@ BabbleTask = tuple[dict[str, Any], int, list[int], int, int]
 def babble_task(task: BabbleTask) -> Rollout:
     """One babbling trajectory: ``(config, start, prefix, seed, steps)``.
 
-    Uniformly random movements after `prefix` (METHOD.md), at most `steps` of them, until
+    Uniformly random movements after `prefix`, at most `steps` of them, until
     the object moves.
     """
     cfg_d, start, prefix, seed, steps = task

@@ -1,4 +1,4 @@
-"""Scoring an iteration: the outcomes of a validation rollout, METHOD.md's score
+"""Scoring an iteration: the outcomes of a validation rollout, the score of ``docs/method.md``
 (:func:`score_of`) and the metrics of one iteration (:class:`IterationResult`)."""
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
 
 
 def score_of(rollouts: Sequence[Rollout], n_effects: int, n_starts: int) -> float:
-    """METHOD.md's score: Σ(4·success + 1·false positive) / (4·n_effects·n_starts) · 100."""
+    """The score: Σ(4·success + 1·false positive) / (4·n_effects·n_starts) · 100."""
     points = sum(4 if r.outcome == SUCCESS else 1 if r.outcome == FALSE_POSITIVE else 0
                  for r in rollouts)
     return 100.0 * points / (4 * n_effects * n_starts)

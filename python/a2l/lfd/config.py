@@ -38,7 +38,7 @@ class LfDConfig:
     dist_low, dist_high : float
         Range of the distance bins (m).
     smoothing : bool
-        METHOD.md's chapter-6 neighbour smoothing in the C++ step.
+        Neighbour smoothing (``docs/method.md``) in the C++ step.
     n_demos : int
         Demonstrations per skill.
     maps : int

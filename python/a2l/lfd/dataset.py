@@ -1,6 +1,6 @@
 """Vector field -> dataset: the rows a demonstrated skill's Bayesian network is learned from.
 
-Chapter 6 of the thesis (METHOD.md): points are sampled on a grid around the demonstrations,
+Chapter 6 of the thesis (docs/method.md): points are sampled on a grid around the demonstrations,
 in the object frame (``x = eef - object``); at each point the DS velocity becomes the nearest
 movement of the repertoire and the point becomes context bins, through the **same**
 :class:`a2l.skills.Discretizer` the babbling path uses (:func:`skill_discretizer` builds it

@@ -33,7 +33,7 @@ there), chooses ``rho`` by the same golden-section search on the cost with the f
 weights ``exp(-rho^2 ||q - q_j||^2)``, then moves every ``q`` by the exact ``psi^{-1}`` (one
 scalar solve per point within reach of the map). The maps are stored in the order ``C``
 applies them (the last fitted first). On the 30 LASA shapes this matches the demonstrations
-as well as ``to_demo`` (README, LASA section) except where the greedy gets stuck between two
+as well as ``to_demo`` (``docs/experiments/lasa.md``) except where the greedy gets stuck between two
 parts of the curve (GShape); ``direction="auto"`` then falls back to ``to_demo``.
 """
 
@@ -64,7 +64,7 @@ __all__ = [
 BETA_SCHEDULE = tuple(1.0 / np.array([3.0, 3.0, 2.5, 2.0, 1.66, 1.33, 1.1]))
 #: mu over the maps used by the LASA benchmark: the original implementation's safety
 #: coefficients (0.9, 0.9, 0.9, 0.85, 0.8, 0.75, 0.75) lowered by 0.1, which keeps the DS
-#: less stiff (selected on LASA itself: see the README's LASA section).
+#: less stiff (selected on LASA itself: see ``docs/experiments/lasa.md``).
 MU_SCHEDULE = (0.8, 0.8, 0.8, 0.75, 0.7, 0.65, 0.65)
 
 #: The two ways the maps can go (``a2l._core.DiffeoDS``'s ``direction``).

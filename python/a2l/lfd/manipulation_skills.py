@@ -19,7 +19,7 @@ Each phase is also a **DS phase** of the bundle (:mod:`a2l.skills.phases`): the 
 its segments, applying under its states, with its end action (tolerance
 :data:`PHASE_TOLERANCE`); ``run_skill(mode="ds")`` runs them through the C++ ``step_ds``.
 
-Why not the push skills' dataset and configuration (measured: README, "Manipulation skills"):
+Why not the push skills' dataset and configuration (measured: ``docs/experiments/lfd.md``):
 a grasp must end within about 1 cm of the grasp point (the block is 3 cm wide, the open
 fingers 4.8 cm apart). With the push default (5 cm movements, 3 distance bins over
 [0.05, 0.20] m, no inclination) the table cannot tell "above the block" from "beside it"

@@ -4,7 +4,7 @@ The C++ core (:class:`a2l._core.DiffeoDS`) is the implementation the skills use;
 computes the same quantities with numpy, vectorised over points, so that tests can compare
 the two and benchmarks can measure what the C++ evaluation gains.
 
-Convention (docs/bundle_format.md, METHOD.md chapter 6): ``C = psi_{K-1} o ... o psi_0``
+Convention (docs/bundle_format.md, docs/method.md): ``C = psi_{K-1} o ... o psi_0``
 with ``psi_i(x) = x + exp(-rho_i^2 ||x - c_i||^2) v_i``; ``Phi = C`` (direction
 ``"to_demo"``) or ``Phi = C^{-1}`` (``"to_line"``); the DS is
 ``xdot = speed * J_Phi(y) (target - y)`` with ``y = Phi^{-1}(x)``.

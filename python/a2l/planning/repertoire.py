@@ -5,7 +5,7 @@ states it was learned under become preconditions, what it needs is added (an emp
 push, grasp or press; the object held to place), and its effect predicates are the effects.
 How a skill bundle maps onto them is described in ``docs/planning.md``.
 
-Directions follow METHOD.md: ``left`` is +y, ``right`` -y, ``close`` -x (towards the
+Directions follow ``docs/method.md``: ``left`` is +y, ``right`` -y, ``close`` -x (towards the
 robot), ``far`` +x; the diagonals combine them (``close_left``...).
 """
 

@@ -1,5 +1,5 @@
 """The context reader's data: low-level states (object relative to the end-effector) and
-high-level states, as skills consume them (METHOD.md's vocabulary)."""
+high-level states, as skills consume them (the words of ``docs/method.md``)."""
 
 from __future__ import annotations
 

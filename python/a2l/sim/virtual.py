@@ -1,4 +1,4 @@
-"""The ``virtual`` scene: METHOD.md's fast "virtual setup", a kinematic push model without
+"""The ``virtual`` scene: the fast "virtual setup", a kinematic push model without
 physics, robot or camera.
 
 The model is the C++ :class:`a2l._core.VirtualScene` (docs/virtual_scene.md); this module

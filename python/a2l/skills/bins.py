@@ -110,7 +110,7 @@ class DistanceBins(_Bins):
     Parameters
     ----------
     n_bins : int
-        Number of bins (default 3, METHOD.md).
+        Number of bins (default 3).
     low, high : float
         Range in metres (default [0.05, 0.20]); distances outside fall in the end bins.
     name : str

@@ -44,7 +44,7 @@ def make_skill_spec(
     step_cap : int
         Most movements per run.
     smoothing : bool
-        METHOD.md's neighbour smoothing in the runtime.
+        Neighbour smoothing (``docs/method.md``) in the runtime.
     extra : dict, optional
         Free-form metadata; the discretizer's description is added under ``"discretizer"``.
 

@@ -1,6 +1,6 @@
 """Learning the action generator's Bayesian network (structure and parameters).
 
-Structure: hill-climbing with :class:`~a2l.skills.k2.K2Score` (``"hc-k2"``), or METHOD.md's
+Structure: hill-climbing with :class:`~a2l.skills.k2.K2Score` (``"hc-k2"``), or the
 hand-coded baseline where every other variable is a parent of ``move`` (``"hand-coded"``).
 Parameters: Bayesian estimation with a BDeu (or K2) Dirichlet prior, so that a parent
 configuration never seen in the data gives a uniform conditional, not a crash or a zero.
@@ -29,7 +29,7 @@ Edge = tuple[str, str]
 
 
 def hand_coded_structure(variables: Sequence[str], target: str = "move") -> DAG:
-    """METHOD.md's baseline structure: every variable is a parent of `target`, no other edge.
+    """The baseline structure: every variable is a parent of `target`, no other edge.
 
     Parameters
     ----------

@@ -91,7 +91,7 @@ class SkillSpec:
     step_cap : int
         Most movements a run may take.
     smoothing : bool
-        METHOD.md's neighbour smoothing.
+        Neighbour smoothing (``docs/method.md``).
     uniform_tolerance : float
         A row whose entries all lie within this of 1/n_moves is uniform.
     robot : dict or None

@@ -2,7 +2,7 @@
 
 - :func:`push_dataset`: random babbling around a box in the virtual scene of
   ``docs/virtual_scene.md`` (the C++ ``VirtualScene``, the one the runtime uses). It follows
-  METHOD.md's acquisition: start points on a circle around the object, up to `max_steps`
+  the acquisition (docs/method.md): start points on a circle around the object, up to `max_steps`
   random movements, keep a trajectory only if it moved the box, label every step with the
   observed effect.
 - :func:`known_structure_dataset`: samples of a discrete network whose structure is known

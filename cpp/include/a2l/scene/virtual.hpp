@@ -1,5 +1,5 @@
 //! \file scene/virtual.hpp
-//! \brief METHOD.md's fast "virtual setup": a kinematic model without physics of a box pushed
+//! \brief The fast "virtual setup": a kinematic model without physics of a box pushed
 //! by the end-effector, a block the gripper grasps, or a button toggling a light
 //! (docs/virtual_scene.md). Deterministic; bound to Python as a2l._core.VirtualScene.
 #pragma once
