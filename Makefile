@@ -121,6 +121,7 @@ test-layers: setup
 	@$(VENV)/bin/lint-imports --no-cache 2>&1 | tee $(BUILD)/layers.log | grep -E 'KEPT|BROKEN|Contracts:'
 
 test: test-layers test-cpp test-guarded test-python fuzz
+	@echo "[test] import layers:               $$(grep -E '^Contracts:' $(BUILD)/layers.log)"
 	@echo "[test] C++ (ctest):                 $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
 	@echo "[test] C++ with Eigen's guard:      $$(grep -E 'tests passed' $(BUILD)/cpp-guard/ctest.log)"
 	@echo "[test] Python (pytest):             $$(grep -E '^[0-9]+ passed' $(BUILD)/pytest.log | tail -n 1)"
