@@ -87,31 +87,26 @@ def test_copy_is_kept_before_the_change(package_copy: tuple[Path, Path]) -> None
     assert out.returncode == 0, out.stdout + out.stderr
 
 
-def test_upward_import_breaks_the_layers(package_copy: tuple[Path, Path]) -> None:
-    """A foundation module importing the CLI fails ``lint-imports``, naming the import."""
+@pytest.mark.parametrize(("module", "line", "expected"), [
+    # a foundation module importing the CLI: the layers contract names the import
+    ("errors.py", "import a2lcopy.cli", ["a2lcopy.errors -> a2lcopy.cli",
+                                         "no import upward BROKEN"]),
+    # two sibling modules of one layer importing each other: the acyclic contract
+    ("lfd/config.py", "import a2lcopy.lfd.library", ["No cycles are allowed in a2lcopy.lfd"]),
+], ids=["upward-import", "circle"])
+def test_a_violation_breaks_a_contract(package_copy: tuple[Path, Path], module: str, line: str,
+                                       expected: list[str]) -> None:
+    """One line added to the copy fails ``lint-imports`` with a message naming it."""
     dst, config = package_copy
-    target = dst / "errors.py"
-    original = _with_line(target, "import a2lcopy.cli  # noqa: E402,F401")
+    target = dst / module
+    original = _with_line(target, f"{line}  # noqa: E402,F401")
     try:
         out = _lint(config, dst.parent, dst.parent)
     finally:
         target.write_text(original)
     assert out.returncode != 0
-    assert "a2lcopy.errors -> a2lcopy.cli" in out.stdout, out.stdout
-    assert "no import upward BROKEN" in out.stdout
-
-
-def test_circle_breaks_the_acyclic_contract(package_copy: tuple[Path, Path]) -> None:
-    """Two sibling modules of one layer importing each other fail ``lint-imports``."""
-    dst, config = package_copy
-    target = dst / "lfd" / "config.py"
-    original = _with_line(target, "import a2lcopy.lfd.library  # noqa: E402,F401")
-    try:
-        out = _lint(config, dst.parent, dst.parent)
-    finally:
-        target.write_text(original)
-    assert out.returncode != 0
-    assert "No cycles are allowed in a2lcopy.lfd" in out.stdout, out.stdout
+    for text in expected:
+        assert text in out.stdout, out.stdout
 
 
 def test_lazy_exports_stay_in_their_package() -> None:
