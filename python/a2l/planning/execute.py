@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 import a2l
+from a2l import _core
 from a2l.errors import A2LValueError
 from a2l.planning.pddl import PerceivedState, Skill, domain_pddl, problem_pddl
 from a2l.planning.planners import PlanStep, solve
@@ -81,7 +82,7 @@ def perceive_state(scene: SceneProtocol, regions: TableRegions, static: Sequence
     obs = scene.perceive() if source == "perceived" else scene.ground_truth()
     states = dict(obs["states"])
     cfg = scene.config
-    lift = float(getattr(cfg, "lift_threshold", 0.05))
+    lift = float(getattr(cfg, "lift_threshold", _core.LIFT_THRESHOLD))
     eef = np.asarray(scene.eef_position(), dtype=float)
     movables: dict[str, str | None] = {}
     holding = None
