@@ -266,6 +266,8 @@ def test_a_worker_with_another_package_refuses_to_run():
 @pytest.mark.parametrize("argv, message", [
     (["lfd-skills", "--trials", "0"], "--trials: must be >= 1"),
     (["lfd-skills", "--skills", "nope"], "unknown skill(s) ['nope']"),
+    (["lfd-skills", "--seed", "-1"], "--seed: must be >= 0"),
+    (["parametrization", "--seed", "-3"], "--seed: must be >= 0"),
     (["parametrization", "--workers", "0"], "--workers: must be >= 1"),
     (["parametrization", "--steps", "0.02,x"], "--steps: expected comma-separated numbers"),
     (["parametrization", "--smoothing", "maybe"], "--smoothing: expected on and/or off"),

@@ -28,13 +28,15 @@ def lfd_config(args: Namespace) -> LfDConfig | None:
 
 def run_args(args: Namespace) -> tuple[Path, list[str] | None]:
     """The run directory and the skills of an experiment's command line, checked
-    (``--out`` not a file, ``--trials`` and ``--workers`` >= 1)."""
+    (``--out`` not a file, ``--trials`` and ``--workers`` >= 1, ``--seed`` >= 0)."""
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
     for opt, v in (("--trials", args.trials), ("--workers", args.workers)):
         if v < 1:
             raise UsageError(opt, f"must be >= 1, got {v}")
+    if args.seed < 0:
+        raise UsageError("--seed", f"must be >= 0, got {args.seed}")
     return out, comma_list(args.skills)
 
 
