@@ -7,6 +7,7 @@ deliberate upward import and one deliberate circle (each contract broken, the im
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -24,11 +25,7 @@ def _lint(config: Path, cwd: Path, pythonpath: Path | None = None) -> subprocess
     """``lint-imports --config CONFIG`` in `cwd` (the same entry point as the console script)."""
     code = "import sys; from importlinter.cli import lint_imports_command; " \
            "sys.exit(lint_imports_command())"
-    env = None
-    if pythonpath is not None:
-        import os
-
-        env = {**os.environ, "PYTHONPATH": str(pythonpath)}
+    env = None if pythonpath is None else {**os.environ, "PYTHONPATH": str(pythonpath)}
     return subprocess.run([sys.executable, "-c", code, "--config", str(config), "--no-cache"],
                           cwd=cwd, capture_output=True, text=True, timeout=300, env=env)
 

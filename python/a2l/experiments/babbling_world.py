@@ -15,7 +15,7 @@ An evaluation has two parts that never mix:
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -206,8 +206,3 @@ def evaluate_task(task: tuple[dict[str, Any], NDArray[np.float64]]) -> Evaluatio
             for n in home}
     final = {n: (float(after[n][0]), float(after[n][1])) for n in home}
     return Evaluation(descriptor, path, moves, disp, final)
-
-
-def world_dict(cfg: WorldConfig) -> dict[str, Any]:
-    """`cfg` as a picklable dict (tasks carry it)."""
-    return asdict(cfg)
