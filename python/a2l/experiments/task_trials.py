@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -17,8 +17,8 @@ import numpy as np
 
 from a2l.rollout.protocol import SceneProtocol
 
-__all__ = ["JITTER", "TASKS", "Played", "TaskSpec", "learn_task_skills", "play_task",
-           "task_skills", "trial_task"]
+__all__ = ["JITTER", "TASKS", "Played", "TaskSpec", "fault_hook", "learn_task_skills",
+           "play_task", "task_skills", "trial_task"]
 
 #: The block starts within ± this (m) of its start region's centre on each table axis.
 JITTER = 0.03
@@ -103,14 +103,26 @@ def _transit() -> Any:
     return _TRANSIT[0]
 
 
-def _fault_hook(spec: TaskSpec, rng: np.random.Generator, regions: Any, goal: str,
-                fired: list[str]) -> Callable[[int, Any, Any], None]:
-    """The ``after_step`` hook that injects the task's fault once (a moved block lands
-    neither where it is nor in a region the goal names)."""
+def fault_hook(spec: TaskSpec, rng: np.random.Generator, regions: Any, goal: str,
+                fired: list[str], unchanged: list[str]) -> Callable[[int, Any, Any], None]:
+    """The ``after_step`` hook that injects the task's fault once.
+
+    :func:`a2l.planning.execute.execute_task` calls it only after a step whose perceived
+    facts are the predicted ones, so a fault never follows a failed step (a press that did
+    not switch the light off is not "undone" by switching the light off). A fault counts as
+    applied (appended to `fired`) only when the facts perceived after it differ from those
+    before it, i.e. the world disagrees with the plan; one that left them alike is recorded
+    in `unchanged`. A moved block lands neither where it is nor in a region the goal names.
+    """
+    from a2l.planning.execute import perceive_state
+
+    def facts(scene: SceneProtocol) -> frozenset[str]:
+        return frozenset(perceive_state(scene, regions, objects=("block",)).facts())
 
     def hook(k: int, step: Any, scene: SceneProtocol) -> None:
         if fired:
             return
+        before = facts(scene)
         if spec.fault == "light_on" and step.name == "press-light-off":
             scene.perturb("toggle", state="light")
         elif spec.fault == "drop" and step.name == "grasp":
@@ -124,7 +136,7 @@ def _fault_hook(spec: TaskSpec, rng: np.random.Generator, regions: Any, goal: st
             scene.perturb("move_object", name="block", delta=tuple(to - pos[:2]))
         else:
             return
-        fired.append(f"{spec.fault}@{k}:{step}")
+        (fired if facts(scene) != before else unchanged).append(f"{spec.fault}@{k}:{step}")
 
     return hook
 
@@ -140,7 +152,10 @@ class Played:
     light : str
         The light at the start.
     fired : list of str
-        The fault injected (``"<kind>@<step index>:<step>"``), empty without.
+        The fault applied (``"<kind>@<step index>:<step>"``): after a step that carried out
+        as planned, and the world then disagreed with the plan; empty without.
+    unchanged : list of str
+        Faults tried that left the perceived facts as planned (not applied).
     block : ndarray, shape (3,)
         Where the block ended.
     plan_dir : Path
@@ -153,6 +168,7 @@ class Played:
     fired: list[str]
     block: np.ndarray
     plan_dir: Path
+    unchanged: list[str] = field(default_factory=list)
 
 
 def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
@@ -198,8 +214,9 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
         if spec.gripper == "closed":
             scene.execute("close")
         fired: list[str] = []
-        hook = (_fault_hook(spec, _rng(seed, spec.name, "fault"), regions, goal, fired)
-                if fault else None)
+        unchanged: list[str] = []
+        hook = (fault_hook(spec, _rng(seed, spec.name, "fault"), regions, goal, fired,
+                            unchanged) if fault else None)
         plan_dir = Path(out) / f"{spec.name}-{seed}{'-fault' if fault else ''}"
         res = execute_task(scene, task_skills(), bundles, goal, plan_dir, regions=regions,
                            planner=planner, time_limit=time_limit, max_replans=max_replans,
@@ -207,7 +224,7 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
         block = np.asarray(scene.ground_truth()["objects"]["block"], dtype=float)
     finally:
         scene.close()
-    return Played(res, goal, light, fired, block, plan_dir)
+    return Played(res, goal, light, fired, block, plan_dir, unchanged)
 
 
 def trial_task(job: dict[str, Any]) -> dict[str, Any]:
@@ -222,7 +239,9 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
     Returns
     -------
     dict
-        One row of ``trials.csv``.
+        One row of ``trials.csv``. In a fault trial, ``fault_applied`` says whether the
+        fault was applied (after a step that carried out as planned, and the world then
+        disagreed with the plan); ``fault_not_applied`` says why not, otherwise empty.
     """
     t0 = time.perf_counter()
     seed = int(job["seed"])
@@ -230,12 +249,19 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
                   job.get("planner", "pyperplan"), float(job.get("time_limit", 10.0)),
                   int(job.get("max_replans", 3)))
     res = p.result
-    return {"task": job["task"], "seed": seed, "fault": bool(job["fault"]),
-            "fault_injected": ";".join(p.fired), "goal": p.goal, "light_start": p.light,
+    fault = bool(job["fault"])
+    not_applied = ""
+    if fault and not p.fired:
+        not_applied = (f"left the world as planned: {';'.join(p.unchanged)}" if p.unchanged
+                       else "the step it follows never carried out as planned")
+    return {"task": job["task"], "seed": seed, "fault": fault,
+            "fault_injected": ";".join(p.fired), "fault_applied": bool(p.fired),
+            "fault_not_applied": not_applied, "goal": p.goal, "light_start": p.light,
             "success": bool(res.success), "replans": int(res.replans),
             "skills_run": len(res.steps), "plan_len": len(res.plans[0]) if res.plans else 0,
             "plan": " ".join(res.plans[0]) if res.plans else "",
             "stops": ";".join(f"{s.step.name}:{s.stop}" for s in res.steps),
+            "as_planned": "".join("1" if s.as_expected else "0" for s in res.steps),
             "unmet": ";".join(res.unmet), "message": res.message,
             "last_skill": res.last_skill or "",
             "plan_ms": float(np.sum(res.plan_ms)), "plan_calls": len(res.plan_ms),

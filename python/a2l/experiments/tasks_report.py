@@ -34,8 +34,12 @@ def summarise(frame: pd.DataFrame) -> dict[str, dict[str, Any]]:
     Returns
     -------
     dict
-        ``task -> {success_rate, success_rate_with_faults, mean_replans (with faults),
-        mean_replans_without_faults, plan_ms (median of the first plan of each trial),
+        ``task -> {success_rate, success_rate_with_faults (over the trials whose fault was
+        applied), mean_replans (with faults applied), mean_replans_without_faults,
+        replans_without_faults (their sum), trials_replanned_without_faults,
+        faults_not_applied (fault trials whose fault could not be applied: counted apart,
+        in no success rate but success_rate_fault_not_applied), not_applied: [{seed, why,
+        success}], plan_ms (median of the first plan of each trial),
         plan_ms_total (median per trial, replans included), transit_ms (median per
         transit), wall_s (mean per trial), mean_skills, trials, trials_with_faults,
         failures: [{seed, fault, unmet, last_skill, message, stops}]}``; a rate is None
@@ -43,7 +47,9 @@ def summarise(frame: pd.DataFrame) -> dict[str, dict[str, Any]]:
     """
     out: dict[str, dict[str, Any]] = {}
     for task, rows in frame.groupby("task", sort=False):
-        clean, faulty = rows[~rows["fault"]], rows[rows["fault"]]
+        clean = rows[~rows["fault"]]
+        applied = rows["fault"] & rows["fault_applied"].astype(bool)
+        faulty, not_applied = rows[applied], rows[rows["fault"] & ~applied]
         per_transit = rows["transit_ms"] / rows["transits"].where(rows["transits"] > 0)
         fails = rows[~rows["success"]]
         out[str(task)] = {
@@ -51,6 +57,10 @@ def summarise(frame: pd.DataFrame) -> dict[str, dict[str, Any]]:
             "mean_replans": float(faulty["replans"].mean()) if len(faulty) else None,
             "mean_replans_without_faults": float(clean["replans"].mean()) if len(clean)
             else None,
+            "replans_without_faults": int(clean["replans"].sum()),
+            "trials_replanned_without_faults": int((clean["replans"] > 0).sum()),
+            "faults_not_applied": int(len(not_applied)),
+            "success_rate_fault_not_applied": _rate(not_applied),
             "plan_ms": _median(rows["plan_ms_first"]),
             "plan_ms_total": _median(rows["plan_ms"]),
             "transit_ms": _median(per_transit),
@@ -61,6 +71,8 @@ def summarise(frame: pd.DataFrame) -> dict[str, dict[str, Any]]:
             "failures": [{"seed": int(r.seed), "fault": bool(r.fault), "unmet": r.unmet,
                           "last_skill": r.last_skill, "message": r.message, "stops": r.stops}
                          for r in fails.itertuples()],
+            "not_applied": [{"seed": int(r.seed), "why": r.fault_not_applied,
+                             "success": bool(r.success)} for r in not_applied.itertuples()],
         }
     return out
 
@@ -71,16 +83,20 @@ def _pct(v: float | None) -> str:
 
 def results_table(tasks: dict[str, dict[str, Any]]) -> str:
     """The Markdown table of :func:`summarise`'s result."""
-    lines = ["| task | skills | success | success with fault | replans with fault | "
-             "plan ms | transit ms | s/trial |", "|---|---|---|---|---|---|---|---|"]
+    lines = ["| task | skills | success | replans without fault | success with fault | "
+             "replans with fault | fault not applied | plan ms | transit ms | s/trial |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for name, m in tasks.items():
         lens = "/".join(str(n) for n in m["plan_lengths"])
         replans = "-" if m["mean_replans"] is None else f"{m['mean_replans']:.2f}"
         plan = "-" if m["plan_ms"] is None else f"{m['plan_ms']:.0f}"
         transit = "-" if m["transit_ms"] is None else f"{m['transit_ms']:.0f}"
+        clean = (f"{m['replans_without_faults']} in {m['trials']}" if m["trials"] else "-")
         lines.append(f"| {name} | {lens} | {_pct(m['success_rate'])} ({m['trials']}) | "
+                     f"{clean} | "
                      f"{_pct(m['success_rate_with_faults'])} ({m['trials_with_faults']}) | "
-                     f"{replans} | {plan} | {transit} | {m['wall_s']:.1f} |")
+                     f"{replans} | {m['faults_not_applied']} | {plan} | {transit} | "
+                     f"{m['wall_s']:.1f} |")
     return "\n".join(lines)
 
 
@@ -105,9 +121,10 @@ def plot(path: Path, frame: pd.DataFrame, tasks: dict[str, dict[str, Any]]) -> N
     ax[0].set_ylim(0, 105)
     ax[0].legend(fontsize=8, loc="lower left")
     ax[0].set_title("task success (targets 90 % / 80 %)")
+    applied = frame["fault"] & frame["fault_applied"].astype(bool)
     for i, fault in enumerate((False, True)):
-        counts = [frame[(frame["task"] == n) & (frame["fault"] == fault)]["replans"]
-                  for n in names]
+        cond = applied if fault else ~frame["fault"]
+        counts = [frame[(frame["task"] == n) & cond]["replans"] for n in names]
         ax[1].bar(x + (i - 0.5) * 0.38, [c.mean() if len(c) else 0.0 for c in counts], 0.38,
                   label="with fault" if fault else "without fault")
     ax[1].set_xticks(x, names, rotation=12, fontsize=8)
@@ -148,16 +165,25 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
             fails.append(f"- {name} seed {f['seed']}{' (fault)' if f['fault'] else ''}: "
                          f"unmet {f['unmet'] or '-'}; last {f['last_skill'] or '-'}; "
                          f"{f['message'] or ''} [{f['stops']}]")
+    skipped = [f"- {name} seed {f['seed']}: {f['why']} (task "
+               f"{'reached' if f['success'] else 'not reached'})"
+               for name, m in tasks.items() for f in m["not_applied"]]
     text = "\n".join([
         "# Planned tasks with the learned skills", "",
         f"Command: `{config['command']}`; {metrics['wall_s']:.0f} s with "
         f"{metrics['workers']} worker(s) (skills learned in {metrics['learn_s']:.0f} s).", "",
         f"Trial seeds {s0}-{s1} (held out), planner {config['planner']}; the block starts "
         f"within ± {100 * config['jitter_m']:.0f} cm of its region's centre.", "", spec, "",
-        "Skills = plan length of the first plan; plan ms = the first planner call (child "
-        "process start-up included), median; transit ms = OMPL planning per transit, median; "
-        "replans counted in the success.", "", table, "",
+        "Skills = plan length of the first plan; replans without fault = replans summed "
+        "over the fault-free trials, in that many trials; success with fault = over the "
+        "trials whose fault was applied; fault not applied = fault trials whose fault could "
+        "not be applied (below); plan ms = the first planner call, median; transit ms = OMPL "
+        "planning per transit, median; replans counted in the success.", "", table, "",
         *(["![tasks](tasks.png)", ""] if plots else []),
-        "## Failures", "", *(fails or ["none"]), ""])
+        "## Failures", "", *(fails or ["none"]), "",
+        "## Faults not applied", "",
+        "A fault follows only a step that carried out as planned and must leave the world "
+        "disagreeing with the plan; a fault trial where it could not be applied is in no "
+        "success rate above.", "", *(skipped or ["none"]), ""])
     atomic_write_text(run_dir / "report.md", text)
     return table

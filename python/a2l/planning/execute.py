@@ -243,7 +243,9 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
     seed : int
         Transit planner seed.
     after_step : callable ``(k, step, scene) -> None``, optional
-        Called after plan step k's skill ran, before perceiving (a test injects faults here).
+        Called after plan step k (counted over every plan) when its perceived facts are the
+        predicted ones, never after a step that failed; the world is perceived again after
+        it (a test or an experiment injects faults here).
     static : sequence of str
         Static facts (region neighbourhood for push skills).
     objects : sequence of str, optional
@@ -296,11 +298,15 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
             stop = _run_step(scene, skill, step, bundles, transit, state, seed + k, run_skill,
                              regions, result.transit_ms)
             result.last_skill = str(step)
-            if after_step is not None:
-                after_step(k, step, scene)
-            k += 1
             state = perceive_state(scene, regions, static, objects=objects)
             now = frozenset(state.facts())
+            if after_step is not None and now == expected:
+                # only a step that carried out as planned is followed by the hook; what it
+                # changed is perceived (and replanned) like any change behind the robot's back
+                after_step(k, step, scene)
+                state = perceive_state(scene, regions, static, objects=objects)
+                now = frozenset(state.facts())
+            k += 1
             result.steps.append(ExecutedStep(step, stop, expected, now))
             facts = now
             if now != expected:
