@@ -82,7 +82,8 @@ def _cmd_experiment_babbling_compare(args: Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
     check_cluster(args.cluster)
-    run_babbling_compare(args.scene, args.evaluations, list(range(args.seeds)), out=out,
+    seeds = list(range(args.first_seed, args.first_seed + args.seeds))
+    run_babbling_compare(args.scene, args.evaluations, seeds, out=out,
                          methods=tuple(args.methods), workers=args.workers,
                          cluster=args.cluster, generation_size=args.generation_size,
                          quiet=args.quiet)
@@ -109,7 +110,10 @@ def _babbling_parsers() -> tuple[Parser, Parser]:
                       default=["noveb", "random", "goal"], help="methods (default all three)")
     bab.add_argument("--seed", type=NonNegativeInt, default=0, help="random seed (default 0)")
     cmp_.add_argument("--seeds", type=PositiveInt, default=5, metavar="N",
-                      help="seeds 0 .. N-1 (default 5)")
+                      help="seeds F .. F+N-1, F = --first-seed (default 5)")
+    cmp_.add_argument("--first-seed", type=NonNegativeInt, default=0, metavar="F",
+                      help="first seed (default 0; evaluation seeds from 1000: "
+                      "docs/seeds.md)")
     bab.add_argument("--out", metavar="DIR", default=None,
                      help="run directory (default runs/babbling-<method>-<scene>-<timestamp>)")
     cmp_.add_argument("--out", metavar="DIR", required=True, help="comparison directory")

@@ -33,6 +33,7 @@ from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_tas
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
 from a2l.rundir import command_line, make_run_dir, write_json
+from a2l.seeds import mark_report, seed_record
 from a2l.skills.effects import effect_name
 
 __all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
@@ -127,7 +128,7 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
     write_json(run_dir / "config.json", {
         "experiment": "babbling", "method": method, "evaluations": evaluations, "seed": seed,
         "scene": scene, "generation_size": generation_size, "world": asdict(wcfg),
-        "command": command})
+        "command": command, "seed_use": seed_record("babbling", [seed])})
     n_genes = 3 * wcfg.n_waypoints
     strategy = make_strategy(method, n_genes, seed, evaluations, generation_size)
     wd = asdict(wcfg)
@@ -189,7 +190,7 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
     if plots:
         plot_visits({method: paths}, wcfg, run_dir / "visits.png")
         plot_progress({method: [metrics]}, run_dir / "progress.png")
-    atomic_write_text(run_dir / "report.md", "\n".join([
+    atomic_write_text(run_dir / "report.md", mark_report("\n".join([
         f"# Babbling: {method} on {scene} (seed {seed}, {len(records)} evaluations)", "",
         f"Evaluations that moved an object: **{totals['moved']}** "
         f"({totals['moved_share']:.1%}); distinct outcomes: **{len(reached)}**"
@@ -198,7 +199,7 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
         f"evaluations/s, {workers} worker(s)).", "",
         "![end-effector positions visited](visits.png)", "",
         "![moved share and distinct outcomes](progress.png)", "",
-        f"Rerun: `{command}`.", ""]))
+        f"Rerun: `{command}`.", ""]), seed_record("babbling", [seed])))
     if not quiet:
         print(f"{method} on {scene}, seed {seed}: moved {totals['moved_share']:.1%} of "
               f"{len(records)} evaluations, {len(reached)} distinct outcomes; run directory: "

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import shlex
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +14,7 @@ from a2l.experiments.babbling import run_babbling
 from a2l.experiments.babbling_plots import plot_progress, plot_visits, summary_table
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.rundir import make_run_dir, read_json, write_json
+from a2l.seeds import mark_report, seed_record
 
 __all__ = ["run_babbling_compare"]
 
@@ -34,8 +36,13 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
     write_json(root / "config.json", {
         "experiment": "babbling-compare", "scene": scene, "evaluations": evaluations,
         "seeds": list(seeds), "methods": list(methods), "generation_size": generation_size,
-        "command": f"a2l experiment babbling-compare --scene {scene} --evaluations "
-                   f"{evaluations} --seeds {' '.join(map(str, seeds))} --out {root}"})
+        "command": shlex.join(
+            ["a2l", "experiment", "babbling-compare", "--scene", scene, "--evaluations",
+             str(evaluations), "--seeds", str(len(seeds)), "--first-seed", str(seeds[0]),
+             "--methods", *methods, "--generation-size", str(generation_size), "--out",
+             str(root)]) if list(seeds) == list(range(seeds[0], seeds[0] + len(seeds)))
+        else None,
+        "seed_use": seed_record("babbling-compare", seeds)})
     runs: dict[str, list[dict[str, Any]]] = {}
     paths: dict[str, list[np.ndarray]] = {}
     world = None
@@ -61,12 +68,13 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
     write_json(root / "metrics.json", {
         "scene": scene, "evaluations": evaluations, "seeds": list(seeds),
         "runs": {k: [m["totals"] for m in v] for k, v in runs.items()}})
-    atomic_write_text(root / "report.md", "\n".join([
+    atomic_write_text(root / "report.md", mark_report("\n".join([
         f"# Babbling methods compared on {scene} ({evaluations} evaluations, seeds "
         f"{', '.join(map(str, seeds))})", "",
         "Mean ± standard deviation over seeds (min–max).", "", table, "",
         f"![end-effector positions visited, seed {seeds[0]}](visits.png)", "",
-        "![moved share and distinct outcomes](progress.png)", ""]))
+        "![moved share and distinct outcomes](progress.png)", ""]),
+        seed_record("babbling-compare", seeds)))
     if not quiet:
         print(table)
         print(f"run directory: {root}")

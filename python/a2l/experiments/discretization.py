@@ -14,6 +14,7 @@ from a2l.atomic import atomic_write_text
 from a2l.experiments.push import run_push_experiment
 from a2l.framework import FrameworkConfig
 from a2l.rundir import make_run_dir, write_json
+from a2l.seeds import mark_report, seed_record
 
 __all__ = ["run_discretization_study"]
 
@@ -40,7 +41,9 @@ def run_discretization_study(out: str | Path | None = None,
     write_json(run_dir / "config.json", {"experiment": "discretization",
                                          "framework": asdict(base),
                                          "orientations": list(orientations),
-                                         "distances": list(distances)})
+                                         "distances": list(distances),
+                                         "seed_use": seed_record("discretization",
+                                                              [base.seed])})
     rows = []
     for o in orientations:
         for d in distances:
@@ -65,9 +68,10 @@ def run_discretization_study(out: str | Path | None = None,
         table.append(f"| {r['n_orient']} | {r['n_dist']} | {r['final_score']:.1f}{mark} | "
                      f"{r['iterations']} | {r['movements_per_action']:.2f} |")
     write_json(run_dir / "metrics.json", {"rows": rows, "selected": selected})
-    atomic_write_text(run_dir / "report.md", "# Discretization study\n\n"
-                      f"Scene {base.scene}, {base.n_effects} effects, seed {base.seed}.\n\n"
-                      + "\n".join(table) + "\n")
+    atomic_write_text(run_dir / "report.md", mark_report(
+        "# Discretization study\n\n"
+        f"Scene {base.scene}, {base.n_effects} effects, seed {base.seed}.\n\n"
+        + "\n".join(table) + "\n", seed_record("discretization", [base.seed])))
     if not quiet:
         print("\n".join(table))
         print(f"selected: {json.dumps(selected)}; run directory: {run_dir}")

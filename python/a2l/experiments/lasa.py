@@ -65,6 +65,7 @@ from a2l.lfd.metrics import dtw_mean_distance, resample_time, swept_error_area, 
 from a2l.parallel import Executor
 from a2l.progress import progress_bar
 from a2l.rundir import command_line, make_run_dir, write_json
+from a2l.seeds import mark_report, seed_record
 
 __all__ = ["LasaConfig", "lasa_shapes", "load_lasa_shape", "run_lasa_experiment", "run_shape"]
 
@@ -327,9 +328,10 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     command = command_line(["a2l", "experiment", "lasa", "--out", run_dir, "--workers", workers]
                            + ([] if shapes == known else ["--shapes", ",".join(shapes)]),
                            cfg)
+    seeds = seed_record("lasa", [cfg.seed + known.index(s) for s in shapes])
     write_json(run_dir / "config.json", {"experiment": "lasa", "lasa": asdict(cfg),
                                          "shapes": shapes, "workers": workers,
-                                         "command": command})
+                                         "command": command, "seed_use": seeds})
     tasks = [(s, known.index(s), cfg) for s in shapes]
     t0 = time.perf_counter()
     with Executor(workers=workers) as executor, \
@@ -355,7 +357,7 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     if plots:
         plot_lasa(results, run_dir / "lasa.png")
     atomic_write_text(run_dir / "report.md",
-                      report_markdown(metrics, cfg, command, plots=plots))
+                      mark_report(report_markdown(metrics, cfg, command, plots=plots), seeds))
     if not quiet:
         print(results_table(metrics))
         print(f"run directory: {run_dir}")

@@ -136,6 +136,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     from a2l.lfd.library import SKILLS, learn_recipe, skill_config
     from a2l.parallel import Executor
     from a2l.rundir import command_line, make_run_dir, write_json
+    from a2l.seeds import mark_report, seed_record
 
     names = list(skills or [n for n in SKILLS if n.startswith("push_")])
     unknown = [n for n in names if n not in SKILLS]
@@ -149,7 +150,8 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         "experiment": "lfd-skills", "skills": names, "trials": trials, "seed": seed,
         "scene": scene, "mode": mode, "workers": workers,
         "configs": {n: skill_config(n, cfg).to_json() for n in names},
-        "command": command_line(words, cfg, prefix="lfd.")})
+        "command": command_line(words, cfg, prefix="lfd."),
+        "seed_use": seed_record("lfd-skills", range(seed, seed + trials))})
     bundles, learning = {}, {}
     for name in names:
         t0 = time.perf_counter()
@@ -180,7 +182,8 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
                      f"{s['mean_movements']:.1f} | {fails} | "
                      f"{' '.join(map(str, s['failed_seeds'])) or '-'} | "
                      f"{learning[name]['seconds']:.2f} |")
-    atomic_write_text(run_dir / "report.md", "\n".join(lines) + "\n")
+    atomic_write_text(run_dir / "report.md", mark_report(
+        "\n".join(lines) + "\n", seed_record("lfd-skills", seeds)))
     if not quiet:
         print("\n".join(lines[6:]))
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")

@@ -146,6 +146,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
     from a2l.rundir import command_line, make_run_dir, write_json
+    from a2l.seeds import mark_report, seed_record
 
     names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
     unknown = [n for n in names if n not in SKILLS]
@@ -165,7 +166,8 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
         "experiment": "parametrization", "skills": names, "trials": trials, "seed": seed,
         "scene": scene, "workers": workers, "grid": {k: list(v) for k, v in values.items()},
         "base": None if base is None else base.to_json(),
-        "command": command_line(words, base, prefix="lfd.")})
+        "command": command_line(words, base, prefix="lfd."),
+        "seed_use": seed_record("parametrization", seeds)})
     tasks = []
     for name in names:
         for i, combo in enumerate(combos):
@@ -208,7 +210,8 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
                      f"{r.n_orient} | {r.n_dist} | {'on' if r.smoothing else 'off'} | "
                      f"{r.success_rate:.2f} | {r.movements_per_action:.1f} | {r.rows} | "
                      f"{r.failures or '-'} |")
-    atomic_write_text(run_dir / "report.md", "\n".join(lines) + "\n")
+    atomic_write_text(run_dir / "report.md", mark_report(
+        "\n".join(lines) + "\n", seed_record("parametrization", seeds)))
     if not quiet:
         print("\n".join(lines[:6]))
         print(f"results in {run_dir}/ (report.md, metrics.json, cells.csv, "

@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 
 from a2l.atomic import atomic_write_text
+from a2l.seeds import mark_report
 
 __all__ = ["SIGNIFICANCE", "results_table", "summarise", "target", "write_report"]
 
@@ -280,5 +281,5 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
         "Per-trial rows: `trials.csv`; trajectories: `trajectories.npz` "
         "(`skill/condition/mode/seed/eef|obj`); metrics: `metrics.json`.",
     ]) + "\n"
-    atomic_write_text(run_dir / "report.md", text)
+    atomic_write_text(run_dir / "report.md", mark_report(text, config["seed_use"]))
     return table

@@ -165,6 +165,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     from a2l.lfd.library import SKILLS
     from a2l.parallel import Executor
     from a2l.rundir import make_run_dir, write_json
+    from a2l.seeds import seed_record
 
     names = list(skills) if skills else list(SKILLS)
     conds = [c for c in CONDITIONS if c in conditions] if conditions else []
@@ -188,7 +189,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
               "demonstration_seeds": demonstration_seeds(cfgs), "scenes": scenes,
               "window": list(WINDOW), "move_m": list(MOVE_RANGE), "hold_s": list(HOLD_RANGE),
               "lfd": {n: c.to_json() for n, c in cfgs.items()}, "workers": workers,
-              "cluster": cluster, "command": command}
+              "cluster": cluster, "command": command,
+              "seed_use": seed_record("perturbations", seeds)}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     with Executor(workers, cluster) as ex:

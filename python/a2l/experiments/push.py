@@ -30,6 +30,7 @@ from a2l.framework import FrameworkConfig, IterationResult, run_framework
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
 from a2l.rundir import command_line, make_run_dir, read_json, write_json
+from a2l.seeds import mark_report, seed_record
 
 __all__ = [
     "plot_policy",
@@ -116,6 +117,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                 ["a2l", "experiment", "push", "--out", run_dir]
                 + (["--acquisition", acquisition, "--noveb-evaluations", noveb_evaluations]
                    if acquisition != "random" else []), cfg),
+            "seed_use": seed_record("push", [cfg.seed]),
         })
     t0 = time.perf_counter()
     noveb_log: dict[str, Any] = {}
@@ -151,7 +153,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                               run_dir / "heldout_trajectories.png",
                               title="Held-out trajectories")
         plot_policy(cfg, final, run_dir / "policy.png")
-    atomic_write_text(run_dir / "report.md", report_markdown(cfg, result, run_dir, history))
+    atomic_write_text(run_dir / "report.md", mark_report(
+        report_markdown(cfg, result, run_dir, history), seed_record("push", [cfg.seed])))
     if not quiet:
         from rich.console import Console
         from rich.markdown import Markdown

@@ -30,6 +30,7 @@ from a2l.experiments.push import run_push_experiment
 from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
 from a2l.rundir import make_run_dir, read_json, write_json
+from a2l.seeds import mark_report, seed_record
 
 __all__ = ["iterations_to_full_score", "run_seed_sweep",
            "seed_run", "summarize_sweep"]
@@ -175,7 +176,8 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     cfg0.validate()
     run_dir = make_run_dir("sweep", out)
     config = {"experiment": "sweep", "framework": dataclasses.asdict(cfg0),
-              "overrides": overrides or {}, "seeds": seeds, "command": command}
+              "overrides": overrides or {}, "seeds": seeds, "command": command,
+              "seed_use": seed_record("sweep", seeds)}
     if (run_dir / "config.json").is_file():
         old = read_json(run_dir / "config.json")
         # compared as JSON: config.json holds lists where the config holds tuples
@@ -208,11 +210,12 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     table = _table(rows, summary)
     write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary})
     changed = ", ".join(f"`{k} = {v}`" for k, v in (overrides or {}).items()) or "none"
-    atomic_write_text(run_dir / "report.md", (
+    atomic_write_text(run_dir / "report.md", mark_report(
         "# Seed sweep of the push experiment\n\n"
         f"Scene {cfg0.scene}, {cfg0.n_effects} effects, {cfg0.n_starts} starts, at most "
         f"{cfg0.max_iterations} iterations; changed from the defaults: {changed}.\n"
-        + (f"Command: `{command}`\n" if command else "") + "\n" + table + "\n"))
+        + (f"Command: `{command}`\n" if command else "") + "\n" + table + "\n",
+        seed_record("sweep", seeds)))
     if not quiet:
         print(table)
         print(f"sweep directory: {run_dir}")

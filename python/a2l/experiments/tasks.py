@@ -114,6 +114,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     from a2l.experiments.tasks_report import summarise, write_report
     from a2l.parallel import Executor
     from a2l.rundir import make_run_dir, write_json
+    from a2l.seeds import seed_record
 
     names = list(tasks) if tasks else list(TASKS)
     _check(names, trials, seed, workers)
@@ -130,7 +131,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         "description": TASKS[n].description, "start_region": TASKS[n].start_region,
         "gripper": TASKS[n].gripper, "light": TASKS[n].light, "fault": TASKS[n].fault}
         for n in names}, "trial_seeds": [seed, seed + trials - 1], "faults": list(faults),
-        "jitter_m": JITTER, "planner": planner, "workers": workers, "command": command}
+        "jitter_m": JITTER, "planner": planner, "workers": workers, "command": command,
+        "seed_use": seed_record("tasks", range(seed, seed + trials))}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     bundles = learn_task_skills(run_dir / "skills")

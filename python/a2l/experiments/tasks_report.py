@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 
 from a2l.atomic import atomic_write_bytes, atomic_write_text
+from a2l.seeds import mark_report
 
 __all__ = ["results_table", "summarise", "write_report"]
 
@@ -185,5 +186,5 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
         "A fault follows only a step that carried out as planned and must leave the world "
         "disagreeing with the plan; a fault trial where it could not be applied is in no "
         "success rate above.", "", *(skipped or ["none"]), ""])
-    atomic_write_text(run_dir / "report.md", text)
+    atomic_write_text(run_dir / "report.md", mark_report(text, config["seed_use"]))
     return table
