@@ -1,11 +1,9 @@
-"""Planning: OMPL transit among the table's obstacles, and PDDL planning time per planner."""
+"""Planning: OMPL transit among the table's obstacles (PDDL planner calls:
+``bench_task_planning.py``)."""
 
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
-import tempfile
 import time
 
 import numpy as np
@@ -13,7 +11,7 @@ import numpy as np
 import a2l
 from a2l import _core
 
-TITLE = "Planning (OMPL transit on Baxter's right arm; PDDL planners)"
+TITLE = "Planning (OMPL transit on Baxter's right arm)"
 N_PAIRS = 100
 SEED = 0
 
@@ -82,84 +80,6 @@ def _transit_table() -> str:
     )
 
 
-def _pddl_table() -> str:
-    from a2l.planning import (
-        PerceivedState,
-        TableRegions,
-        domain_pddl,
-        problem_pddl,
-        solve,
-        tabletop_repertoire,
-    )
-
-    pushes = ("left", "right", "close", "far")
-    regions = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
-    skills = tabletop_repertoire(pushes)
-    state = PerceivedState(regions.names, {"block": "mid-centre", "box": "mid-right"},
-                           ("button",), {"light": "on", "gripper": "open"},
-                           static=regions.neighbour_facts(pushes))
-    tasks = {
-        "light off": "(light-off)",
-        "light off, block far-left, box close-right":
-            "(and (light-off) (at block far-left) (at box close-right))",
-        "block far-left, box far-right, light on, gripper closed":
-            "(and (at block far-left) (at box far-right) (light-on) (gripper-closed))",
-        "impossible (held and on the table)": "(and (holding block) (at block far-left))",
-    }
-    t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-c", "import unified_planning.shortcuts, up_fast_downward"],
-                   check=True)
-    up_import_ms = (time.perf_counter() - t0) * 1000
-    rows = ["| task | planner | status | steps | wall ms (median of 3) |", "|---|---|---|---|---|"]
-    dom = domain_pddl(skills)
-    with tempfile.TemporaryDirectory() as tmp:
-        for name, goal in tasks.items():
-            prob = problem_pddl(skills, state, goal)
-            for planner in ("pyperplan", "fast-downward"):
-                res = [solve(dom, prob, tmp, planner=planner, time_limit=60) for _ in range(3)]
-                ms = np.median([r.time_s * 1000 for r in res])
-                rows.append(f"| {name} | {planner} | {res[0].status} | "
-                            f"{len(res[0].plan) if res[0].solved else '-'} | {ms:.0f} |")
-    return ("Repertoire: push left/right/close/far, grasp, place, press (learned with the "
-            "gripper closed; one operator per light transition), open/close gripper; 3 x 3 "
-            "table regions. pyperplan: A* + LM-cut; Fast Downward: LAMA-first through "
-            "unified-planning. Wall time of `a2l.planning.solve`: writing the files, the "
-            "child process that runs the planner (start-up included) and reading the "
-            f"plan. A bare Python start that imports unified-planning and up-fast-downward "
-            f"took {up_import_ms:.0f} ms here: most of Fast Downward's time. Load average at "
-            f"the start: {os.getloadavg()[0]:.1f}.\n\n" + "\n".join(rows))
-
-
-def _experiment_tasks_table() -> str:
-    """Both planners on the start states of ``a2l experiment tasks``' tasks."""
-    from a2l.experiments.task_trials import TASKS, task_skills
-    from a2l.planning import PerceivedState, TableRegions, domain_pddl, problem_pddl, solve
-
-    regions = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
-    skills = task_skills()
-    dom = domain_pddl(skills)
-    rows = ["| task | start -> goal | planner | status | steps | wall ms (median of 3) |",
-            "|---|---|---|---|---|---|"]
-    with tempfile.TemporaryDirectory() as tmp:
-        for name, spec in TASKS.items():
-            for light in ([spec.light] if spec.light else ["on", "off"]):
-                goal = spec.goal(np.random.default_rng(0))
-                state = PerceivedState(regions.names, {"block": spec.start_region},
-                                       ("button",), {"light": light, "gripper": spec.gripper})
-                prob = problem_pddl(skills, state, goal)
-                for planner in ("pyperplan", "fast-downward"):
-                    res = [solve(dom, prob, tmp, planner=planner, time_limit=60)
-                           for _ in range(3)]
-                    ms = np.median([r.time_s * 1000 for r in res])
-                    rows.append(f"| {name} | light {light}, gripper {spec.gripper}, block "
-                                f"{spec.start_region} -> `{goal}` | {planner} | "
-                                f"{res[0].status} | "
-                                f"{len(res[0].plan) if res[0].solved else '-'} | {ms:.0f} |")
-    return ("The tasks of `a2l experiment tasks` from their start states (repertoire: grasp, "
-            "place, press-light-on/off, open/close gripper; the block the only movable). "
-            f"Load average at the start: {os.getloadavg()[0]:.1f}.\n\n" + "\n".join(rows))
-
-
 def run() -> str:
     parts = []
     if _core.transit_available():
@@ -167,7 +87,5 @@ def run() -> str:
                      + _transit_table())
     else:
         parts.append("Transit: not measured (this build has no Bullet/OMPL).")
-    parts.append("### Task planning (PDDL)\n\n" + _pddl_table())
-    parts.append("### The experiment's tasks (PDDL)\n\n" + _experiment_tasks_table())
     t = time.strftime("%H:%M")
     return "\n\n".join(parts) + f"\n\n_(section finished at {t})_"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import signal
 import time
 
 import pytest
@@ -22,6 +24,7 @@ from a2l.planning import (
     tabletop_repertoire,
     unmet,
 )
+from a2l.planning.planners import WORKER
 
 REGIONS = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
 PUSHES = ("left", "right", "close", "far")
@@ -112,6 +115,43 @@ def test_timeout_is_reported_not_hung(tmp_path) -> None:
                 planner="pyperplan", time_limit=1.5, search="astar", heuristic="blind")
     assert res.status == "timeout", res.report()
     assert time.perf_counter() - t0 < 1.5 + 5.0
+    # the search was killed with its worker; the next call starts a new one and solves
+    starts = WORKER.starts
+    ok = solve(domain_pddl(repertoire()), problem_pddl(repertoire(), state(), GOAL), tmp_path,
+               planner="pyperplan", time_limit=60)
+    assert ok.solved, ok.report()
+    assert WORKER.starts == starts + 1
+
+
+@pytest.mark.parametrize("planner", ["pyperplan", "fast-downward"])
+def test_goal_no_operator_reaches_is_unsolvable(planner: str, tmp_path) -> None:
+    # no press-light-on in the repertoire: the goal is unreachable even ignoring deletes
+    # (Fast Downward's translator finds it; pyperplan's search exhausts the states)
+    skills = [s for s in repertoire() if s.name != "press-light-on"]
+    res = solve(domain_pddl(skills), problem_pddl(skills, state("off"), "(light-on)"), tmp_path,
+                planner=planner, time_limit=30)
+    assert res.status == "unsolvable", res.report()
+
+
+def test_the_worker_stays_alive_between_calls_and_a_dead_one_is_restarted(tmp_path) -> None:
+    skills = repertoire()
+    dom, prob = domain_pddl(skills), problem_pddl(skills, state(), GOAL)
+    first = solve(dom, prob, tmp_path, planner="pyperplan", time_limit=60)
+    assert first.solved, first.report()
+    starts = WORKER.starts
+    pid = WORKER.pid
+    # alternating planners and tasks in one worker: every answer is the task's own
+    for planner in ("fast-downward", "pyperplan", "fast-downward"):
+        for goal in (GOAL, "(light-off)"):
+            res = solve(dom, problem_pddl(skills, state(), goal), tmp_path, planner=planner,
+                        time_limit=60)
+            assert res.solved, res.report()
+            assert unmet(goal, simulate_plan(skills, state().facts(), res.plan)[-1]) == []
+    assert WORKER.starts == starts and WORKER.pid == pid
+    os.kill(pid, signal.SIGKILL)  # a worker that died between calls
+    res = solve(dom, prob, tmp_path, planner="pyperplan", time_limit=60)
+    assert res.solved, res.report()
+    assert WORKER.starts == starts + 1 and WORKER.pid != pid
 
 
 def test_bad_pddl_is_an_error_report(tmp_path) -> None:

@@ -5,7 +5,7 @@
 1. perceive the state (:func:`perceive_state`: the light, the gripper, what it holds, which
    table region each movable object is in, from the scene's state as the skills see it);
 2. write the problem (:func:`a2l.planning.problem_pddl`) and plan (:func:`a2l.planning.solve`,
-   pyperplan by default, in a killable child process with a time limit);
+   pyperplan by default, in the planner worker, killed at the time limit);
 3. per plan step: move the arm above the step's object along a collision-free transit
    (:class:`a2l.planning.transit.ArmTransit`), run the learned skill in closed loop through
    the C++ step (:func:`a2l.rollout.run.run_skill`; its trace ends it early: ``step_cap``,
@@ -146,7 +146,8 @@ class TaskResult:
     message : str
         A failure report (empty on success).
     plan_ms : list of float
-        Wall time of each planner call (ms, the child process's start-up included).
+        Wall time of each planner call (ms; the planner worker's start-up when the call
+        started it).
     transit_ms : list of float
         OMPL planning time of each transit (ms; path shortening and time parameterisation
         included, the arm's movement not).

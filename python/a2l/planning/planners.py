@@ -1,26 +1,32 @@
 """Run a PDDL planner with a hard time limit: pyperplan (default) or Fast Downward.
 
-Every search runs in a child process of its own (``python -m a2l.planning._child``, leading
-a new process group) that is killed, with whatever it started, when the time limit is
-reached: an unsolvable or timed-out problem always ends in a :class:`PlanResult` that
-says so, never in a hang.
+Every search runs in a planner worker (:class:`PlannerWorker`: ``python
+a2l/planning/_worker.py``, leading a new process group) that stays alive between calls, so a
+call pays no process start-up or import; a call past its time limit kills the worker, with
+whatever it started, and the next call starts a new one: an unsolvable or timed-out problem
+always ends in a :class:`PlanResult` that says so, never in a hang.
 
-- ``pyperplan``: the pure-Python planner, called through its Python API in the child;
+- ``pyperplan``: the pure-Python planner, called through its Python API in the worker;
   A* with the LM-cut heuristic by default (optimal plans; complete, so an exhausted search
-  proves that there is no plan).
-- ``fast-downward``: through ``unified-planning`` + ``up-fast-downward`` (its wheel carries
-  the compiled planner); ``OneshotPlanner(name="fast-downward")`` runs LAMA-first. An
-  unsolvable task comes back as ``UNSOLVABLE_INCOMPLETELY`` (reported as ``unsolvable``).
-  (``up-pyperplan`` is not used: it misreports unsolvable tasks.)
+  proves that there is no plan). It has no time limit of its own: the kill is the limit.
+- ``fast-downward``: the planner shipped by ``up-fast-downward`` (its wheel carries the
+  compiled search), without unified-planning: its translator runs in the worker, then the
+  ``downward`` binary with the ``lama-first`` search options (what unified-planning's
+  ``OneshotPlanner(name="fast-downward")`` runs). A task it finds unsolvable is reported as
+  ``unsolvable``. (``up-pyperplan`` is not used: it misreports unsolvable tasks.)
 """
 
 from __future__ import annotations
 
+import atexit
 import json
 import os
+import select
 import signal
 import subprocess
 import sys
+import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,7 +35,8 @@ from typing import Any
 from a2l.atomic import atomic_write_text
 from a2l.errors import A2LFileNotFoundError, A2LValueError
 
-__all__ = ["PLANNERS", "PlanResult", "PlanStep", "solve", "solve_files", "write_task"]
+__all__ = ["PLANNERS", "WORKER", "PlanResult", "PlanStep", "PlannerWorker", "solve",
+           "solve_files", "write_task"]
 
 #: Planner names accepted by :func:`solve`.
 PLANNERS = ("pyperplan", "fast-downward")
@@ -60,7 +67,8 @@ class PlanResult:
     plan : tuple of PlanStep
         The plan when solved (may be empty if the goal already holds), else empty.
     time_s : float
-        Wall time of the call, child start-up included (s).
+        Wall time of the call (s): sending the task to the worker, the search, reading
+        the plan; the worker's start-up when this call started it.
     message : str
         Why, when not solved.
     """
@@ -85,18 +93,142 @@ class PlanResult:
         return f"{self.planner}: no plan ({self.status}) after {self.time_s:.2f} s: {self.message}"
 
 
-def _kill(proc: subprocess.Popen) -> None:
-    try:
-        os.killpg(proc.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        proc.kill()
-    proc.communicate()
+#: The worker's script, run by path: it imports neither a2l nor numpy (start-up ~0.3 s).
+_WORKER_SCRIPT = Path(__file__).with_name("_worker.py")
+
+
+class PlannerWorker:
+    """A planner process that stays alive between calls (``python .../_worker.py``),
+    started on the first call and after a kill.
+
+    Each call writes one request line and reads one answer line; a call past its time
+    limit kills the worker's process group (the worker and a running Fast Downward
+    search) and the next call starts a new worker. A worker belongs to the process that
+    started it: after a fork the child starts its own. Calls from several threads are
+    served one at a time.
+    """
+
+    #: s allowed for a worker to start (import its planners) and say it is ready: not
+    #: counted in a call's time limit.
+    START_TIMEOUT = 120.0
+
+    def __init__(self) -> None:
+        self._proc: subprocess.Popen | None = None
+        self._owner = 0
+        self._buf = b""
+        self._stderr: Any = None
+        self._lock = threading.Lock()
+        #: how many workers this object started (the first, and one per kill or crash)
+        self.starts = 0
+
+    @property
+    def pid(self) -> int | None:
+        """The running worker's process id (None if none runs)."""
+        return self._proc.pid if self._alive() and self._proc is not None else None
+
+    def _alive(self) -> bool:
+        return (self._proc is not None and self._owner == os.getpid()
+                and self._proc.poll() is None)
+
+    def _start(self) -> str | None:
+        """Start a worker and wait until it is ready; returns why not, or None."""
+        self._stderr = tempfile.TemporaryFile()
+        self._proc = subprocess.Popen(
+            [sys.executable, str(_WORKER_SCRIPT)], stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE, stderr=self._stderr, start_new_session=True)
+        self._owner, self._buf = os.getpid(), b""
+        self.starts += 1
+        line = self._read_line(time.perf_counter() + self.START_TIMEOUT)
+        if line is None or json.loads(line).get("ready") is not True:
+            why = f"the planner worker did not start: {self._stderr_tail()}"
+            self.close()
+            return why
+        return None
+
+    def _read_line(self, deadline: float) -> bytes | None:
+        """One line of the worker's output, or None at `deadline` or when it ended."""
+        assert self._proc is not None and self._proc.stdout is not None
+        fd = self._proc.stdout.fileno()
+        while b"\n" not in self._buf:
+            left = deadline - time.perf_counter()
+            if left <= 0 or not select.select([fd], [], [], left)[0]:
+                return None
+            chunk = os.read(fd, 65536)
+            if not chunk:
+                return None
+            self._buf += chunk
+        line, self._buf = self._buf.split(b"\n", 1)
+        return line
+
+    def _stderr_tail(self) -> str:
+        if self._stderr is None:
+            return ""
+        self._stderr.seek(0)
+        return self._stderr.read().decode(errors="replace").strip()[-500:]
+
+    def call(self, request: dict[str, Any], time_limit: float) -> tuple[str, Any]:
+        """Send `request` and wait at most `time_limit` s for the answer.
+
+        Returns
+        -------
+        (str, object)
+            ``(status, payload)`` as the worker answered, ``("timeout", message)`` after a
+            kill at the limit, ``("error", message)`` if the worker died or did not start.
+        """
+        with self._lock:
+            if not self._alive():
+                why = self._start()
+                if why is not None:
+                    return "error", why
+            assert self._proc is not None and self._proc.stdin is not None
+            t0 = time.perf_counter()
+            try:
+                self._proc.stdin.write((json.dumps(request) + "\n").encode())
+                self._proc.stdin.flush()
+            except BrokenPipeError:
+                line = None
+            else:
+                line = self._read_line(t0 + time_limit)
+            if line is not None:
+                answer = json.loads(line)
+                return answer["status"], answer["payload"]
+            if self._proc.poll() is None:  # still searching: the hard limit
+                self.close()
+                return "timeout", f"stopped at the time limit of {time_limit:g} s"
+            why = (f"the planner worker ended without an answer (exit code "
+                   f"{self._proc.returncode}): {self._stderr_tail()}")
+            self.close()
+            return "error", why
+
+    def close(self) -> None:
+        """Kill the worker (its whole process group) if this process started it."""
+        proc, self._proc = self._proc, None
+        if proc is not None and self._owner == os.getpid():
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                proc.kill()
+            proc.wait()
+            for f in (proc.stdin, proc.stdout):
+                if f is not None:
+                    f.close()
+        if self._stderr is not None:
+            self._stderr.close()
+            self._stderr = None
+
+
+#: The worker every :func:`solve_files` call of this process uses.
+WORKER = PlannerWorker()
+atexit.register(WORKER.close)
 
 
 def solve_files(domain: str | os.PathLike[str], problem: str | os.PathLike[str],
                 planner: str = "pyperplan", time_limit: float = 10.0,
                 search: str = "astar", heuristic: str = "lmcut") -> PlanResult:
     """Solve a PDDL domain and problem file within `time_limit` seconds.
+
+    The planner runs in :data:`WORKER`, a process that stays alive between calls, so a
+    call pays no process start-up or import (but the first, which starts the worker).
 
     Parameters
     ----------
@@ -105,7 +237,8 @@ def solve_files(domain: str | os.PathLike[str], problem: str | os.PathLike[str],
     planner : {"pyperplan", "fast-downward"}
         Which planner.
     time_limit : float
-        s, > 0: the call returns by then (plus the time to kill the child).
+        s, > 0: the call returns by then (plus the time to kill the worker), the worker's
+        start-up (once per process, and after a kill) not counted.
     search, heuristic : str
         pyperplan's search (``astar``, ``gbf``, ``wastar``, ``ehs``, ``bfs``...) and
         heuristic (``lmcut``, ``hff``, ``hadd``, ``hmax``, ``blind``...).
@@ -130,34 +263,10 @@ def solve_files(domain: str | os.PathLike[str], problem: str | os.PathLike[str],
         if not Path(f).is_file():
             raise A2LFileNotFoundError(f"PDDL file '{f}' does not exist")
     t0 = time.perf_counter()
-    args = {"planner": planner, "domain": str(domain), "problem": str(problem),
-            "search": search, "heuristic": heuristic, "time_limit": time_limit}
-    # a new session: the child leads its own process group, killed whole at the limit
-    # (Fast Downward's own process included)
-    proc = subprocess.Popen([sys.executable, "-m", "a2l.planning._child", json.dumps(args)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
-    out: tuple[str, Any] | None = None
-    try:
-        stdout, stderr = proc.communicate(timeout=max(time_limit - (time.perf_counter() - t0),
-                                                      0.0))
-        lines = stdout.strip().splitlines()
-        try:
-            answer = json.loads(lines[-1]) if lines else None
-        except json.JSONDecodeError:
-            answer = None
-        if answer is None:
-            out = ("error", f"the {planner} process ended without an answer (exit code "
-                            f"{proc.returncode}): {stderr.strip()[-500:]}")
-        else:
-            out = (answer["status"], answer["payload"])
-    except subprocess.TimeoutExpired:
-        _kill(proc)
+    status, payload = WORKER.call({"planner": planner, "domain": str(Path(domain).resolve()),
+                                   "problem": str(Path(problem).resolve()), "search": search,
+                                   "heuristic": heuristic}, time_limit)
     elapsed = time.perf_counter() - t0
-    if out is None:
-        return PlanResult("timeout", planner, (), elapsed,
-                          f"stopped at the time limit of {time_limit:g} s")
-    status, payload = out
     if status == "solved":
         steps = tuple(PlanStep(n, tuple(a)) for n, a in payload)
         return PlanResult("solved", planner, steps, elapsed)

@@ -1,6 +1,8 @@
-"""The child process of :func:`a2l.planning.solve_files`: runs one planner, prints JSON.
+"""The planner child process that a2l.planning ran once per call before the planner worker
+(verbatim, the baseline of `bench_task_planning.py`): runs one planner, prints JSON.
 
-Run as ``python -m a2l.planning._child '{"planner": ..., "domain": ..., "problem": ...}'``;
+It ran as ``python -m a2l.planning._child '{"planner": ..., "domain": ..., "problem": ...}'``
+(importing the a2l package first); the benchmark runs it the same way through ``runpy``. It
 prints ``{"status": ..., "payload": ...}`` on its last line of output.
 """
 
