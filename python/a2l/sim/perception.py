@@ -8,7 +8,8 @@ the lamp: lit (saturated yellow) or not.
 
 A scene has a main camera facing the robot from beyond the table and side cameras; the
 share of each object's top face a camera sees tells when the arm hides it, and only then
-are the side cameras rendered (see :class:`a2l.sim.bullet.BulletScene`).
+are the side cameras rendered, the top-face points of every view joined (see
+:class:`a2l.sim.bullet.BulletScene`).
 """
 
 from __future__ import annotations
@@ -182,6 +183,56 @@ class Perception:
         m = cv2.morphologyEx(m, cv2.MORPH_OPEN, self._kernel)
         return m.astype(bool)
 
+    def top_faces(self, rgb: NDArray[np.uint8], depth: NDArray[np.float32]
+                  ) -> tuple[dict[str, NDArray[np.float64]], dict[str, bool]]:
+        """The top face of every target seen in one frame, and the lamp state.
+
+        Returns
+        -------
+        faces : dict of str to ndarray, shape (n, 3)
+            For every target seen, the world points of its segmented pixels that lie within
+            ``top_band`` of its highest point (all its points when fewer than
+            ``min_pixels`` do).
+        lamp : dict
+            ``{"light_on": bool}`` when the scene has a lamp, else empty.
+        """
+        hsv = cv2.cvtColor(rgb, cv2.COLOR_RGB2HSV)
+        faces: dict[str, NDArray[np.float64]] = {}
+        for t in self.targets:
+            mask = self._mask(hsv, self._hues[t.name])
+            rows, cols = np.nonzero(mask)
+            if rows.shape[0] < self.min_pixels:
+                continue
+            pts = self.camera.lift(rows, cols, depth)
+            z_top = float(np.percentile(pts[:, 2], 98))
+            top = pts[pts[:, 2] >= z_top - self.top_band]
+            faces[t.name] = top if top.shape[0] >= self.min_pixels else pts
+        lamp: dict[str, bool] = {}
+        if self._lamp_hue is not None:
+            lit = int(self._mask(hsv, self._lamp_hue).sum())
+            lamp["light_on"] = lit >= self.min_pixels
+        return faces, lamp
+
+    def estimate(self, name: str, face: NDArray[np.float64]
+                 ) -> tuple[tuple[float, float, float], float]:
+        """Centre of target `name` from points (n, 3) of its top face, and the share of
+        the face they cover.
+
+        The centre is that of the smallest rectangle around the points (unlike their mean
+        it is not pulled toward the camera, where pixels are denser), lowered by half the
+        target's height from the face's height (98th percentile of the points). The share
+        is the rectangle's area over the target's ``top_area``, at most 1 (1 when
+        ``top_area`` is unknown): an arm in front of the object lowers it. `face` may join
+        the points several cameras saw (see :meth:`a2l.sim.bullet.BulletScene.perceive`).
+        """
+        t = next(t for t in self.targets if t.name == name)
+        z_top = float(np.percentile(face[:, 2], 98))
+        (cx, cy), (w, h), _ = cv2.minAreaRect(face[:, :2].astype(np.float32))
+        # the rectangle joins pixel centres: it is about one pixel short on each axis
+        px = self.camera.pixel_size((cx, cy, z_top))
+        visible = min(1.0, (w + px) * (h + px) / t.top_area) if t.top_area > 0 else 1.0
+        return (float(cx), float(cy), z_top - t.half_height), visible
+
     def locate(self, rgb: NDArray[np.uint8], depth: NDArray[np.float32]
                ) -> tuple[dict[str, tuple[float, float, float]], dict[str, bool],
                           dict[str, float]]:
@@ -194,35 +245,14 @@ class Perception:
         lamp : dict
             ``{"light_on": bool}`` when the scene has a lamp, else empty.
         visible : dict of str to float
-            For every target seen, the share of its top face the camera sees (area of the
-            rectangle around the seen top face over the target's ``top_area``, at most 1;
-            1 when ``top_area`` is unknown). An arm in front of the object lowers it.
+            For every target seen, the share of its top face the camera sees
+            (:meth:`estimate`).
         """
-        hsv = cv2.cvtColor(rgb, cv2.COLOR_RGB2HSV)
+        faces, lamp = self.top_faces(rgb, depth)
         objects: dict[str, tuple[float, float, float]] = {}
         visible: dict[str, float] = {}
-        for t in self.targets:
-            mask = self._mask(hsv, self._hues[t.name])
-            rows, cols = np.nonzero(mask)
-            if rows.shape[0] < self.min_pixels:
-                continue
-            pts = self.camera.lift(rows, cols, depth)
-            z_top = float(np.percentile(pts[:, 2], 98))
-            top = pts[pts[:, 2] >= z_top - self.top_band]
-            if top.shape[0] < self.min_pixels:
-                top = pts
-            # the centre of the smallest rectangle around the top face: unlike the mean of
-            # the points it is not pulled toward the camera, where pixels are denser
-            (cx, cy), (w, h), _ = cv2.minAreaRect(top[:, :2].astype(np.float32))
-            objects[t.name] = (float(cx), float(cy), z_top - t.half_height)
-            # the rectangle joins pixel centres: it is about one pixel short on each axis
-            px = self.camera.pixel_size((cx, cy, z_top))
-            visible[t.name] = (min(1.0, (w + px) * (h + px) / t.top_area) if t.top_area > 0
-                               else 1.0)
-        lamp: dict[str, bool] = {}
-        if self._lamp_hue is not None:
-            lit = int(self._mask(hsv, self._lamp_hue).sum())
-            lamp["light_on"] = lit >= self.min_pixels
+        for name, face in faces.items():
+            objects[name], visible[name] = self.estimate(name, face)
         return objects, lamp, visible
 
 
