@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from a2l.acquisition.protocol import drive, drive_ahead
+from a2l.errors import ConfigError
 from a2l.framework import FrameworkConfig, run_framework
 from a2l.framework.loop import _seed
 from a2l.framework.validation import heldout_task
@@ -226,10 +227,13 @@ def test_drive_ahead_refuses_a_strategy_that_cannot_be_asked_ahead() -> None:
 
 def test_make_env_sets_the_scene_to_the_source_it_reads() -> None:
     env = make_env("virtual", seed=0)
-    assert env.scene.config.context_source == "ground_truth"
+    assert env.scene.config.context_source == env.source == "perceived"  # the camera
+    env.close()
+    env = make_env("virtual", seed=0, context_source="ground_truth")
+    assert env.source == "ground_truth"
     env.close()
     with pytest.raises(ValueError, match="contradicts"):
-        make_env("virtual", context_source="perceived")
+        make_env("virtual", source="ground_truth", context_source="perceived")
     with pytest.raises(ValueError, match="source"):
         make_env("virtual", source="oracle")
 
@@ -237,7 +241,7 @@ def test_make_env_sets_the_scene_to_the_source_it_reads() -> None:
 def test_baxter_env_renders_no_camera_frame_per_movement() -> None:
     """The Baxter scene of a ground-truth env records no perceived observation: nothing
     renders a camera frame at each movement's start."""
-    env = make_env("baxter", seed=0)
+    env = make_env("baxter", seed=0, source="ground_truth")
     try:
         assert env.scene.config.context_source == "ground_truth"
         env.begin(np.array([0.2, 0.0, 0.0]))
@@ -272,3 +276,32 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     assert np.array_equal(reachable_heldout(cfg, 0), raw[0])
     with pytest.raises(ValueError, match="attempt"):
         heldout_redraw(cfg, 23, 0)
+
+
+def test_the_framework_reads_the_context_from_the_camera_by_default() -> None:
+    """Every rollout's env (babbling, extension, validation, held-out: all through
+    scene_env) reads the camera unless the config says ground truth; one frame per
+    movement of the main camera on Baxter."""
+    from a2l.rollout.env import scene_env
+
+    cfg = FrameworkConfig(scene="baxter", seed=3)
+    assert cfg.context_source == "perceived"
+    env = scene_env(cfg)
+    assert env.source == env.scene.config.context_source == "perceived"
+    renders = []  # frames of the main camera (the side ones render when the arm hides the box)
+    cam = env.scene.cameras[0]
+    cam.render = (lambda f: lambda: renders.append(1) or f())(cam.render)
+    env.begin(np.array([0.2, 0.0, 0.0]))
+    for _ in range(3):
+        env.object()
+        env.execute((-1, 0, 0))
+    env.object()
+    assert len(renders) == 4  # the start, then one frame after each movement
+    assert "perceived" in env.scene._step_start
+    truth = scene_env(FrameworkConfig(scene="baxter", seed=3, context_source="ground_truth"))
+    assert truth.source == "ground_truth" and truth is not env
+    old = scene_env(FrameworkConfig(scene="baxter", seed=3,
+                                    scene_config={"source": "ground_truth"}))
+    assert old.source == "ground_truth"
+    with pytest.raises(ConfigError, match="context_source"):
+        FrameworkConfig(context_source="camera").validate()

@@ -19,6 +19,7 @@ from typing import Any
 
 from a2l.atomic import atomic_write_text
 from a2l.experiments.push_report import (
+    context_label,
     plot_policy,
     plot_scores,
     plot_trajectories,
@@ -163,6 +164,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         held = result["heldout_score"]
         print(f"final score {result['final_score']:.1f}"
               + (f" (held-out {held:.1f})" if held is not None else "")
+              + f"; context: {context_label(cfg)}"
               + f"; run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
 

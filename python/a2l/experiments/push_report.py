@@ -11,6 +11,7 @@ import numpy as np
 from a2l.framework import FrameworkConfig
 
 __all__ = [
+    "context_label",
     "plot_policy",
     "plot_scores",
     "plot_trajectories",
@@ -206,6 +207,15 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     plt.close(fig)
 
 
+def context_label(cfg: FrameworkConfig) -> str:
+    """Where the run's rollouts read the object from, as the report names it."""
+    src = dict(cfg.scene_config).get("source") or dict(cfg.scene_config).get(
+        "context_source") or cfg.context_source
+    if cfg.scene == "virtual":
+        return f"{src} (the virtual scene has no camera: its true state)"
+    return "camera (perceived)" if src == "perceived" else "ground truth (the simulator's)"
+
+
 def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
                     history: list[dict[str, Any]]) -> str:
     """The run directory's ``report.md``: final and held-out scores, the iterations' table,
@@ -221,6 +231,8 @@ def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
     ]
     return "\n".join([
         f"# A2L push experiment ({cfg.scene} scene, {cfg.n_effects} effects, seed {cfg.seed})",
+        "",
+        f"Context: {context_label(cfg)}.",
         "",
         f"Final score: **{result['final_score']:.1f}** after {len(result['iterations'])} "
         f"iteration(s); final skill `{Path(result['bundle']).relative_to(run_dir)}` "

@@ -124,6 +124,12 @@ class FrameworkConfig:
         Range of their distance from the object (m); their angle is uniform.
     seed : int
         Seed of every random draw.
+    context_source : {"perceived", "ground_truth"}
+        Where every rollout (babbling, extension, validation, held-out) reads the object's
+        position: the scene's camera (``"perceived"``, the default: OpenCV segmentation of
+        the rendered frames, one frame per movement) or the simulator's truth. The virtual
+        scene has no camera: both read its true state. A ``source`` (or ``context_source``)
+        key of ``scene_config`` overrides it.
     scene_config : dict
         Extra keyword arguments for :func:`a2l.sim.make_scene`.
     """
@@ -167,6 +173,7 @@ class FrameworkConfig:
     heldout_r_low: float = 0.10
     heldout_r_high: float = 0.25
     seed: int = 0
+    context_source: str = "perceived"
     scene_config: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -228,6 +235,9 @@ class FrameworkConfig:
                              f"{self.heldout_r_low}, {self.heldout_r_high}")
         if not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError("seed", f"must be an integer >= 0, got {self.seed!r}")
+        if self.context_source not in ("perceived", "ground_truth"):
+            raise ConfigError("context_source", f"must be 'perceived' (the camera) or "
+                              f"'ground_truth', got {self.context_source!r}")
         names = self.discretization.context_names()
         unknown = [v for v in self.fixed_parents if v not in names]
         if unknown:

@@ -71,15 +71,15 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
              **config: Any) -> SceneEnv:
     """The rollout environment of a framework scene name (``virtual`` or ``baxter``).
 
-    The scene's ``context_source`` is the env's `source` (default ground truth): a scene left
-    on ``"perceived"`` renders and reads a camera frame at the start of every movement
-    (:meth:`a2l.sim.Scene.execute` records the observation the step's effect is measured
-    from), which an env reading ground truth never looks at (about 15 ms of a 35 ms Baxter
-    movement).
+    The scene's ``context_source`` is the env's `source` (default the camera,
+    ``"perceived"``): one camera frame per movement, read by :meth:`SceneEnv.object` and
+    cached for the next movement's start (:meth:`a2l.sim.Scene.execute` records the
+    observation the step's effect is measured from). With ``"ground_truth"`` the scene
+    renders nothing.
     """
     if scene not in SCENES:
         raise ValueError(f"unknown scene {scene!r}; choose one of {sorted(SCENES)}")
-    source = source or "ground_truth"
+    source = source or config.get("context_source") or "perceived"
     if source not in ("ground_truth", "perceived"):
         raise ValueError(f"source: must be 'ground_truth' or 'perceived', got {source!r}")
     if config.setdefault("context_source", source) != source:
@@ -106,7 +106,11 @@ class EnvSpec(Protocol):
 
 
 def scene_env(cfg: EnvSpec) -> SceneEnv:
-    """The scene of this thread for `cfg` (built once per thread and reused)."""
-    key = repr((cfg.scene, sorted(cfg.scene_config.items()), cfg.step, cfg.seed))
+    """The scene of this thread for `cfg` (built once per thread and reused), reading the
+    context from ``cfg.context_source`` unless ``cfg.scene_config`` names a source."""
+    config = dict(cfg.scene_config)
+    source = config.pop("source", None) or config.get("context_source") or getattr(
+        cfg, "context_source", None)
+    key = repr((cfg.scene, sorted(config.items()), source, cfg.step, cfg.seed))
     return thread_scene("envs", key, lambda: make_env(cfg.scene, seed=cfg.seed, step=cfg.step,
-                                                      **cfg.scene_config))
+                                                      source=source, **config))
