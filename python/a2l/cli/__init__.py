@@ -27,6 +27,8 @@ experiment sweep
     The push experiment over many seeds: iterations to reach score 100.
 experiment tasks
     Planned tasks with the learned skills, with and without faults.
+results
+    Run the experiments behind the published tables; write docs/results/ (``--help``).
 skill show BUNDLE
     What a skill or DS bundle holds.
 skill learn --demos FILE --out BUNDLE --effect E
@@ -51,7 +53,7 @@ from collections.abc import Callable, Sequence
 
 from jsonargparse import Namespace
 
-from a2l.cli import demo, experiments, skill
+from a2l.cli import demo, experiments, results, skill
 from a2l.cli.args import UsageError
 from a2l.cli.parser import Parser, command_path, normalize_argv
 from a2l.errors import ConfigError
@@ -76,6 +78,7 @@ def build_parser() -> tuple[Parser, dict[tuple[str, ...], tuple[Parser, Handler]
     demo.add_demo_parsers(sub, commands)
     experiments.add_experiment_parsers(sub, commands)
     skill.add_skill_parsers(sub, commands)
+    results.add_results_parser(sub, commands)
     return parser, commands
 
 

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["plot_lasa", "report_markdown", "results_table"]
+__all__ = ["headline_table", "plot_lasa", "report_markdown", "results_table"]
 
 
 def results_table(metrics: dict[str, Any]) -> str:
@@ -34,6 +34,20 @@ def results_table(metrics: dict[str, Any]) -> str:
         f"{s['fit_ms_median']:.0f} (median) | {s['eval_us_median']:.2f} (median) | "
         f"min {s['min_converged']:.2%} | min {s['min_converged_euler']:.2%} |")
     return "\n".join(lines)
+
+
+def headline_table(metrics: dict[str, Any]) -> str:
+    """One-row Markdown table of a run's ``metrics.json``: shapes, mean DTW of the DS, the
+    DMP and the linear DS, the lowest convergence fraction over the shapes (exact flow and
+    Euler) and the median C++ query time."""
+    s = metrics["summary"]
+    return "\n".join([
+        "| shapes | DS DTW (mean) | DMP DTW | linear DTW | converged, lowest shape (exact "
+        "flow) | converged, lowest shape (Euler) | C++ query (µs, median) |",
+        "|---|---|---|---|---|---|---|",
+        f"| {len(metrics['shapes'])} | {s['a2l_dtw']:.2f} | {s['dmp_dtw']:.2f} | "
+        f"{s['linear_dtw']:.2f} | {s['min_converged']:.2%} | {s['min_converged_euler']:.2%} | "
+        f"{s['eval_us_median']:.2f} |"])
 
 
 def report_markdown(metrics: dict[str, Any], cfg: Any, command: str, plots: bool) -> str:

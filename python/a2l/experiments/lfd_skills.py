@@ -23,7 +23,7 @@ from a2l.errors import ConfigError
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
 
-__all__ = ["evaluate", "run_lfd_skills", "trial_task"]
+__all__ = ["evaluate", "results_table", "run_lfd_skills", "trial_task"]
 
 #: Scenes per worker process, keyed by (skill, scene, config overrides).
 _SCENES: dict[str, Any] = {}
@@ -121,6 +121,23 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, Any]]:
     return out
 
 
+def results_table(summary: dict[str, dict[str, Any]],
+                  learning: dict[str, dict[str, Any]] | None = None) -> str:
+    """Markdown table of :func:`summarise`'s `summary`: per skill the successes, mean
+    movements, failures by stop status, failed seeds and (with `learning`, the
+    ``metrics.json`` entry) the learning time."""
+    lines = ["| skill | success | mean movements | failures (stop: count) | failed seeds |"
+             + (" learning (s) |" if learning else ""),
+             "|---|---|---|---|---|" + ("---|" if learning else "")]
+    for name, s in summary.items():
+        fails = ", ".join(f"{k}: {v}" for k, v in s["failures"].items()) or "-"
+        lines.append(f"| {name} | {s['successes']}/{s['trials']} | "
+                     f"{s['mean_movements']:.1f} | {fails} | "
+                     f"{' '.join(map(str, s['failed_seeds'])) or '-'} |"
+                     + (f" {learning[name]['seconds']:.2f} |" if learning else ""))
+    return "\n".join(lines)
+
+
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                    trials: int = 20, seed: int = 1000, scene: str = "baxter",
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
@@ -174,17 +191,10 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
              f"Trial seeds {seeds[0]}-{seeds[-1]}; demonstrations from seeds 0-"
              f"{skill_config(names[0], cfg).n_demos - 1}; config "
              f"{ {n: skill_config(n, cfg).to_json() for n in names} }.", "",
-             "| skill | success | mean movements | failures (stop: count) | failed seeds |"
-             " learning (s) |", "|---|---|---|---|---|---|"]
-    for name, s in summary.items():
-        fails = ", ".join(f"{k}: {v}" for k, v in s["failures"].items()) or "-"
-        lines.append(f"| {name} | {s['successes']}/{s['trials']} | "
-                     f"{s['mean_movements']:.1f} | {fails} | "
-                     f"{' '.join(map(str, s['failed_seeds'])) or '-'} | "
-                     f"{learning[name]['seconds']:.2f} |")
+             results_table(summary, learning)]
     atomic_write_text(run_dir / "report.md", mark_report(
         "\n".join(lines) + "\n", seed_record("lfd-skills", seeds)))
     if not quiet:
-        print("\n".join(lines[6:]))
+        print(lines[-1])
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
     return metrics

@@ -12,7 +12,8 @@ import pandas as pd
 from a2l.atomic import atomic_write_text
 from a2l.seeds import mark_report
 
-__all__ = ["SIGNIFICANCE", "results_table", "summarise", "target", "write_report"]
+__all__ = ["SIGNIFICANCE", "condition_table", "results_table", "summarise", "target",
+           "write_report"]
 
 #: p-value of Fisher's exact test below which context and DS are marked as different.
 SIGNIFICANCE = 0.05
@@ -103,6 +104,30 @@ def summarise(trials: pd.DataFrame) -> dict[str, dict[str, dict[str, Any]]]:
 
 def _pct(k: int, n: int) -> str:
     return f"{k}/{n} ({k / n:.0%})" if n else "-"
+
+
+def condition_table(skills: dict[str, dict[str, dict[str, Any]]]) -> str:
+    """Markdown table, one row per skill and one column per condition: the success rate of
+    the context skill (table) / of the DS alone; ``†`` and ``✗`` as in
+    :func:`results_table`."""
+    conds = list(dict.fromkeys(c for v in skills.values() for c in v))
+    lines = ["| skill (trials) | " + " | ".join(conds) + " |",
+             "|---|" + "---|" * len(conds)]
+    for skill, by in skills.items():
+        cells = []
+        n_skill = max((e["trials"] for e in by.values()), default=0)
+        for cond in conds:
+            e = by.get(cond)
+            if e is None or not e["trials"]:
+                cells.append("-")
+                continue
+            n = e["trials"]
+            parts = [f"{e['successes'][k] / n:.0%}"
+                     + (" ✗" if e["successes"][k] / n < e["target"] else "")
+                     for k in ("context", "ds")]
+            cells.append(" / ".join(parts) + (" †" if e["differ"] else ""))
+        lines.append(f"| {skill} ({n_skill}) | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 def results_table(skills: dict[str, dict[str, dict[str, Any]]]) -> str:

@@ -12,6 +12,7 @@ from a2l.framework import FrameworkConfig
 
 __all__ = [
     "context_label",
+    "headline_table",
     "plot_policy",
     "plot_scores",
     "plot_trajectories",
@@ -60,6 +61,33 @@ def results_table(history: list[dict[str, Any]]) -> str:
                  *([f"{m['robot_movements_total']:,}"] if moves else []),
                  f"{m['wall_s']:.1f}"]
         lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _overall(rates: dict[str, float] | None) -> str:
+    """The success rate over every effect (equal starts per effect: the mean), as %."""
+    if not rates:
+        return "—"
+    return f"{100 * float(np.mean(list(rates.values()))):.1f} %"
+
+
+def headline_table(runs: list[dict[str, Any]]) -> str:
+    """Markdown table, one row per run (``metrics.json`` of each): scene, effects, seed,
+    iterations run, final score and success rate (the last accepted iteration's), held-out
+    score and success rate (from the held-out starts), robot movements to the end."""
+    head = ["scene", "effects", "seed", "iterations run", "final score", "success rate",
+            "held-out score", "held-out success rate", "robot movements"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for m in runs:
+        its = m["iterations"]
+        last = ([i for i in its if i["accepted"]] or its)[-1]
+        held = m.get("heldout_score")
+        moves = its[-1].get("robot_movements_total")
+        lines.append("| " + " | ".join([
+            str(m["scene"]), str(m["n_effects"]), str(m["seed"]), str(len(its)),
+            f"{m['final_score']:.1f}", _overall(last.get("success_rate")),
+            "—" if held is None else f"{held:.1f}", _overall(last.get("heldout_success_rate")),
+            "—" if moves is None else f"{moves:,}"]) + " |")
     return "\n".join(lines)
 
 

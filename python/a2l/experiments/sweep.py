@@ -32,7 +32,7 @@ from a2l.parallel import Executor
 from a2l.rundir import make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
-__all__ = ["iterations_to_full_score", "run_seed_sweep",
+__all__ = ["headline_table", "iterations_to_full_score", "run_seed_sweep",
            "seed_run", "summarize_sweep"]
 
 
@@ -68,6 +68,20 @@ def summarize_sweep(rows: Sequence[dict[str, Any]], within: int = 3) -> dict[str
                  "median": float(np.median(its)), "mean": float(its.mean())}
     return {"runs": len(rows), "reached": int(its.size), "within": within,
             "reached_within": int((its <= within).sum()), **stats}
+
+
+def headline_table(metrics: dict[str, Any]) -> str:
+    """One-row Markdown table of a sweep's ``metrics.json``: seeds, how many reach 100 (and
+    within how many iterations), the iterations (median, range) and the wall time."""
+    s, rows = metrics["summary"], metrics["rows"]
+    seeds = [r["seed"] for r in rows]
+    its = "—" if s["median"] is None else f"{s['median']:g} ({s['min']}–{s['max']})"
+    return "\n".join([
+        "| seeds | reach 100 | within " + str(s["within"]) + " iterations | iterations to 100 "
+        "(median, range) | wall, all seeds (s) |", "|---|---|---|---|---|",
+        f"| {seeds[0]}–{seeds[-1]} ({s['runs']}) | {s['reached']} of {s['runs']} | "
+        f"{s['reached_within']} of {s['runs']} | {its} | "
+        f"{sum(r['wall_s'] for r in rows):.0f} |"])
 
 
 def _table(rows: Sequence[dict[str, Any]], summary: dict[str, Any]) -> str:

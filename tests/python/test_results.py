@@ -1,0 +1,125 @@
+"""``a2l results``: the README's and the docs' result tables are the generated ones of
+``docs/results/`` (a number edited by hand fails), every run of the catalog is a valid
+command on evaluation seeds, and a results page records its commit, clean or dirty."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from a2l.results.blocks import block, fill_blocks, read_blocks, stale_blocks
+from a2l.results.catalog import ENTRIES, PROFILES, entries
+from a2l.results.provenance import git_state
+from a2l.results.run import copy_blocks, run_results
+from a2l.seeds import is_tuning
+
+ROOT = Path(__file__).parents[2]
+DOCS = ROOT / "docs" / "results"
+
+
+def _edit_a_number(text: str, name: str) -> str:
+    """`text` with the first digit inside block `name` changed."""
+    m = re.search(rf"<!-- results:{name} -->\n", text)
+    assert m is not None
+    i = m.end() + re.search(r"\d", text[m.end():]).start()  # type: ignore[union-attr]
+    return text[:i] + str((int(text[i]) + 1) % 10) + text[i + 1:]
+
+
+def test_blocks_are_read_filled_and_checked() -> None:
+    text = "intro\n" + block("a", "old\n") + "\nmiddle\n" + block("b", "x") + "\nend\n"
+    assert read_blocks(text) == {"a": "old\n", "b": "x\n"}
+    filled = fill_blocks(text, {"a": "| 1 |\n", "b": "| 2 |\n"})
+    assert read_blocks(filled) == {"a": "| 1 |\n", "b": "| 2 |\n"}
+    assert filled.startswith("intro\n") and filled.endswith("\nend\n")
+    assert stale_blocks(filled, {"a": "| 1 |\n", "b": "| 2 |\n"}) == []
+    assert stale_blocks(filled, {"a": "| 1 |\n", "b": "| 3 |\n"}) == ["b"]
+    assert stale_blocks(filled, {"a": "| 1 |\n"}) == ["b"]
+    with pytest.raises(KeyError, match=r"\['b'\] have no generated table"):
+        fill_blocks(text, {"a": ""})
+    with pytest.raises(ValueError, match="appears twice"):
+        read_blocks(block("a", "1") + "\n" + block("a", "2"))
+    with pytest.raises(ValueError, match="not closed"):
+        read_blocks("<!-- results:c -->\n| 1 |\n")
+
+
+@pytest.mark.parametrize("profile", PROFILES)
+def test_every_run_is_a_command_on_evaluation_seeds(profile: str) -> None:
+    from a2l.cli import parse
+
+    for entry in ENTRIES:
+        assert entry.runs[profile], entry.name
+        for run in entry.runs[profile]:
+            path, ns, _ = parse([*run.args, "--out", "x", "--workers", "2"])
+            assert path[0] == "experiment", run
+            seeds = []
+            for flag in ("seed", "first_seed"):
+                if flag in ns and ns[flag] is not None:
+                    seeds.append(int(ns[flag]))
+            if "seeds" in ns and isinstance(ns.seeds, str):
+                seeds += [int(s) for s in re.split(r"[-,]", ns.seeds)]
+            assert seeds, f"{entry.name}/{run.key}: no seed given (defaults may be tuning " \
+                "seeds)"
+            assert not any(is_tuning(s) for s in seeds), (entry.name, run.key, seeds)
+    with pytest.raises(KeyError, match="unknown results table"):
+        entries(["push-virtual", "nonsense"])
+
+
+def _git(root: Path, *args: str) -> None:
+    subprocess.run(["git", "-C", str(root), *args], check=True, capture_output=True)
+
+
+def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: Path) -> None:
+    """A fake repository with a README block and a finished sweep run: ``--no-run`` writes
+    ``docs/results/push-virtual.md`` with the table, the commit (dirty: the README was
+    edited after the commit) and the command, and copies the table into the README."""
+    from a2l.experiments.sweep import summarize_sweep
+    from a2l.rundir import write_json
+
+    root = tmp_path / "repo"
+    (root / "docs").mkdir(parents=True)
+    (root / "README.md").write_text("# r\n\n" + block("push-virtual", "typed 100\n") + "\n")
+    _git(root, "init", "-q")
+    _git(root, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "--allow-empty",
+         "-m", "empty")
+    _git(root, "add", "README.md")
+    state = git_state(root)
+    assert state["dirty"] and state["changed"] == ["README.md"]
+    rows = [{"seed": 1000 + i, "iterations_to_100": n, "final_score": 100.0 if n else 90.0,
+             "iterations_run": n or 3, "wall_s": 5.0} for i, n in enumerate([2, 3, None])]
+    out = tmp_path / "runs"
+    run_dir = out / "push-virtual" / "sweep"
+    write_json(run_dir / "metrics.json", {"rows": rows, "summary": summarize_sweep(rows)})
+    write_json(run_dir / "config.json", {"seed_use": {"use": "evaluation",
+                                                      "seeds": "1000-1002"}})
+    write_json(out / "push-virtual" / "sweep.done.json", {
+        "command": "a2l experiment sweep --seeds 1000-1002", "commit": "f" * 40,
+        "short": "fffffff", "dirty": True, "started": "2026-12-03 08:00 UTC", "wall_s": 15.0,
+        "workers": 2, "seed_use": {"use": "evaluation", "seeds": "1000-1002"}})
+    done = run_results("quick", out=out, root=root, only=["push-virtual"], run=False)
+    assert done["missing"] == []
+    page = (root / "docs" / "results" / "push-virtual.md").read_text()
+    body = read_blocks(page)["push-virtual"]
+    assert "| 1000–1002 (3) | 2 of 3 | 2 of 3 | 2.5 (2–3) | 15 |" in body
+    assert "fffffff (dirty tree)" in body and "evaluation seeds 1000-1002" in body
+    assert "`a2l experiment sweep --seeds 1000-1002`" in page
+    readme = (root / "README.md").read_text()
+    assert read_blocks(readme)["push-virtual"] == body and "typed 100" not in readme
+    assert copy_blocks(root, root / "docs" / "results") == []  # nothing left to copy
+    # the entry's runs not done: no page, the entry reported missing
+    done = run_results("quick", out=out, root=root, only=["tasks"], run=False)
+    assert done["missing"] == ["tasks"] and done["pages"] == []
+
+
+def test_the_command_refuses_an_unknown_table_and_a_non_repository(tmp_path: Path) -> None:
+    from a2l.cli import main
+
+    for argv in (["results", "--only", "nonsense", "--no-run"],
+                 ["results", "--root", str(tmp_path), "--no-run"]):
+        with pytest.raises(SystemExit) as exc:
+            main(argv)
+        assert exc.value.code == 2
+
+
