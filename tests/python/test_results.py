@@ -123,3 +123,34 @@ def test_the_command_refuses_an_unknown_table_and_a_non_repository(tmp_path: Pat
         assert exc.value.code == 2
 
 
+
+
+def test_what_a2l_results_writes_itself_does_not_make_the_tree_dirty(tmp_path: Path) -> None:
+    """docs/results/ and the blocks' contents are the command's own output: a committed
+    tree stays clean after they are written (a rerun continues as clean); any other change
+    makes it dirty."""
+    from a2l.experiments.sweep import summarize_sweep
+    from a2l.rundir import write_json
+
+    root = tmp_path / "repo"
+    (root / "docs").mkdir(parents=True)
+    (root / "README.md").write_text("# r\n\n" + block("push-virtual", "typed\n") + "\nend\n")
+    (root / "docs" / "x.md").write_text("x\n")
+    _git(root, "init", "-q")
+    _git(root, "add", ".")
+    _git(root, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "c")
+    rows = [{"seed": 1000, "iterations_to_100": 2, "final_score": 100.0, "iterations_run": 2,
+             "wall_s": 5.0}]
+    out = tmp_path / "runs"
+    write_json(out / "push-virtual" / "sweep" / "metrics.json",
+               {"rows": rows, "summary": summarize_sweep(rows)})
+    write_json(out / "push-virtual" / "sweep.done.json", {
+        "command": "a2l experiment sweep --seeds 1000", "commit": "f" * 40, "short": "fffffff",
+        "dirty": False, "started": "2026-12-03 08:00 UTC", "wall_s": 5.0, "workers": 1,
+        "seed_use": None})
+    assert run_results("quick", out=out, root=root, run=False)["dirty"] is False
+    assert git_state(root)["dirty"]  # README's block and docs/results/ changed ...
+    again = run_results("quick", out=out, root=root, run=False)
+    assert again["dirty"] is False  # ... but only by a2l results
+    (root / "README.md").write_text((root / "README.md").read_text() + "more\n")
+    assert run_results("quick", out=out, root=root, run=False)["dirty"] is True

@@ -70,6 +70,35 @@ def _make_run(entry: Entry, run: Run, root: Path, workers: int, state: dict[str,
     return record
 
 
+def _tree_state(root: Path, docs: Path) -> dict[str, Any]:
+    """:func:`git_state` of `root`, not counting what ``a2l results`` writes itself: the
+    files under `docs` and, in the pages with blocks, the blocks' contents (a page changed
+    only there is as committed)."""
+    state = git_state(root)
+    rel = str(docs.resolve().relative_to(root.resolve()))
+    pages = {str(p.resolve().relative_to(root.resolve())) for p in pages_with_blocks(root, rel)}
+
+    def own(path: str) -> bool:
+        if path.startswith(rel + "/") or path == rel + "/":
+            return True
+        if path not in pages:
+            return False
+        shown = subprocess.run(["git", "-C", str(root), "show", f"HEAD:{path}"],
+                               capture_output=True, text=True, check=False)
+        if shown.returncode != 0:
+            return False
+        strip = {name: "" for name in read_blocks((root / path).read_text())}
+        try:
+            return fill_blocks(shown.stdout, {**strip, **{
+                n: "" for n in read_blocks(shown.stdout)}}) == fill_blocks(
+                (root / path).read_text(), strip)
+        except (KeyError, ValueError):
+            return False
+
+    changed = [c for c in state["changed"] if not own(c)]
+    return {**state, "changed": changed, "dirty": state["commit"] is None or bool(changed)}
+
+
 def _seed_use(run_dir: Path) -> Any:
     cfg = run_dir / "config.json"
     return read_json(cfg).get("seed_use") if cfg.is_file() else None
@@ -176,7 +205,7 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
     base = Path(out) if out is not None else root / "runs" / f"results-{profile}"
     docs = root / "docs" / "results"
     chosen = entries(only)
-    state = git_state(root)
+    state = _tree_state(root, docs)
     todo = [(e, r) for e in chosen for r in e.runs[profile]
             if not _done_path(base, e, r).is_file()]
     if run and todo and state["dirty"]:
