@@ -5,6 +5,7 @@ an archive)."""
 
 from __future__ import annotations
 
+import os
 import tempfile
 import time
 from dataclasses import asdict, replace
@@ -146,8 +147,10 @@ def run() -> str:
     cfg = WorldConfig(scene="push", seed=0)
     sp = _split(cfg)
     rows = []
+    loads: list[float] = []
     with tempfile.TemporaryDirectory(prefix="a2l-bench-babbling-") as tmp:
         for workers in (1, 2):
+            loads.append(os.getloadavg()[0])
             m = run_babbling("noveb", N, 0, "push", Path(tmp) / f"w{workers}", workers=workers,
                              generation_size=20, quiet=True, plots=False)
             t = m["totals"]
@@ -170,8 +173,9 @@ def run() -> str:
         *rows,
         "",
         "The 2-worker run starts its worker processes inside the timed run (spawn, imports, "
-        "one Baxter scene each: seconds) and shares the machine's two cores with the other "
-        "jobs running then (5 helpers).",
+        "one Baxter scene each: seconds). The machine's 1-minute load average as each run "
+        f"started: {loads[0]:.1f} (1 worker) and {loads[1]:.1f} (2 workers), on "
+        f"{os.cpu_count()} cores (above the cores: other jobs shared them).",
         "",
         f"Where one evaluation's time goes ({sp['n']:.0f} random genotypes, 1 process): "
         f"**{1000 * per:.0f} ms** wall ({1000 * sp['cpu']:.0f} ms of CPU), "

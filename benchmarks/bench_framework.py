@@ -1,9 +1,19 @@
 """The A2L iterative framework: wall time of the whole push experiment with 1 and 2 local
-workers (virtual scene: one run, and a seed sweep for a run of over a minute), and what one
-iteration costs on the Baxter scene."""
+workers (virtual scene: one run, and a seed sweep for a run of over a minute; the Baxter
+scene), measured fairly, and where the time of a run goes.
+
+Worker scaling: per scene, the runs are made in the interleaved order 1, 2, 2, 1 workers,
+:data:`REPEATS` times, after one warm-up run of each worker count (not counted); every timed
+run is bare (no instrumentation), so the two worker counts are measured alike, and a change
+of the machine's load during the section touches both. Every run is reported, and per scene
+the median over the blocks of each block's ratio (the two 1-worker walls over the two
+2-worker walls). The phase breakdown comes from separate instrumented runs, not timed for the
+ratio."""
 
 from __future__ import annotations
 
+import os
+import statistics
 import tempfile
 import time
 from collections.abc import Callable
@@ -26,10 +36,15 @@ BAXTER = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 4, "max_iter
           "heldout_starts": 8}
 
 #: Seeds of the virtual scaling run (``a2l experiment sweep``, one push experiment each):
-#: about 2.5 minutes with 1 worker on the idle machine. With 2 workers the sweep ends when
-#: its last seed does, the other process idle meanwhile: the more seeds, the smaller that
-#: share (a sweep of the documented 30 seeds has half of 8 seeds' share).
-SCALING_SEEDS = tuple(range(16))
+#: about a minute with 1 worker on the idle machine. With 2 workers the sweep ends when its
+#: last seed does, the other process idle meanwhile: the more seeds, the smaller that share.
+SCALING_SEEDS = tuple(range(8))
+
+#: Blocks of the interleaved order per scene (each block: 1, 2, 2, 1 workers).
+REPEATS = 2
+
+#: The order of the worker counts within a block.
+ORDER = (1, 2, 2, 1)
 
 
 class _Instrument:
@@ -132,17 +147,33 @@ def _seeds_run(workers: int, root: Path, tag: str) -> tuple[list[dict[str, Any]]
             for s in SCALING_SEEDS], wall
 
 
-def _scaling() -> tuple[list[float], list[float], bool]:
-    """:func:`_seeds_run` with 1 then 2 workers (once each: the sweep is the longest part
-    of this benchmark): (walls with 1 worker, walls with 2, same metrics)."""
-    walls: dict[int, list[float]] = {1: [], 2: []}
-    metrics: list[list[list[dict[str, Any]]]] = []
-    with tempfile.TemporaryDirectory(prefix="a2l-bench-fw-seeds-") as tmp:
-        for k, workers in enumerate((1, 2)):
-            ms, wall = _seeds_run(workers, Path(tmp), f"{k}w{workers}")
-            walls[workers].append(wall)
-            metrics.append([_training(m) for m in ms])
-    return walls[1], walls[2], all(m == metrics[0] for m in metrics)
+def _interleaved(make: Callable[[int, str], tuple[Any, float]], label: str
+                 ) -> dict[str, Any]:
+    """Run `make(workers, tag)` (a run's result and its wall time) in :data:`REPEATS` blocks
+    of :data:`ORDER`; every run's wall and the machine's 1-minute load average as it
+    started, the median block ratio (1-worker walls over 2-worker walls) and whether every
+    run's result equals the first one's."""
+    runs: list[dict[str, Any]] = []
+    results = []
+    for block in range(REPEATS):
+        for k, workers in enumerate(ORDER):
+            load = os.getloadavg()[0]
+            result, wall = make(workers, f"{label}-b{block}-{k}w{workers}")
+            results.append(result)
+            runs.append({"block": block, "workers": workers, "wall": wall, "load": load})
+    ratios = []
+    for block in range(REPEATS):
+        w = [r for r in runs if r["block"] == block]
+        ratios.append(sum(r["wall"] for r in w if r["workers"] == 1)
+                      / sum(r["wall"] for r in w if r["workers"] == 2))
+    return {"runs": runs, "ratios": ratios, "median": statistics.median(ratios),
+            "same": all(r == results[0] for r in results)}
+
+
+def _runs_table(name: str, m: dict[str, Any]) -> list[str]:
+    """Rows of the every-run table of one scene."""
+    return [f"| {name} | {r['block'] + 1} | {r['workers']} | {r['wall']:.1f} | "
+            f"{r['load']:.1f} |" for r in m["runs"]]
 
 
 def _iterations(m: dict[str, Any]) -> str:
@@ -184,25 +215,32 @@ def _phases(ins: _Instrument) -> list[str]:
 
 def run() -> str:
     cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=0)
-    rows = []
+    bcfg = FrameworkConfig(**BAXTER)
     with tempfile.TemporaryDirectory(prefix="a2l-bench-fw-") as tmp:
         root = Path(tmp)
-        with _Instrument() as ins:
-            m1, wall1 = _run(cfg, 1, root, "w1")
-        m2, wall2 = _run(cfg, 2, root, "w2")
-        same = _training(m1) == _training(m2)
-        walls1, walls2, same_s = _scaling()
-        wall_s1, wall_s2 = sum(walls1), sum(walls2)
-        for workers, m, wall in ((1, m1, wall1), (2, m2, wall2)):
-            rows.append(f"| virtual, 4 effects, seed 0 | {workers} | {wall:.1f} | "
-                        f"{len(m['iterations'])} | {m['final_score']:.1f} | "
-                        f"{_iterations(m)} |")
+        warm = [_run(cfg, w, root, f"warm-w{w}")[1] for w in (1, 2)]
 
-        bcfg = FrameworkConfig(**BAXTER)
+        def one(c: FrameworkConfig) -> Callable[[int, str], tuple[Any, float]]:
+            def make(workers: int, tag: str) -> tuple[Any, float]:
+                m, wall = _run(c, workers, root, tag)
+                return _training(m), wall
+            return make
+
+        def sweep(workers: int, tag: str) -> tuple[Any, float]:
+            ms, wall = _seeds_run(workers, root, tag)
+            return [_training(m) for m in ms], wall
+
+        scenes = {"virtual, 4 effects, seed 0": _interleaved(one(cfg), "v"),
+                  f"virtual sweep, seeds {SCALING_SEEDS[0]}-{SCALING_SEEDS[-1]}":
+                  _interleaved(sweep, "s"),
+                  f"Baxter, 4 effects, {bcfg.n_starts} starts, seed 0":
+                  _interleaved(one(bcfg), "b")}
+        # the phase breakdown: instrumented runs of their own, not in the ratios
+        with _Instrument() as ins:
+            m1, wall1 = _run(cfg, 1, root, "ins-v")
         with _Instrument() as bins:
-            mb, wallb = _run(bcfg, 1, root, "baxter")
-        mb2, wallb2 = _run(bcfg, 2, root, "baxter-w2")
-        same_b = _training(mb) == _training(mb2)
+            mb, wallb = _run(bcfg, 1, root, "ins-b")
+        m2, _ = _run(cfg, 2, root, "ins-v2")
     drift = _restore_drift()
     ms_per_move = 1000 * bins.move_s / max(bins.moves, 1)
     per_move_us = 1e6 * ins.move_s / max(ins.moves, 1)
@@ -210,33 +248,40 @@ def run() -> str:
                     for p in ("acquire", "extend", "validate", "validate_heldout"))
     overhead_ms = 1000 * (rollout_s - ins.move_s) / max(ins.tasks, 1)
     est_h = ins.phase_moves["extend"] * ms_per_move / 1000 / 3600
+    summary = [f"| {name} | {len(m['runs'])} | "
+               f"{', '.join(f'{r:.2f}' for r in m['ratios'])} | **{m['median']:.2f}** | "
+               f"{m['same']} |" for name, m in scenes.items()]
     lines = [
         "Whole push experiment (`run_push_experiment`: every iteration, bundles, plots, "
-        "report), default `FrameworkConfig` (8 starts, at most 10 iterations), local worker "
-        "processes started with `spawn`. Both runs are in this one benchmark run.",
+        "report), default `FrameworkConfig` (8 starts, at most 10 iterations) in the virtual "
+        f"scene; on Baxter {bcfg.n_starts} starts, {bcfg.max_iterations} iterations, "
+        f"{bcfg.heldout_starts} held-out starts; and `a2l experiment sweep --seeds "
+        f"{SCALING_SEEDS[0]}-{SCALING_SEEDS[-1]} --workers N` (`run_seed_sweep`: the same "
+        "experiment per seed, without plots; with 2 workers two seeds run at once, each in a "
+        "worker process of its own with its rollouts in that process, so one seed's serial "
+        "skill learning overlaps the other's rollouts; the sweep ends with its last seed). "
+        "Local worker processes started with `spawn`, their start inside the timed run.",
         "",
-        "| run | workers | wall (s) | iterations | final score | wall per iteration (s) |",
-        "|---|---|---|---|---|---|",
-        *rows,
+        f"Measured fairly: per scene, {REPEATS} blocks of the interleaved order "
+        f"{', '.join(map(str, ORDER))} workers, after one warm-up run with 1 and one with 2 "
+        f"workers (virtual, not counted: {warm[0]:.1f} s and {warm[1]:.1f} s); every timed "
+        "run bare (the same code path, no instrumentation). A block's ratio is its two "
+        "1-worker walls over its two 2-worker walls (above 1: 2 workers are faster); the "
+        "load is the machine's 1-minute load average as the run started (2 cores: above 2, "
+        "other jobs shared them, and a ratio measured then tells less).",
         "",
-        f"Ratio 1 worker / 2 workers: **{wall1 / wall2:.2f}** (above 1: 2 workers are "
-        f"faster). Same metrics (but wall times) with 1 and 2 workers: {same}.",
+        "| scene | runs | ratio per block | median ratio | same metrics, every run |",
+        "|---|---|---|---|---|",
+        *summary,
         "",
-        f"A run of over a minute: `a2l experiment sweep --seeds {SCALING_SEEDS[0]}-"
-        f"{SCALING_SEEDS[-1]} --workers N` (`run_seed_sweep`: the same experiment per seed, "
-        "each its own run directory, without plots). With 1 worker the seeds run one after "
-        "the other in this process; with 2, two seeds run at once, each in a worker process "
-        "of its own with its rollouts in that process, so that one seed's skill learning "
-        "and bookkeeping (serial) overlap the other's instead of leaving the workers idle "
-        "(the processes' start is in the time; the sweep ends with its last seed, the other "
-        "process idle by then). Run once with 1 worker, then with 2: "
-        f"{', '.join(f'{w:.1f}' for w in walls1)} s with 1 worker, "
-        f"{', '.join(f'{w:.1f}' for w in walls2)} s with 2; ratio 1 worker / "
-        f"2 workers **{wall_s1 / wall_s2:.2f}**. Same metrics (but wall times) for every "
-        f"seed in both: {same_s}.",
+        "Every run:",
         "",
-        "Where the 1-worker run spends its time (the framework's phases, all iterations; "
-        "`extend` holds the effect-directed babbling):",
+        "| scene | block | workers | wall (s) | load |",
+        "|---|---|---|---|---|",
+        *(row for name, m in scenes.items() for row in _runs_table(name, m)),
+        "",
+        "Where a 1-worker run spends its time (an instrumented run of its own: the "
+        "framework's phases, all iterations; `extend` holds the effect-directed babbling):",
         "",
         "| phase | time (s) | discrete movements |",
         "|---|---|---|",
@@ -275,10 +320,9 @@ def run() -> str:
         "|---|---|---|",
         *_phases(bins),
         "",
-        f"{bins.moves:,} movements at {ms_per_move:.0f} ms each; the whole run took "
-        f"{wallb:.1f} s with the scene's start-up, bundles and plots. The same run with 2 "
-        f"workers: {wallb2:.1f} s, ratio 1 worker / 2 workers **{wallb / wallb2:.2f}** "
-        f"(same metrics but wall times: {same_b}). PyBullet's restored start state after "
+        f"{bins.moves:,} movements at {ms_per_move:.0f} ms each; the whole instrumented "
+        f"run took {wallb:.1f} s with the scene's start-up, bundles and plots (its scaling: "
+        "the table above). PyBullet's restored start state after "
         "different earlier episodes, measured here: after the same 4 movements from the same "
         f"restored start, with random episodes in between, the box ends up to "
         f"{drift * 1000:.2f} mm elsewhere"

@@ -18,38 +18,15 @@ import hashlib
 import importlib.metadata
 import importlib.util
 import os
-import platform
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
+from a2l.results.provenance import machine as machine_description
+
 HERE = Path(__file__).resolve().parent
 SECTIONS = HERE / "sections"
-
-
-def machine_description() -> str:
-    """One line naming the CPU, cores, memory, OS and Python of this machine."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    mem = ""
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemTotal"):
-                mem = f", {int(line.split()[1]) / 2**20:.0f} GiB RAM"
-                break
-    except OSError:
-        pass
-    return (
-        f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; "
-        f"Python {platform.python_version()}"
-    )
 
 
 #: What run.py writes itself: not part of what was measured, so not "uncommitted changes".

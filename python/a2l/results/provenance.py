@@ -37,7 +37,8 @@ def git_state(root: str | os.PathLike[str] = ".") -> dict[str, Any]:
 
 
 def machine() -> str:
-    """One line: CPU model, logical cores, memory, OS and Python."""
+    """One line naming the CPU, cores, memory, OS and Python of this machine (the stamp of
+    every generated results page and benchmark section)."""
     cpu = platform.processor() or platform.machine()
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -48,12 +49,14 @@ def machine() -> str:
         pass
     mem = ""
     try:
-        kib = int(Path("/proc/meminfo").read_text().split()[1])
-        mem = f", {kib / 2**20:.0f} GiB"
-    except (OSError, ValueError, IndexError):
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemTotal"):
+                mem = f", {int(line.split()[1]) / 2**20:.0f} GiB RAM"
+                break
+    except OSError:
         pass
-    return (f"{cpu}, {os.cpu_count()} logical cores{mem}; {platform.system()} "
-            f"{platform.release()}; Python {platform.python_version()}")
+    return (f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; "
+            f"Python {platform.python_version()}")
 
 
 def utc_now() -> str:
