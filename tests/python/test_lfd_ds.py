@@ -77,22 +77,26 @@ def test_to_line_fit_measures_the_reproduction_error_and_matches_the_end_point()
     assert gap.mean() < 0.05 * np.ptp(x)
 
 
-def test_auto_direction_prefers_to_line_and_falls_back_to_the_smaller_error():
+def test_auto_direction_keeps_the_smaller_mean_error():
     x = _curve(2)
     line = fit_diffeo(x, K=40, mu=0.6, direction="to_line")
     demo = fit_diffeo(x, K=40, mu=0.6, direction="to_demo")
-    # a loose tolerance keeps to_line; an impossible one fits both and keeps the better
-    assert fit_diffeo(x, K=40, mu=0.6, direction="auto", auto_tolerance=10.0).direction \
-        == "to_line"
-    tight = fit_diffeo(x, K=40, mu=0.6, direction="auto", auto_tolerance=1e-12)
-    best = line if line.max_error <= demo.max_error else demo
-    assert tight.direction == best.direction and tight.max_error == best.max_error
-    ds = DiffeoDS.fit(x, K=40, mu=0.6, direction="auto")
-    assert ds.direction in ("to_line", "to_demo")
+    auto = fit_diffeo(x, K=40, mu=0.6, direction="auto")
+    best, other = (demo, line) if demo.mean_error < line.mean_error else (line, demo)
+    assert auto.direction == best.direction and auto.mean_error == best.mean_error
+    assert auto.alternative == {"direction": other.direction, "mean_error": other.mean_error,
+                                "max_error": other.max_error}
+    assert 0 < line.mean_error <= line.max_error
+    # the mean error is the mean distance between the fitted curve and the demonstration
+    ds = DiffeoDS.from_maps(line.target, line.centers, line.vectors, line.rhos,
+                            direction="to_line")
+    err = np.linalg.norm(ds.forward(line_source(x)) - x, axis=1)
+    assert err.mean() == pytest.approx(line.mean_error, rel=1e-6)
+    fitted = DiffeoDS.fit(x, K=40, mu=0.6, direction="auto")
+    assert fitted.direction == best.direction
+    assert fitted.metadata["direction_alternative"]["direction"] == other.direction
     with pytest.raises(ValueError, match="direction"):
         fit_diffeo(x, K=10, direction="sideways")
-    with pytest.raises(ValueError, match="auto_tolerance"):
-        fit_diffeo(x, K=10, direction="auto", auto_tolerance=0.0)
 
 
 def test_fit_with_schedules_respects_each_maps_bound():

@@ -39,22 +39,30 @@ def test_metrics_on_known_cases():
 def test_short_lasa_run_writes_the_run_directory(tmp_path):
     out = tmp_path / "lasa"
     code = main(["experiment", "lasa", "--out", str(out), "--shapes", "Angle,Line",
-                 "--K", "40", "--mu", "0.6", "--starts", "40", "--workers", "2", "--quiet"])
+                 "--K", "40", "--mu", "0.6", "--starts", "40", "--workers", "2",
+                 "--tune", "false", "--query_points", "20", "--quiet"])
     assert code == 0
     metrics = json.loads((out / "metrics.json").read_text())
     for section in ("shapes", "dmp", "linear", "demo_spread"):
         assert set(metrics[section]) == {"Angle", "Line"}
     a2l = metrics["shapes"]["Angle"]
-    assert {"dtw", "sea", "vrmse", "fit_ms", "eval_us", "converged", "converged_euler",
-            "roundtrip_max"} <= set(a2l)
-    assert set(metrics["dmp"]["Line"]) == {"dtw", "sea", "vrmse"}
+    assert {"dtw", "heldout_dtw", "sea", "vrmse", "fit_ms", "eval_us", "eval_p999_us",
+            "converged", "tolerance", "fit_mean_error", "other_direction_mean_error",
+            "direction", "heldout_direction"} <= set(a2l)
+    assert set(metrics["dmp"]["Line"]) == {"dtw", "heldout_dtw", "sea", "vrmse"}
     assert set(metrics["linear"]["Line"]) == {"dtw", "sea", "vrmse"}
     assert set(metrics["demo_spread"]["Line"]) == {"dtw"}
+    assert metrics["tuning"] is None and metrics["summary"]["n_shapes"] == 2
+    from a2l.experiments.lasa_report import headline_table
+
+    assert headline_table(metrics).splitlines()[2].startswith("| 2 (0) | ")
     for name in ("Angle", "Line"):
         m = metrics["shapes"][name]
+        demos, _ = load_lasa_shape(name)
+        scale = np.ptp(np.vstack(demos), axis=0).max()
+        assert m["tolerance"] == pytest.approx(0.01 * scale)
         assert m["converged"] == 1.0                         # every start reached the target
-        assert m["converged_euler"] == 1.0                   # also with coarse Euler steps
-        assert m["worst_end_distance"] < 0.5 and m["roundtrip_max"] < 1e-9
+        assert m["worst_end_distance"] <= m["tolerance"]
         assert 0 < m["dtw"] < metrics["linear"][name]["dtw"] or name == "Line"
         assert m["fit_ms"] > 0 and m["eval_us"] > 0
     # the angle is far from a straight line: the DS must beat the linear floor clearly
@@ -68,6 +76,25 @@ def test_short_lasa_run_writes_the_run_directory(tmp_path):
     assert config["lasa"]["K"] == 40 and config["lasa"]["n_starts"] == 40
 
 
+def test_tuning_split_and_choice():
+    from a2l.experiments.lasa_tuning import DMP_CANDIDATES, DS_CANDIDATES, choose, tuning_split
+
+    shapes = lasa_shapes()
+    split = tuning_split(shapes, 10)
+    assert len(set(split)) == 10 and set(split) <= set(shapes)
+    assert split == tuning_split(shapes, 10) != tuning_split(shapes, 10, seed=1)
+    assert len(DS_CANDIDATES) == len(DMP_CANDIDATES)        # the same budget
+    n = len(DS_CANDIDATES)
+    per_shape = {"A": {"ds": [3.0] * n, "dmp": [2.0] * n},
+                 "B": {"ds": [3.0] * n, "dmp": [2.0] * n}}
+    per_shape["A"]["ds"][5] = 1.0
+    per_shape["B"]["dmp"][2] = 0.0
+    chosen = choose(per_shape)
+    assert chosen["ds"] == DS_CANDIDATES[5] and chosen["dmp"] == DMP_CANDIDATES[2]
+    with pytest.raises(ValueError, match="tuning_shapes"):
+        tuning_split(shapes, 30)
+
+
 def test_lasa_command_refuses_unknown_shapes(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(["experiment", "lasa", "--out", str(tmp_path / "x"), "--shapes", "Circle"])
@@ -77,26 +104,31 @@ def test_lasa_command_refuses_unknown_shapes(tmp_path, capsys):
 def test_config_validation_names_the_parameter():
     with pytest.raises(ValueError, match="mu"):
         LasaConfig(mu=1.5).validate()
-    for bad, name in (({"n_starts": 0}, "n_starts"), ({"start_steps": 0}, "start_steps"),
+    for bad, name in (({"n_starts": 0}, "n_starts"), ({"control_dt": 0.0}, "control_dt"),
                       ({"tolerance": 0.0}, "tolerance"), ({"horizon": -1.0}, "horizon"),
-                      ({"arrival": 1.0}, "arrival"), ({"direction": "up"}, "direction")):
+                      ({"arrival": 1.0}, "arrival"), ({"direction": "up"}, "direction"),
+                      ({"dmp_regularisation": -1.0}, "dmp_regularisation"),
+                      ({"tuning_shapes": 30}, "tuning_shapes")):
         with pytest.raises(ValueError, match=name):
             LasaConfig(**bad).validate()
 
 
 @pytest.mark.parametrize("direction", ["to_demo", "to_line"])
-def test_exact_flow_check_matches_a_fine_rollout(direction):
-    """``converged`` follows the exact flow: its end points are those of a fine RK4 rollout."""
-    from a2l.experiments.lasa import _exact_flow_check
-
+def test_arrival_is_the_euler_rollout_stopped_at_the_tolerance(direction):
+    """``converged`` integrates the C++ DS as ``rollout(..., "euler")`` does and stops at the
+    first state within the tolerance."""
     demos, durations = load_lasa_shape("Angle")
     ds = DiffeoDS.fit(demos[0], K=30, beta=0.5, mu=0.6, duration=durations[0],
                       direction=direction)
     starts = np.array([[-40.0, 10.0], [5.0, -8.0], [ds.target[0] + 0.1, ds.target[1]]])
-    horizon = 0.3 * durations[0]                   # short: not every start gets there
-    check = _exact_flow_check(ds, starts, horizon, tolerance=0.5)
-    ends = np.array([ds.rollout(s, horizon / 2000, 2001, "rk4")[-1] for s in starts])
-    dist = np.linalg.norm(ends - ds.target, axis=1)
-    assert check["worst_end_distance"] == pytest.approx(dist.max(), rel=1e-6)
-    assert check["converged"] == pytest.approx(np.mean(dist < 0.5))
-    assert check["roundtrip_max"] < 1e-9
+    steps, dist = ds.arrival(starts, 1e-3, 20_000, 0.4)
+    assert steps[2] == 0 and dist[2] == pytest.approx(0.1)  # already there
+    for i in range(2):
+        assert 100 < steps[i] < 20_000
+        path = ds.rollout(starts[i], 1e-3, steps[i] + 1, "euler")
+        gaps = np.linalg.norm(path - ds.target, axis=1)
+        assert gaps[-1] == dist[i] <= 0.4 < gaps[:-1].min()
+    short, sdist = ds.arrival(starts[:2], 1e-3, 50, 0.4)   # too few steps: not arrived
+    assert (short == 50).all() and (sdist > 0.4).all()
+    with pytest.raises(ValueError, match="dt > 0"):
+        ds.arrival(starts, 0.0, 10, 0.4)

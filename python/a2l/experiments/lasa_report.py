@@ -7,98 +7,127 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["headline_table", "plot_lasa", "report_markdown", "results_table"]
+__all__ = ["headline_table", "plot_lasa", "report_markdown", "results_table", "tuning_table"]
 
 
 def results_table(metrics: dict[str, Any]) -> str:
-    """Markdown table: per shape a2l, DMP, linear and demo spread, then the means."""
-    head = ["shape", "a2l DTW", "DMP DTW", "linear DTW", "demo spread DTW", "a2l SEA",
-            "DMP SEA", "a2l vRMSE", "DMP vRMSE", "direction", "fit (ms)", "query (µs)",
-            "converged (exact flow)",
-            "converged (Euler)"]
+    """Markdown table: per shape (tuning shapes marked †) the DS and the DMP under both
+    protocols, the linear floor, the demonstrations' spread, the direction and fit errors,
+    the query time and the integrated convergence; then the means over the reported
+    (non-tuning) shapes and over all."""
+    head = ["shape", "DS DTW (all)", "DMP DTW (all)", "DS DTW (held-out)",
+            "DMP DTW (held-out)", "linear DTW", "demo spread", "DS SEA", "DMP SEA",
+            "DS vRMSE", "DMP vRMSE", "direction (all / held-out)",
+            "fit mean error (kept / other)", "fit (ms)", "query median / p99.9 (µs)",
+            "converged (Euler, 1 kHz)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     a2l, dmp, lin, spread = (metrics[k] for k in ("shapes", "dmp", "linear", "demo_spread"))
+    tuned = set((metrics.get("tuning") or {}).get("shapes", []))
     for name in a2l:
         a, d = a2l[name], dmp[name]
+        mark = " †" if name in tuned else ""
         lines.append(
-            f"| {name} | {a['dtw']:.2f} | {d['dtw']:.2f} | {lin[name]['dtw']:.2f} | "
-            f"{spread[name]['dtw']:.2f} | {a['sea']:.0f} | {d['sea']:.0f} | "
-            f"{a['vrmse']:.1f} | {d['vrmse']:.1f} | {a.get('direction', '–')} | "
-            f"{a['fit_ms']:.0f} | {a['eval_us']:.2f} | "
-            f"{a['converged']:.2%} | {a['converged_euler']:.2%} |")
-    s = metrics["summary"]
-    lines.append(
-        f"| **mean** | **{s['a2l_dtw']:.2f}** | **{s['dmp_dtw']:.2f}** | "
-        f"**{s['linear_dtw']:.2f}** | **{s['demo_spread_dtw']:.2f}** | {s['a2l_sea']:.0f} | "
-        f"{s['dmp_sea']:.0f} | {s['a2l_vrmse']:.1f} | {s['dmp_vrmse']:.1f} | | "
-        f"{s['fit_ms_median']:.0f} (median) | {s['eval_us_median']:.2f} (median) | "
-        f"min {s['min_converged']:.2%} | min {s['min_converged_euler']:.2%} |")
+            f"| {name}{mark} | {a['dtw']:.2f} | {d['dtw']:.2f} | {a['heldout_dtw']:.2f} | "
+            f"{d['heldout_dtw']:.2f} | {lin[name]['dtw']:.2f} | {spread[name]['dtw']:.2f} | "
+            f"{a['sea']:.0f} | {d['sea']:.0f} | {a['vrmse']:.1f} | {d['vrmse']:.1f} | "
+            f"{a['direction']} / {a['heldout_direction']} | "
+            f"{a['fit_mean_error']:.2f} / {a['other_direction_mean_error']:.2f} | "
+            f"{a['fit_ms']:.0f} | {a['eval_us']:.2f} / {a['eval_p999_us']:.1f} | "
+            f"{a['converged']:.2%} |")
+    for key, label in (("summary", "reported"), ("summary_all", "all")):
+        s = metrics[key]
+        if not s["n_shapes"]:
+            continue
+        lines.append(
+            f"| **mean, {label} ({s['n_shapes']})** | **{s['a2l_dtw']:.2f}** | "
+            f"**{s['dmp_dtw']:.2f}** | **{s['a2l_heldout_dtw']:.2f}** | "
+            f"**{s['dmp_heldout_dtw']:.2f}** | {s['linear_dtw']:.2f} | "
+            f"{s['demo_spread_dtw']:.2f} | {s['a2l_sea']:.0f} | {s['dmp_sea']:.0f} | "
+            f"{s['a2l_vrmse']:.1f} | {s['dmp_vrmse']:.1f} | "
+            f"{s['directions']['to_line']} to_line, {s['directions']['to_demo']} to_demo | | "
+            f"{s['fit_ms_median']:.0f} (median) | {s['eval_us_median']:.2f} (median) / "
+            f"{s['eval_p999_us_max']:.1f} (max) | min {s['min_converged']:.2%} |")
+    return "\n".join(lines)
+
+
+def tuning_table(tuning: dict[str, Any]) -> str:
+    """Markdown: every candidate setting of each method and its mean held-out DTW on the
+    tuning shapes, the kept one in bold."""
+    from a2l.experiments.lasa_tuning import DMP_CANDIDATES, DS_CANDIDATES
+
+    lines = ["| method | setting | mean held-out DTW (tuning shapes) |", "|---|---|---|"]
+    for method, cands, key in (("DS", DS_CANDIDATES, "ds_dtw"),
+                               ("DMP", DMP_CANDIDATES, "dmp_dtw")):
+        best = int(np.argmin(tuning[key]))
+        for i, (c, v) in enumerate(zip(cands, tuning[key], strict=True)):
+            text = ", ".join(f"{k} {'schedule' if x is None else x}" for k, x in c.items())
+            cell = f"**{v:.3f}** (kept)" if i == best else f"{v:.3f}"
+            lines.append(f"| {method} | {text} | {cell} |")
     return "\n".join(lines)
 
 
 def headline_table(metrics: dict[str, Any]) -> str:
-    """One-row Markdown table of a run's ``metrics.json``: shapes, mean DTW of the DS, the
-    DMP and the linear DS, the lowest convergence fraction over the shapes (exact flow and
-    Euler) and the median C++ query time."""
-    s = metrics["summary"]
+    """One-row Markdown table of a run's ``metrics.json``: the reported (non-tuning) shapes'
+    mean DTW of the DS and the tuned DMP under the held-out and the all-demonstrations
+    protocols, the linear DS, the lowest integrated convergence fraction over all shapes and
+    the median C++ query time at points in the demonstrations' bounding boxes."""
+    s, a = metrics["summary"], metrics["summary_all"]
+    tuned = len((metrics.get("tuning") or {}).get("shapes", []))
     return "\n".join([
-        "| shapes | DS DTW (mean) | DMP DTW | linear DTW | converged, lowest shape (exact "
-        "flow) | converged, lowest shape (Euler) | C++ query (µs, median) |",
-        "|---|---|---|---|---|---|---|",
-        f"| {len(metrics['shapes'])} | {s['a2l_dtw']:.2f} | {s['dmp_dtw']:.2f} | "
-        f"{s['linear_dtw']:.2f} | {s['min_converged']:.2%} | {s['min_converged_euler']:.2%} | "
-        f"{s['eval_us_median']:.2f} |"])
+        "| shapes reported (tuning) | DS DTW, held-out | DMP DTW, held-out (tuned) | "
+        "DS DTW, all demos | DMP DTW, all demos | linear DTW | converged, lowest shape "
+        "(Euler at 1 kHz, 1 % of scale) | C++ query (µs, median) |",
+        "|---|---|---|---|---|---|---|---|",
+        f"| {s['n_shapes']} ({tuned}) | {s['a2l_heldout_dtw']:.2f} | "
+        f"{s['dmp_heldout_dtw']:.2f} | {s['a2l_dtw']:.2f} | {s['dmp_dtw']:.2f} | "
+        f"{s['linear_dtw']:.2f} | {a['min_converged']:.2%} | {a['eval_us_median']:.2f} |"])
 
 
 def report_markdown(metrics: dict[str, Any], cfg: Any, command: str, plots: bool) -> str:
     """The run's ``report.md``."""
     s = metrics["summary"]
+    tuning = metrics.get("tuning")
     return "\n".join([
         f"# LASA handwriting benchmark ({len(metrics['shapes'])} shapes)",
         "",
         f"Command: `{command}`; direction {cfg.direction}, K = {cfg.K}, "
-        f"beta = {cfg.beta or 'schedule'}, "
-        f"mu = {cfg.mu or 'schedule'}, regularisation = {cfg.regularisation:g}, "
+        f"beta = {cfg.beta or 'schedule'}, mu = {cfg.mu or 'schedule'}, "
+        f"regularisation = {cfg.regularisation:g}, arrival {cfg.arrival:g}; DMP "
+        f"{cfg.dmp_weights} weights per dimension, regularisation {cfg.dmp_regularisation:g}; "
         f"{cfg.n_starts} random starts per shape (seed {cfg.seed} + shape index), "
         f"{metrics['workers']} worker(s), {metrics['wall_s']:.0f} s.",
         "",
-        f"- Mean DTW: a2l **{s['a2l_dtw']:.2f}**, DMP {s['dmp_dtw']:.2f}, linear "
-        f"{s['linear_dtw']:.2f}, between demonstrations {s['demo_spread_dtw']:.2f}.",
-        f"- Random starts converged (within {cfg.tolerance} of the target after "
-        f"{cfg.horizon:g} demonstration durations, exact flow): "
-        f"{'all, on every shape' if s['all_converged'] else 'not all'} "
-        f"(lowest fraction {s['min_converged']:.2%}; largest round-trip error "
-        f"|Phi(Phi^-1(x0)) - x0| {s['roundtrip_max']:.1e}). With explicit Euler at "
-        f"{cfg.start_steps} steps: {'all' if s['all_converged_euler'] else 'not all'} "
-        f"(lowest {s['min_converged_euler']:.2%}).",
+        *([f"Settings chosen on the tuning shapes {', '.join(tuning['shapes'])} (†, drawn "
+           f"with seed {tuning['seed']}) by the mean held-out DTW, the same number of "
+           "candidates for both methods:", "", tuning_table(tuning), ""] if tuning else
+          ["No tuning (`--tune false`): the settings given.", ""]),
+        f"- Mean over the {s['n_shapes']} reported shapes, held-out protocol (learn from "
+        f"demonstrations 1-4, DTW on 5-7): DS **{s['a2l_heldout_dtw']:.2f}**, DMP "
+        f"{s['dmp_heldout_dtw']:.2f} (the DS better on {s['heldout_wins']} of "
+        f"{s['n_shapes']}); all demonstrations: DS **{s['a2l_dtw']:.2f}**, DMP "
+        f"{s['dmp_dtw']:.2f}, linear {s['linear_dtw']:.2f}, between demonstrations "
+        f"{s['demo_spread_dtw']:.2f}.",
+        f"- Converged (explicit Euler at {cfg.control_dt * 1e3:g} ms, within "
+        f"{cfg.tolerance:.0%} of the demonstrations' scale within {cfg.horizon:g} "
+        f"durations): {'every start, on every shape' if s['all_converged'] else 'not all'} "
+        f"(lowest fraction {s['min_converged']:.2%}).",
         f"- Fit time: median {s['fit_ms_median']:.0f} ms wall, "
-        f"{s['fit_cpu_ms_median']:.0f} ms CPU; C++ velocity query: median "
-        f"{s['eval_us_median']:.2f} µs.",
+        f"{s['fit_cpu_ms_median']:.0f} ms CPU; C++ velocity query at points in each "
+        f"demonstration's bounding box: median {s['eval_us_median']:.2f} µs, largest p99.9 "
+        f"{s['eval_p999_us_max']:.1f} µs (timed inside the run, other processes sharing "
+        "the machine).",
         "",
-        "Each DS is fitted to the time-aligned mean of the shape's 7 demonstrations; "
-        "reproductions start at each demonstration's start (RK4, the demonstration's own "
-        "step and duration) and are compared with that demonstration, and the numbers "
-        "are means over the 7. The DS's speed gain leaves a reproduction "
-        f"{cfg.arrival:.2%} of its line-space distance to the target after the "
-        "demonstrations' mean duration. **DTW** is the mean point distance along the optimal DTW "
-        "alignment (dtaidistance), in the data's units (mm); **SEA** the swept error area "
-        "between time-aligned reproduction and demonstration (mm²); **vRMSE** the RMS "
-        "velocity error (mm/s). The DMP (movement_primitives, "
-        f"{cfg.dmp_weights} weights per dimension) imitates the same mean and starts from "
-        "the same points, with the mean's end as goal (a DMP averaging the weights imitated "
-        "from each demonstration reproduces the same trajectories); the linear DS "
-        "xdot = -speed (x - target) is the floor; "
-        "**demo spread** is the mean DTW between pairs of demonstrations of a shape. "
-        f"Convergence: from starts uniform in the demonstrations' bounding box enlarged by "
-        f"{cfg.enlarge:.0%}, the state after {cfg.horizon:g} demonstration durations. "
-        "**converged** (the `converged` of `metrics.json`) takes it on the DS's exact flow, "
-        "x(T) = Phi(target + (Phi^-1(x0) - target) exp(-speed T)): the DS's trajectories "
-        "are the line-space system's mapped through Phi, so this is the DS's own "
-        "convergence, free of integration error. **converged (Euler)** (`converged_euler`) "
-        f"integrates with explicit Euler, {cfg.start_steps} steps over the same time: what a "
-        "controller applying the field at that coarse step would do. Fit time is measured "
-        "inside the run (other processes share the machine); BENCHMARKS.md has the "
-        "dedicated measurement.",
+        "DTW is the mean point distance along the optimal DTW alignment (dtaidistance), in "
+        "the data's units (mm); SEA the swept error area between time-aligned reproduction "
+        "and demonstration (mm²); vRMSE the RMS velocity error (mm/s); both for the "
+        "all-demonstrations protocol. Each method learns the time-aligned mean of its "
+        "training demonstrations and reproduces every scored demonstration from its start "
+        "(DS: RK4 with the demonstration's own step) over its duration; the DMP "
+        "(movement_primitives) gets the mean's end as goal. Direction: `auto` fits both "
+        "and keeps the smaller mean fit error (both shown). Convergence: starts uniform in "
+        f"the demonstrations' bounding box enlarged by {cfg.enlarge:.0%}, integrated by "
+        "explicit Euler at the runtime's control period, converged when within the "
+        "tolerance of the target (the runtime's test).",
         "",
         results_table(metrics),
         "",

@@ -98,8 +98,8 @@ class DiffeoDS:
             Weight of ``rho^2`` in the width search.
         direction : {"to_demo", "to_line", "auto"}
             Fit the maps from the line onto the demonstration (default, the paper's), the
-            other way (explicit velocity queries), or ``"auto"`` (``to_line`` unless its fit
-            leaves a large error; :func:`a2l.lfd.fit.fit_diffeo`). The fitted DS's
+            other way (explicit velocity queries), or ``"auto"`` (both fitted, the one with the
+            smaller mean error kept; :func:`a2l.lfd.fit.fit_diffeo`). The fitted DS's
             ``direction`` says which.
         """
         items = (list(trajectory) if isinstance(trajectory, (list, tuple))
@@ -119,7 +119,8 @@ class DiffeoDS:
         meta = {"K": K, "beta": np.asarray(beta).tolist(), "mu": np.asarray(mu).tolist(),
                 "regularisation": regularisation,
                 "duration": duration, "n_demonstrations": len(arrays),
-                "max_error": res.max_error, "fit_ms": fit_ms}
+                "max_error": res.max_error, "mean_error": res.mean_error,
+                "direction_alternative": res.alternative, "fit_ms": fit_ms}
         first = items[0]
         if isinstance(first, Demonstration):
             meta.update(frame=first.frame, states=first.states)
@@ -170,6 +171,50 @@ class DiffeoDS:
         velocity each tick does) or ``"exact"`` (the flow mapped through Phi).
         """
         return self._core.rollout(np.asarray(x0, dtype=float), float(dt), int(steps), method)
+
+    def arrival(self, starts: np.ndarray, dt: float, max_steps: int,
+                tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+        """Explicit Euler from every start until it is within `tolerance` of the target.
+
+        The states are those of ``rollout(x0, dt, steps, "euler")`` (the C++ velocity, the
+        same update ``x + dt * f(x)``: what a controller applying the field at period `dt`
+        does), all starts advanced together; a start stops at its first state within
+        `tolerance` of the target (the runtime's convergence test) or after `max_steps`.
+
+        Parameters
+        ----------
+        starts : array (M, d)
+        dt : float > 0
+        max_steps : int >= 0
+        tolerance : float >= 0
+
+        Returns
+        -------
+        steps : array (M,) of int
+            Steps taken (`max_steps` where the start did not arrive).
+        distance : array (M,)
+            Distance of the last state to the target; arrived iff ``distance <= tolerance``.
+        """
+        x = np.array(starts, dtype=float, ndmin=2)
+        if x.ndim != 2 or x.shape[1] != self.dim:
+            raise ValueError(f"starts must have shape (M, {self.dim}), got {x.shape}")
+        if not (np.isfinite(dt) and dt > 0 and max_steps >= 0 and tolerance >= 0):
+            raise ValueError("arrival needs dt > 0, max_steps >= 0 and tolerance >= 0, got "
+                             f"{dt}, {max_steps}, {tolerance}")
+        target = self.target
+        dist = np.linalg.norm(x - target, axis=1)
+        steps = np.full(len(x), int(max_steps))
+        steps[dist <= tolerance] = 0
+        active = np.flatnonzero(dist > tolerance)
+        for k in range(1, int(max_steps) + 1):
+            if active.size == 0:
+                break
+            x[active] = x[active] + dt * self._core.velocity(x[active])
+            dist[active] = np.linalg.norm(x[active] - target, axis=1)
+            done = dist[active] <= tolerance
+            steps[active[done]] = k
+            active = active[~done]
+        return steps, dist
 
     # --- parameters ---------------------------------------------------------------------------
     @property

@@ -34,12 +34,14 @@ weights ``exp(-rho^2 ||q - q_j||^2)``, then moves every ``q`` by the exact ``psi
 scalar solve per point within reach of the map). The maps are stored in the order ``C``
 applies them (the last fitted first). On the 30 LASA shapes this matches the demonstrations
 as well as ``to_demo`` (``docs/experiments/lasa.md``) except where the greedy gets stuck between two
-parts of the curve (GShape); ``direction="auto"`` then falls back to ``to_demo``.
+parts of the curve (GShape). ``direction="auto"`` fits both and keeps the one whose
+fitted curve is closer to the demonstration (the smaller mean distance
+``||Phi(source) - X||``, :attr:`FitResult.mean_error`; ``to_line`` on a tie).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -69,8 +71,8 @@ MU_SCHEDULE = (0.8, 0.8, 0.8, 0.75, 0.7, 0.65, 0.65)
 
 #: The two ways the maps can go (``a2l._core.DiffeoDS``'s ``direction``).
 DIRECTIONS = ("to_demo", "to_line")
-#: What :func:`fit_diffeo` accepts: a direction, or ``"auto"`` (``to_line`` unless its error
-#: exceeds ``auto_tolerance``; then the better of the two).
+#: What :func:`fit_diffeo` accepts: a direction, or ``"auto"`` (both fitted, the one with the
+#: smaller mean error kept).
 FIT_DIRECTIONS = (*DIRECTIONS, "auto")
 
 _GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
@@ -92,6 +94,11 @@ class FitResult:
         demonstration's units (either direction: ``to_line`` measures ``C^{-1}(source)``).
     direction : str
         ``"to_demo"`` (the maps compose to ``Phi``) or ``"to_line"`` (to ``Phi^{-1}``).
+    mean_error : float
+        Mean of the same distances over the demonstration's points (what ``"auto"``
+        compares).
+    alternative : dict or None
+        ``"auto"`` only: the other direction's ``{"direction", "mean_error", "max_error"}``.
     """
 
     target: np.ndarray
@@ -101,6 +108,8 @@ class FitResult:
     scale: float
     max_error: float
     direction: str = "to_demo"
+    mean_error: float = float("nan")
+    alternative: dict[str, float | str] | None = None
 
 
 def _as_trajectory(points: np.ndarray) -> np.ndarray:
@@ -285,7 +294,7 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
                mu: float | np.ndarray = 0.9,
                regularisation: float = 1e-4, tol: float = 1e-6,
                search_iterations: int = 30, source: np.ndarray | None = None,
-               direction: str = "to_demo", auto_tolerance: float = 0.3) -> FitResult:
+               direction: str = "to_demo") -> FitResult:
     """Fit the maps of a diffeomorphism between the line space and `trajectory`.
 
     Parameters
@@ -310,13 +319,9 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
     direction : {"to_demo", "to_line", "auto"}
         ``"to_demo"``: the paper's greedy, the maps move the source onto `trajectory` (they
         compose to ``Phi``); ``"to_line"``: the pullback greedy, the maps compose to
-        ``Phi^{-1}`` (explicit velocity queries); ``"auto"``: ``to_line``, unless its
-        largest error exceeds ``auto_tolerance`` (normalised units, i.e. times the scale
-        ``s``); then both are fitted and the one with the smaller largest error is returned
-        (its ``direction`` says which).
-    auto_tolerance : float
-        The ``"auto"`` threshold (on the 30 LASA shapes the ``to_line`` fits that match
-        leave at most 0.17, the one that gets stuck 1.6).
+        ``Phi^{-1}`` (explicit velocity queries); ``"auto"``: both are fitted and the one
+        with the smaller mean error (:attr:`FitResult.mean_error`, ``to_line`` on a tie) is
+        returned; its ``direction`` says which, ``alternative`` has the other's errors.
 
     Returns
     -------
@@ -334,8 +339,6 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
         raise ValueError(f"mu must be in (0, 1), got {mu}")
     if direction not in FIT_DIRECTIONS:
         raise ValueError(f"direction must be one of {FIT_DIRECTIONS}, got {direction!r}")
-    if not (np.isfinite(auto_tolerance) and auto_tolerance > 0):
-        raise ValueError(f"auto_tolerance must be finite and > 0, got {auto_tolerance}")
     target = x[-1].copy()
     scale = float(np.max(np.std(x, axis=0)))
     if not scale > 0:
@@ -353,14 +356,15 @@ def fit_diffeo(trajectory: np.ndarray, K: int = 150, beta: float | np.ndarray = 
         c = np.asarray(cs).reshape(-1, d)
         v = np.asarray(vs).reshape(-1, d)
         r = np.asarray(rs, dtype=float)
-        max_err = float(np.sqrt(np.max(np.einsum("ij,ij->i", res, res)))) * scale
+        dist = np.sqrt(np.einsum("ij,ij->i", res, res)) * scale
         return FitResult(target=target, centers=target + scale * c, vectors=scale * v,
-                         rhos=r / scale, scale=scale, max_error=max_err, direction=way)
+                         rhos=r / scale, scale=scale, max_error=float(dist.max()),
+                         direction=way, mean_error=float(dist.mean()))
 
     if direction != "auto":
         return fit(direction)
-    line = fit("to_line")
-    if line.max_error <= auto_tolerance * scale:
-        return line
-    demo = fit("to_demo")
-    return demo if demo.max_error < line.max_error else line
+    line, demo = fit("to_line"), fit("to_demo")
+    best, other = (demo, line) if demo.mean_error < line.mean_error else (line, demo)
+    return replace(best, alternative={"direction": other.direction,
+                                      "mean_error": other.mean_error,
+                                      "max_error": other.max_error})
