@@ -201,8 +201,10 @@ def test_ds_mode_runs_the_bundle_ds_phase_through_the_cpp_step(bundles):
 
 
 def test_push_on_baxter(bundles):
-    """One held-out push on Baxter in PyBullet (the figures: a2l experiment lfd-skills)."""
+    """One held-out push on Baxter in PyBullet, the context read from the camera by default
+    (the figures: a2l experiment lfd-skills)."""
     with make_skill_scene("push_far", 0) as scene:
+        assert scene.config.context_source == "perceived"
         reset_for_trial(scene, "push_far", 1000)
         run = run_skill(scene, bundles["push_far"], "far")
     assert run.success, run.statuses
@@ -253,6 +255,28 @@ def test_parametrization_runs_cells_and_writes_its_report(tmp_path):
     assert {k: list(v) for k, v in grid_of(ns).items()} == config["grid"] == {
         "resolution": [0.02], "step": [0.05], "n_orient": [8, 16], "n_dist": [3],
         "smoothing": [False]}
+
+
+def test_lfd_skills_reads_the_camera_by_default_and_names_its_source(tmp_path):
+    """The experiment's default context is the camera: the command line, the function and
+    the scenes; a ground-truth run says so in its report (virtual scene: 2 trials)."""
+    import inspect
+    import json
+
+    from a2l.cli import parse
+    from a2l.experiments.lfd_skills import evaluate, run_lfd_skills
+
+    _, ns, _ = parse(["experiment", "lfd-skills", "--out", str(tmp_path / "x")])
+    assert ns.context_source == "perceived"
+    for fn in (run_lfd_skills, evaluate):
+        assert inspect.signature(fn).parameters["context_source"].default == "perceived"
+    m = run_lfd_skills(tmp_path / "gt", ["push_far"], trials=2, scene="virtual", quiet=True,
+                       context_source="ground_truth")
+    assert m["context_source"] == "ground_truth"
+    assert "context: ground truth" in (tmp_path / "gt" / "report.md").read_text()
+    config = json.loads((tmp_path / "gt" / "config.json").read_text())
+    assert config["context_source"] == "ground_truth"
+    assert "--context_source ground_truth" in config["command"]
 
 
 def test_a_worker_with_another_package_refuses_to_run():

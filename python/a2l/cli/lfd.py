@@ -46,7 +46,8 @@ def _cmd_lfd_skills(args: Namespace) -> int:
 
     out, skills = run_args(args)
     run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
-                   args.workers, cfg=lfd_config(args), quiet=args.quiet)
+                   args.workers, cfg=lfd_config(args), quiet=args.quiet,
+                   context_source=args.context_source)
     return 0
 
 
@@ -65,6 +66,9 @@ def _lfd_skills_parser() -> Parser:
     p.add_argument("--seed", type=int, default=1000, help="first trial seed (default 1000)")
     p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
     p.add_argument("--mode", choices=("table", "ds"), default="table")
+    p.add_argument("--context_source", choices=("perceived", "ground_truth"),
+                   default="perceived", help="where the skills read the context: the camera "
+                   "(perceived, default) or the simulator's ground truth")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_config_fields(p, LfDConfig, nested_key="lfd")

@@ -25,6 +25,9 @@ from a2l.progress import progress_bar
 
 __all__ = ["evaluate", "results_table", "run_lfd_skills", "trial_task"]
 
+#: Where a trial reads the context, as reports name it.
+CONTEXT_SOURCES = {"perceived": "camera", "ground_truth": "ground truth"}
+
 #: Scenes per worker process, keyed by (skill, scene, config overrides).
 _SCENES: dict[str, Any] = {}
 
@@ -36,7 +39,8 @@ def package_dir() -> str:
 
 
 def trial_task(task: dict[str, Any]) -> dict[str, Any]:
-    """One trial: ``{"skill", "bundle", "seed", "scene", "mode", "cfg", "package"}``.
+    """One trial: ``{"skill", "bundle", "seed", "scene", "mode", "cfg", "package"}`` and
+    optionally ``"context_source"`` (default the camera, ``"perceived"``).
 
     Raises
     ------
@@ -54,14 +58,16 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
                            "the package under test")
     cfg = LfDConfig(**task["cfg"])
     name, scene_name = task["skill"], task["scene"]
-    key = repr((name, scene_name, cfg.step))
+    source = task.get("context_source", "perceived")
+    key = repr((name, scene_name, cfg.step, source))
     scene = _SCENES.get(key)
     if scene is None:
         for old in _SCENES.values():
             old.close()
         _SCENES.clear()
         scene = _SCENES[key] = make_skill_scene(
-            name, 0, cfg, scene=None if scene_name == "baxter" else scene_name)
+            name, 0, cfg, scene=None if scene_name == "baxter" else scene_name,
+            context_source=source)
     reset_for_trial(scene, name, task["seed"])
     recipe = SKILLS[name]
     by_light = recipe.extra.get("effect_by_light")
@@ -69,14 +75,16 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
                     object_name=recipe.object_name,
                     effect_test=light_test(by_light) if by_light else None)
     return {"skill": name, "seed": task["seed"], "scene": scene_name, "mode": task["mode"],
-            "success": bool(run.success), "stop": run.stop, "movements": run.movements,
+            "context_source": source, "success": bool(run.success), "stop": run.stop,
+            "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
             "wall": run.wall}
 
 
 def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
              mode: str = "table", cfg: LfDConfig | None = None, executor: Any = None,
-             on_done: Callable[[int], None] | None = None) -> list[dict[str, Any]]:
+             on_done: Callable[[int], None] | None = None,
+             context_source: str = "perceived") -> list[dict[str, Any]]:
     """Run every skill of `bundles` from every trial seed; one result dict per trial.
 
     Parameters
@@ -93,12 +101,16 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
         :func:`a2l.lfd.library.skill_config`).
     executor : a2l.parallel.Executor, optional
         Where trials run (default: this process).
+    context_source : {"perceived", "ground_truth"}
+        Where the skill reads the context: the camera (default) or the simulator's truth.
+        Success is judged on the truth either way.
     """
     from a2l.lfd.library import skill_config
     from a2l.parallel import Executor
 
     tasks = [{"skill": n, "bundle": str(b), "seed": int(s), "scene": scene, "mode": mode,
-              "cfg": skill_config(n, cfg).to_json(), "package": package_dir()}
+              "cfg": skill_config(n, cfg).to_json(), "package": package_dir(),
+              "context_source": context_source}
              for n, b in bundles.items() for s in seeds]
     if executor is None:
         with Executor(1) as ex:
@@ -141,8 +153,11 @@ def results_table(summary: dict[str, dict[str, Any]],
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                    trials: int = 20, seed: int = 1000, scene: str = "baxter",
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
-                   quiet: bool = False) -> dict[str, Any]:
+                   quiet: bool = False, context_source: str = "perceived") -> dict[str, Any]:
     """Learn the skills and try them; write the run directory (see the module docstring).
+
+    The trials read the context from `context_source`: the camera (``"perceived"``, the
+    default) or the simulator's truth (``"ground_truth"``); the report names it.
 
     Returns
     -------
@@ -159,13 +174,16 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     unknown = [n for n in names if n not in SKILLS]
     if unknown:
         raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+    if context_source not in CONTEXT_SOURCES:
+        raise ConfigError("--context_source", f"must be one of {list(CONTEXT_SOURCES)}, got "
+                          f"{context_source!r}")
     run_dir = make_run_dir("lfd-skills", out)
     words = ["a2l", "experiment", "lfd-skills", "--out", run_dir, "--skills", ",".join(names),
              "--trials", trials, "--seed", seed, "--scene", scene, "--mode", mode,
-             "--workers", workers]
+             "--context_source", context_source, "--workers", workers]
     write_json(run_dir / "config.json", {
         "experiment": "lfd-skills", "skills": names, "trials": trials, "seed": seed,
-        "scene": scene, "mode": mode, "workers": workers,
+        "scene": scene, "mode": mode, "context_source": context_source, "workers": workers,
         "configs": {n: skill_config(n, cfg).to_json() for n in names},
         "command": command_line(words, cfg, prefix="lfd."),
         "seed_use": seed_record("lfd-skills", range(seed, seed + trials))})
@@ -178,16 +196,18 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
                           **{f"{k}_s": v for k, v in learned.timings.items()}}
     seeds = list(range(seed, seed + trials))
     with Executor(workers) as ex, progress_bar("trials", len(names) * trials, quiet) as bar:
-        results = evaluate(bundles, seeds, scene, mode, cfg, ex, bar)
+        results = evaluate(bundles, seeds, scene, mode, cfg, ex, bar, context_source)
     frame = pd.DataFrame(results)
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     summary = summarise(frame)
-    metrics = {"scene": scene, "mode": mode, "seeds": [seeds[0], seeds[-1]],
+    metrics = {"scene": scene, "mode": mode, "context_source": context_source,
+               "seeds": [seeds[0], seeds[-1]],
                "config": skill_config(names[0], cfg).to_json(),
                "configs": {n: skill_config(n, cfg).to_json() for n in names},
                "skills": summary, "learning": learning}
     write_json(run_dir / "metrics.json", metrics)
-    lines = [f"# Demonstrated skills on held-out seeds ({scene}, {mode})", "",
+    lines = [f"# Demonstrated skills on held-out seeds ({scene}, {mode}, context: "
+             f"{CONTEXT_SOURCES[context_source]})", "",
              f"Trial seeds {seeds[0]}-{seeds[-1]}; demonstrations from seeds 0-"
              f"{skill_config(names[0], cfg).n_demos - 1}; config "
              f"{ {n: skill_config(n, cfg).to_json() for n in names} }.", "",
@@ -195,6 +215,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     atomic_write_text(run_dir / "report.md", mark_report(
         "\n".join(lines) + "\n", seed_record("lfd-skills", seeds)))
     if not quiet:
+        print(f"context: {CONTEXT_SOURCES[context_source]}")
         print(lines[-1])
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
     return metrics

@@ -78,8 +78,9 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
         Another :func:`a2l.sim.make_scene` scene than the recipe's (``"virtual"``, or
         ``"press"`` for a push with a light).
     **config
-        Scene config overrides (``gui=True``, ``context_source="perceived"``...). Default:
-        ground-truth context and no reset jitter (trials place the object themselves).
+        Scene config overrides (``gui=True``, ``context_source="ground_truth"``...).
+        Default: the context from the camera (``context_source="perceived"``) and no reset
+        jitter (trials place the object themselves).
 
     Returns
     -------
@@ -87,7 +88,7 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     """
     recipe = get_recipe(name)
     cfg = skill_config(name, cfg)
-    config.setdefault("context_source", "ground_truth")
+    config.setdefault("context_source", "perceived")
     config.setdefault("object_jitter", 0.0)
     config.setdefault("step", cfg.step)
     return make_scene(scene or recipe.scene, seed=seed, **config)
