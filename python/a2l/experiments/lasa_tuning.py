@@ -38,7 +38,7 @@ DS_CANDIDATES: tuple[dict[str, Any], ...] = tuple(
     for beta in (None, 0.5) for mu in (None, 0.6) for arrival in (1e-2, 1e-3))
 #: The DMP's candidate settings: basis functions per dimension and ridge regularisation.
 DMP_CANDIDATES: tuple[dict[str, Any], ...] = tuple(
-    {"dmp_weights": w, "dmp_regularisation": r} for w in (10, 20, 50, 100) for r in (0.0, 10.0))
+    {"dmp_weights": w, "dmp_regularisation": r} for w in (10, 20, 50, 100) for r in (0.0, 0.1))
 
 
 def tuning_split(shapes: list[str], n: int, seed: int = TUNING_SEED) -> list[str]:
