@@ -60,7 +60,7 @@ $(STAMP_VENV): $(STAMP_APT)
 
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
-	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py -e ".[dev]"
+	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py -e ".[dev,ros]"
 	@touch $@
 
 setup: $(STAMP_INSTALL)

@@ -35,12 +35,18 @@ skill learn --demos FILE --out BUNDLE --effect E
     Learn a skill from a demonstrations file (e.g. from ``demo-record``).
 skill run BUNDLE --effect E
     Run a skill bundle in a scene (table or DS mode); print the outcome and the trace.
+ros skill BUNDLE --effect E
+    Run a skill bundle on a robot through ROS 2 (``a2l[ros]``, docs/ros.md).
+ros sim
+    The simulated Baxter as a ROS 2 robot behind the same topics.
+view FILE.rrd
+    Open a Rerun recording of a run (``--record`` of ``skill run``, ``ros skill``).
 
 Layout: ``parser`` (the jsonargparse parser class, configuration flags, config files),
 ``args`` (usage error, argument checks), ``demo`` (demo, demo-record), ``experiments`` (the
 ``experiment`` group; lasa, babbling), ``push`` (push, discretization, sweep), ``lfd``
 (lfd-skills, parametrization, perturbations), ``tasks``, ``skill`` (show, learn,
-run). Every argument is parsed here,
+run), ``ros`` (skill, sim), ``view``. Every argument is parsed here,
 and everything, names included, is checked before any work starts; the experiments raise
 :class:`a2l.errors.ConfigError` naming the argument at fault, which :func:`main` reports as
 a usage error (exit code 2).
@@ -53,7 +59,7 @@ from collections.abc import Callable, Sequence
 
 from jsonargparse import Namespace
 
-from a2l.cli import demo, experiments, results, skill
+from a2l.cli import demo, experiments, results, ros, skill, view
 from a2l.cli.args import UsageError
 from a2l.cli.parser import Parser, command_path, normalize_argv
 from a2l.errors import ConfigError
@@ -79,6 +85,8 @@ def build_parser() -> tuple[Parser, dict[tuple[str, ...], tuple[Parser, Handler]
     experiments.add_experiment_parsers(sub, commands)
     skill.add_skill_parsers(sub, commands)
     results.add_results_parser(sub, commands)
+    ros.add_ros_parsers(sub, commands)
+    view.add_view_parser(sub, commands)
     return parser, commands
 
 

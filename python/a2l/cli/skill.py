@@ -159,15 +159,49 @@ def _cmd_run(ns: Namespace) -> int:
                          f"{', '.join(summary['effects'])}")
     if ns.mode == "ds" and not summary["ds_phases"]:
         raise UsageError("--mode", "the bundle has no DS phase; use --mode table")
+    from a2l.rollout.recording import scene_frame
+
+    if ns.record is not None:
+        _check_rrd(Path(ns.record))
+    frames: list[dict[str, Any]] = []
     with make_scene(ns.scene, seed=ns.seed, step=summary["movements"]["step"],
                     context_source="ground_truth") as scene:
-        run = run_skill(scene, ns.bundle, ns.effect, mode=ns.mode, max_steps=ns.max_steps)
+        if ns.record is not None:
+            frames.append(scene_frame(scene))
+        run = run_skill(scene, ns.bundle, ns.effect, mode=ns.mode, max_steps=ns.max_steps,
+                        on_step=(lambda k, st: frames.append(scene_frame(scene)))
+                        if ns.record is not None else None)
+        name = "box" if "box" in scene.object_names else scene.primary_object
+    if ns.record is not None:
+        _record(Path(ns.record), run, ns.bundle, name, frames)
     statuses = Counter(run.statuses)
     print(f"{'success' if run.success else 'failure'}: stop {run.stop}, "
           f"{run.movements} movement(s) in {len(run.steps)} step(s), "
           f"{run.wall:.2f} s")
     print("trace: " + ", ".join(f"{k} {v}" for k, v in statuses.items()))
     return 0 if run.success else 1
+
+
+def _check_rrd(path: Path) -> None:
+    if path.suffix != ".rrd":
+        raise UsageError("--record", f"'{path}': a Rerun recording ends in .rrd")
+    if not path.resolve().parent.is_dir():
+        raise UsageError("--record", f"'{path}': its directory does not exist")
+    try:
+        import rerun  # noqa: F401
+    except ImportError:
+        raise UsageError("--record", "rerun-sdk is not installed: pip install 'a2l[ros]'"
+                         ) from None
+
+
+def _record(path: Path, run: Any, bundle: str, name: str, frames: list[dict[str, Any]]
+            ) -> None:
+    from a2l.rollout.recording import RerunRecorder, record_run
+    from a2l.skills.runner import CppSkillRunner
+
+    rec = RerunRecorder(path, name="a2l skill run")
+    record_run(rec, run, CppSkillRunner(bundle).skill, object_name=name, frames=frames)
+    print(f"recording: {rec.close()} (a2l view {path})")
 
 
 def _show_parser() -> Parser:
@@ -210,6 +244,9 @@ def _run_parser() -> Parser:
     p.add_argument("--seed", type=NonNegativeInt, default=0, help="scene seed (default 0)")
     p.add_argument("--max-steps", type=PositiveInt | None, default=None, metavar="N",
                    help="most steps (default: the bundle's step cap)")
+    p.add_argument("--record", default=None, metavar="FILE.rrd",
+                   help="write a Rerun recording of the run (a2l view FILE.rrd): links, "
+                   "objects, end-effector path, camera, context bins, movements, effect")
     return p
 
 

@@ -23,6 +23,7 @@ class TransitMixin:
     _arm: list[int]
     _movable: list[int]
     _joint_index: dict[str, int]
+    _link_index: dict[str, int]
     _bodies: BodyCache
     _objects: dict[str, SceneObject]
     _removed: set[str]
@@ -37,6 +38,15 @@ class TransitMixin:
     def arm_joints(self) -> list[int]:
         """PyBullet joint indices of the acting arm, base to tip (kinematics' order)."""
         return list(self._arm)
+
+    def link_poses(self) -> dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]]:
+        """Every link of the robot in the world frame: ``{name: (position (3,), quaternion
+        (4,) x, y, z, w)}`` (a recording's link frames)."""
+        names = sorted(self._link_index, key=self._link_index.__getitem__)
+        states = p.getLinkStates(self._robot, [self._link_index[n] for n in names],
+                                 physicsClientId=self._client)
+        return {n: (np.asarray(st[4], dtype=float), np.asarray(st[5], dtype=float))
+                for n, st in zip(names, states, strict=True)}
 
     def other_joint_positions(self) -> dict[str, float]:
         """Positions of the robot's movable joints outside the acting arm, by URDF name."""

@@ -1,0 +1,204 @@
+"""Recordings a person can watch: a run written as a Rerun recording (``.rrd``, opened by
+``a2l view FILE.rrd``; the ``ros`` extra installs ``rerun-sdk``).
+
+:class:`RerunRecorder` logs, per rollout ``i`` and per step (timelines ``step`` and
+``time``), under ``rollout/<i>/``:
+
+============================  ===================  ==========================================
+entity                        archetype            what
+============================  ===================  ==========================================
+``world/eef``                 Points3D             the end-effector
+``world/eef_path``            LineStrips3D         its path so far
+``world/objects/<name>``      Boxes3D              the object the skill acts on
+``world/target``              Points3D             the commanded target (when one is known)
+``world/robot/<link>``        Transform3D          the robot's link frames (PyBullet scenes)
+``camera``                    Image                a camera image (when asked)
+``bins/<variable>``           Scalars              the context's bin of every variable
+``movement``                  TextLog              the chosen movement and the step status
+``movement_index``            Scalars              its index in the repertoire (-1: none)
+``effect/<axis>``             Scalars              the object's displacement so far (m), x, y
+============================  ===================  ==========================================
+
+:func:`record_run` writes a finished :class:`a2l.rollout.run.SkillRun` (``a2l skill run
+--record``) with the :func:`scene_frame` taken before each step; the bins are the runtime's
+(:func:`a2l._core.context_bins`, the C++ bin math).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from a2l import _core
+from a2l.errors import A2LValueError
+
+__all__ = ["RerunRecorder", "context_variables", "record_run", "scene_frame", "step_bins"]
+
+#: Half extents of an object whose size the recording does not know (m).
+DEFAULT_HALF = (0.035, 0.0425, 0.04)
+
+
+class RerunRecorder:
+    """A Rerun recording written to `path` (``.rrd``) while it is logged.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The ``.rrd`` file (its directory must exist).
+    name : str
+        The application id shown by the viewer.
+    """
+
+    def __init__(self, path: str | os.PathLike[str], name: str = "a2l") -> None:
+        import rerun as rr
+
+        self.path = Path(path)
+        if self.path.suffix != ".rrd":
+            raise A2LValueError(f"recording '{self.path}': a Rerun recording ends in .rrd")
+        if not self.path.resolve().parent.is_dir():
+            raise A2LValueError(f"recording '{self.path}': its directory does not exist")
+        self.rr = rr
+        self.rec = rr.RecordingStream(name)
+        self.tmp = self.path.with_name(f".{self.path.name}.tmp")
+        self.rec.save(self.tmp)
+        self.prefix = "rollout/0"
+        self.path_points: list[list[float]] = []
+        self.start: NDArray[np.float64] | None = None
+
+    def rollout(self, index: int) -> None:
+        """Log what follows as rollout `index` (a new path, a new effect origin)."""
+        self.prefix = f"rollout/{int(index)}"
+        self.path_points, self.start = [], None
+
+    def time(self, step: int, seconds: float | None = None) -> None:
+        """Set the timelines: ``step`` (sequence) and ``time`` (seconds since the start)."""
+        self.rec.set_time("step", sequence=int(step))
+        if seconds is not None:
+            self.rec.set_time("time", duration=float(seconds))
+
+    def step(self, step: int, eef: ArrayLike, obj: ArrayLike, *, seconds: float | None = None,
+             label: str = "", movement: int = -1, status: str = "ok",
+             bins: Mapping[str, int] | None = None, target: ArrayLike | None = None,
+             object_name: str = "object", half_extents: Sequence[float] = DEFAULT_HALF
+             ) -> None:
+        """Log one step: end-effector and object (3,) (NaN: not seen), the movement chosen
+        (its label and index), the step status, the context bins and the target (3,)."""
+        rr, rec, pre = self.rr, self.rec, self.prefix
+        self.time(step, seconds)
+        e = np.asarray(eef, dtype=float).reshape(3)
+        o = np.asarray(obj, dtype=float).reshape(3)
+        rec.log(f"{pre}/world/eef", rr.Points3D([e], radii=0.01, colors=[(230, 120, 20)]))
+        self.path_points.append(e.tolist())
+        if len(self.path_points) > 1:
+            rec.log(f"{pre}/world/eef_path", rr.LineStrips3D([self.path_points]))
+        if np.all(np.isfinite(o)):
+            rec.log(f"{pre}/world/objects/{object_name}",
+                    rr.Boxes3D(centers=[o], half_sizes=[list(half_extents)],
+                               labels=[object_name], colors=[(150, 40, 220)]))
+            if self.start is None:
+                self.start = o.copy()
+            moved = o - self.start
+            for axis, v in zip("xy", moved[:2], strict=True):
+                rec.log(f"{pre}/effect/{axis}", rr.Scalars([float(v)]))
+        if target is not None:
+            rec.log(f"{pre}/world/target", rr.Points3D([np.asarray(target, dtype=float)],
+                                                       radii=0.006, colors=[(20, 160, 60)]))
+        for name, b in (bins or {}).items():
+            rec.log(f"{pre}/bins/{name}", rr.Scalars([float(b)]))
+        rec.log(f"{pre}/movement", rr.TextLog(f"{status}: {label or '-'}",
+                                              level="INFO" if status == "ok" else "WARN"))
+        rec.log(f"{pre}/movement_index", rr.Scalars([float(movement)]))
+
+    def links(self, poses: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> None:
+        """The robot's link frames: ``{name: (position (3,), quaternion (4,) x, y, z, w)}``."""
+        for name, (pos, quat) in poses.items():
+            self.rec.log(f"{self.prefix}/world/robot/{name}", self.rr.Transform3D(
+                translation=np.asarray(pos, dtype=float),
+                quaternion=self.rr.Quaternion(xyzw=np.asarray(quat, dtype=float))))
+
+    def image(self, rgb: NDArray[np.uint8]) -> None:
+        """A camera image (H, W, 3)."""
+        self.rec.log(f"{self.prefix}/camera", self.rr.Image(np.asarray(rgb, dtype=np.uint8)))
+
+    def close(self) -> Path:
+        """Finish the file (written to a temporary file, then renamed); its path."""
+        self.rec.flush()
+        self.rec.disconnect()
+        os.replace(self.tmp, self.path)
+        return self.path
+
+
+def scene_frame(scene: Any, image: bool = True) -> dict[str, Any]:
+    """What a recording shows of `scene` now (a frame of :func:`record_run`): the link
+    frames and a camera image (PyBullet scenes), the simulated time; keys missing where the
+    scene has none."""
+    out: dict[str, Any] = {}
+    if hasattr(scene, "link_poses"):
+        out["links"] = scene.link_poses()
+    if image and hasattr(scene, "render"):
+        out["image"] = scene.render()[0]
+    if hasattr(scene, "sim_time"):
+        out["t"] = float(scene.sim_time)
+    return out
+
+
+def context_variables(skill: Any) -> list[tuple[str, tuple[str, int, float, float]]]:
+    """The context variables of a loaded :class:`a2l._core.Skill`: ``(name, (kind, n_bins,
+    low, high))`` as :func:`a2l._core.context_bins` takes them."""
+    out = []
+    for v in skill.variables:
+        kind = v.kind.name
+        if kind in ("effect", "high_level"):
+            continue
+        low = float(v.low) if v.low is not None else 0.0
+        high = float(v.high) if v.high is not None else 0.0
+        out.append((str(v.name), (kind, int(v.n_bins), low, high)))
+    return out
+
+
+def step_bins(skill: Any, eef: ArrayLike, obj: ArrayLike) -> list[dict[str, int]]:
+    """The context bins of every step, ``eef`` and ``obj`` of shape (T, 3): one dict per
+    step, by variable name (-1: unknown context)."""
+    variables = context_variables(skill)
+    e = np.atleast_2d(np.asarray(eef, dtype=float))
+    o = np.atleast_2d(np.asarray(obj, dtype=float))
+    if not variables or len(e) == 0:
+        return [{} for _ in range(len(e))]
+    bins = np.asarray(_core.context_bins(e, o, [v for _, v in variables])).reshape(len(e), -1)
+    return [{n: int(b) for (n, _), b in zip(variables, row, strict=True)} for row in bins]
+
+
+def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str = "object",
+               frames: Sequence[Mapping[str, Any]] | None = None, rollout: int = 0) -> None:
+    """Log a finished run (:class:`a2l.rollout.run.SkillRun`) as rollout `rollout`.
+
+    Parameters
+    ----------
+    recorder : RerunRecorder
+    run : SkillRun
+    skill : a2l._core.Skill
+        The bundle's skill (its context variables give the bins).
+    object_name : str
+    frames : sequence of dict, optional
+        Per step (before it), what the scene looked like: ``{"links": {...}, "image": rgb,
+        "t": seconds}``; any key may be missing.
+    rollout : int
+    """
+    recorder.rollout(rollout)
+    bins = step_bins(skill, run.eef, run.obj)
+    for k, st in enumerate(run.steps):
+        frame = frames[k] if frames is not None and k < len(frames) else {}
+        recorder.step(k, st.eef, st.obj, seconds=frame.get("t"), label=st.label,
+                      movement=st.movement, status=st.status if st.status != "ok"
+                      else (st.move_status or "ok"), bins=bins[k] if k < len(bins) else None,
+                      target=st.eef + st.displacement if st.status == "ok" else None,
+                      object_name=object_name)
+        if frame.get("links"):
+            recorder.links(frame["links"])
+        if frame.get("image") is not None:
+            recorder.image(frame["image"])

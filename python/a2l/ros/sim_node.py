@@ -1,0 +1,203 @@
+"""A simulated robot behind the skill node's topics (``a2l ros sim``): a PyBullet scene of
+:mod:`a2l.sim` (Baxter's right arm, the box) as a ROS 2 node.
+
+It publishes, at ``rate`` Hz and after every command, the arm's ``joint_states``, one
+``objects/<name>/pose`` per object (position from the scene's ground truth or its cameras;
+orientation identity) and one ``states/<name>`` per high-level state with a Bool mapping
+(:data:`a2l.ros.topics.BOOL_STATES`: the light, the gripper). It carries out
+``joint_trajectory`` (``command="joint"``, the scene's ``follow_joint_trajectory``) or
+``target_pose`` (``command="pose"``, a straight line of the end-effector,
+:meth:`a2l.sim.Scene.move_by`) and ``gripper/command``. The physics runs while a command is
+carried out (faster than real time), and the node publishes the new state when it is done.
+
+At exit it writes its ground truth (``truth`` file, JSON): the objects at the start and at
+the end, the effect of the episode, and every command received with its stamp.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+from a2l.atomic import atomic_write_text
+from a2l.errors import A2LValueError
+from a2l.ros import topics as T
+
+__all__ = ["SimNodeConfig", "make_sim_node"]
+
+COMMANDS = ("joint", "pose")
+
+
+@dataclass(frozen=True)
+class SimNodeConfig:
+    """The simulated robot's ROS parameters.
+
+    Attributes
+    ----------
+    scene : str
+        The a2l.sim scene (a PyBullet one: push, press, grasp, grasp_light).
+    trial : str
+        Place the object and the arm as a trial of this demonstrated skill (push_far...;
+        empty: the scene's own reset).
+    seed : int
+        Scene and trial seed.
+    step : float
+        Movement length of the scene (m).
+    rate : float
+        State publishing rate (Hz).
+    command : str
+        Which command to carry out: joint (joint_trajectory) or pose (target_pose).
+    source : str
+        Object poses from ground_truth or perceived (the cameras).
+    frame : str
+        The frame of the poses.
+    truth : str
+        Where to write the ground truth at exit (JSON; empty: nowhere).
+    """
+
+    scene: str = "push"
+    trial: str = ""
+    seed: int = 0
+    step: float = 0.02
+    rate: float = 50.0
+    command: str = "joint"
+    source: str = "ground_truth"
+    frame: str = "base"
+    truth: str = ""
+
+
+def make_sim_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
+    """The simulated robot's rclpy node; ``node.close()`` writes the truth file."""
+    from geometry_msgs.msg import PoseStamped
+    from rclpy.node import Node
+    from rclpy.parameter import Parameter
+    from sensor_msgs.msg import JointState
+    from std_msgs.msg import Bool
+    from trajectory_msgs.msg import JointTrajectory
+
+    from a2l.lfd.library import reset_for_trial
+    from a2l.rollout.world import observe
+    from a2l.sim import make_scene
+
+    class SimNode(Node):
+        def __init__(self) -> None:
+            super().__init__("a2l_sim", parameter_overrides=[
+                Parameter(k, value=v) for k, v in overrides.items()])
+            for f in fields(SimNodeConfig):
+                self.declare_parameter(f.name, f.default)
+            cfg = self.cfg = SimNodeConfig(**{f.name: self.get_parameter(f.name).value
+                                              for f in fields(SimNodeConfig)})
+            if cfg.command not in COMMANDS:
+                raise A2LValueError(f"command {cfg.command!r} is not one of {COMMANDS}")
+            self.recorder = recorder
+            self.scene = make_scene(cfg.scene, seed=cfg.seed, step=cfg.step,
+                                    context_source=cfg.source)
+            if not hasattr(self.scene, "follow_joint_trajectory"):
+                self.scene.close()
+                raise A2LValueError(f"scene {cfg.scene!r} has no arm; use a PyBullet scene")
+            if cfg.trial:
+                reset_for_trial(self.scene, cfg.trial, cfg.seed)
+            self.joint_names = list(self.scene.kinematics.joint_names)
+            self.start = self.scene.ground_truth()
+            self.commands: list[dict[str, Any]] = []
+            self.pub_js = self.create_publisher(JointState, T.JOINT_STATES, 10)
+            self.pub_obj = {n: self.create_publisher(PoseStamped, T.object_topic(n), 10)
+                            for n in self.scene.object_names}
+            self.pub_state = {s: self.create_publisher(Bool, T.state_topic(s), 10)
+                              for s in self.scene.state_names if s in T.BOOL_STATES}
+            if cfg.command == "joint":
+                self.create_subscription(JointTrajectory, T.JOINT_TRAJECTORY,
+                                         self._on_trajectory, 10)
+            else:
+                self.create_subscription(PoseStamped, T.TARGET_POSE, self._on_pose, 10)
+            self.create_subscription(Bool, T.GRIPPER, self._on_gripper, 10)
+            self.create_timer(1.0 / cfg.rate, self.publish_state)
+
+        def _log(self, topic: str, msg: Any, note: str) -> None:
+            self.commands.append({"topic": topic, "stamp": T.stamp_seconds(msg.header.stamp)
+                                  if hasattr(msg, "header") else None,
+                                  "received": time.time(), "result": note})
+
+        def _on_trajectory(self, msg: Any) -> None:
+            try:
+                index = [list(msg.joint_names).index(n) for n in self.joint_names]
+            except ValueError:
+                self._log(T.JOINT_TRAJECTORY, msg, f"refused: joints {list(msg.joint_names)}")
+                return
+            t = [0.0] + [T.stamp_seconds(p.time_from_start) for p in msg.points]
+            q = [self.scene.joint_positions()] + [
+                np.asarray(p.positions, dtype=float)[index] for p in msg.points]
+            try:
+                err = self.scene.follow_joint_trajectory(t, np.asarray(q))
+            except A2LValueError as exc:
+                self._log(T.JOINT_TRAJECTORY, msg, f"refused: {exc}")
+                return
+            self._log(T.JOINT_TRAJECTORY, msg, f"ok: final joint error {err:.4f} rad")
+            self.publish_state()
+
+        def _on_pose(self, msg: Any) -> None:
+            try:
+                target = T.pose_position(msg, self.cfg.frame)
+            except A2LValueError as exc:
+                self._log(T.TARGET_POSE, msg, f"refused: {exc}")
+                return
+            res = self.scene.move_by(target - self.scene.eef_position())
+            self._log(T.TARGET_POSE, msg, f"{res.status}")
+            self.publish_state()
+
+        def _on_gripper(self, msg: Any) -> None:
+            (self.scene.close_gripper if msg.data else self.scene.open_gripper)()
+            self._log(T.GRIPPER, msg, "ok")
+            self.publish_state()
+
+        def publish_state(self) -> None:
+            """Publish joint states, object poses and high-level states now."""
+            stamp = self.get_clock().now().to_msg()
+            obs = observe(self.scene, self.cfg.source)
+            js = JointState(name=self.joint_names,
+                            position=[float(v) for v in self.scene.joint_positions()])
+            js.header.stamp, js.header.frame_id = stamp, self.cfg.frame
+            for name, pub in self.pub_obj.items():
+                xyz = obs["objects"].get(name)
+                if xyz is None:
+                    continue  # not seen: no message
+                msg = PoseStamped()
+                msg.header.stamp, msg.header.frame_id = stamp, self.cfg.frame
+                p = msg.pose.position
+                p.x, p.y, p.z = (float(v) for v in xyz)
+                msg.pose.orientation.w = 1.0
+                pub.publish(msg)
+                self._record(T.object_topic(name), msg)
+            for s, pub in self.pub_state.items():
+                msg = Bool(data=T.state_to_bool(s, obs["states"][s]))
+                pub.publish(msg)
+                self._record(T.state_topic(s), msg)
+            self.pub_js.publish(js)
+            self._record(T.JOINT_STATES, js)
+
+        def _record(self, topic: str, msg: Any) -> None:
+            if self.recorder is not None:
+                self.recorder.message(self.resolve_topic_name(topic), msg)
+
+        def truth(self) -> dict[str, Any]:
+            """The ground truth: start and end objects, the episode's effect, commands."""
+            end = self.scene.ground_truth()
+            return {"scene": self.cfg.scene, "seed": self.cfg.seed,
+                    "start": {n: list(map(float, v)) for n, v in self.start["objects"].items()},
+                    "end": {n: list(map(float, v)) for n, v in end["objects"].items()},
+                    "effect": self.scene.observe_effect(since="episode",
+                                                        source="ground_truth"),
+                    "eef": [float(v) for v in self.scene.eef_position()],
+                    "commands": self.commands}
+
+        def close(self) -> None:
+            """Write the truth file (if asked) and release the scene."""
+            if self.cfg.truth:
+                atomic_write_text(self.cfg.truth, json.dumps(self.truth(), indent=1))
+            self.scene.close()
+
+    return SimNode()

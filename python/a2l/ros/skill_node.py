@@ -1,0 +1,379 @@
+"""The skill node: a skill bundle run on a robot through ROS 2 (``a2l ros skill``).
+
+Every ``joint_states`` message is a control tick. When the arm is not carrying out a movement,
+the tick reads the context (the end-effector by the C++ forward kinematics of the joint
+positions, the object's pose, the high-level states), asks the effect test whether the wanted
+effect is produced, then runs the C++ skill step (:class:`a2l.skills.runner.CppSkillRunner`,
+the one step ``a2l-run`` and the Python rollouts run) and publishes its movement twice: as a
+Cartesian target (``target_pose``) and as a joint trajectory computed by the C++ executor's
+differential IK (``joint_trajectory``), plus one trace record (``skill/trace``). A movement
+is over when the end-effector is within ``goal_tolerance`` of its target, or after
+``movement_timeout`` (a push held back by the object): then the next tick steps again.
+
+The node stops at the effect (exit code 0), at a stop status of the step (``step_cap``,
+``unknown_context``: 1), after ``timeout`` (1), on SIGINT (130), and on bad input (2): a
+bundle for another robot, an input topic silent for ``input_timeout``, a pose or a joint
+position that is not finite. After a stop it publishes no command. Topics and frames:
+:mod:`a2l.ros.topics`, ``docs/ros.md``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from a2l import _core
+from a2l.errors import A2LError, A2LValueError
+from a2l.robot import arm_spec, urdf_sha256
+from a2l.rollout.effect_tests import Progress, effect_test_of
+from a2l.ros import topics as T
+from a2l.skills.runner import CppSkillRunner
+
+__all__ = ["SkillNodeConfig", "SkillNodeResult", "check_robot"]
+
+
+@dataclass(frozen=True)
+class SkillNodeConfig:
+    """The skill node's ROS parameters (their names and defaults).
+
+    Attributes
+    ----------
+    bundle : str
+        The skill bundle (.a2lb).
+    effect : str
+        The wanted effect (a push: left, right, close, far).
+    robot, arm : str
+        The robot (baxter or panda) and arm whose joints joint_states carries.
+    object : str
+        The object the skill acts on (its pose on objects/<object>/pose).
+    frame : str
+        The frame of poses in and out (the arm's base frame).
+    startup_timeout : float
+        Seconds to wait for the first message of every input topic.
+    input_timeout : float
+        Seconds an input topic may stay silent between two messages.
+    movement_timeout : float
+        Seconds a movement may take before the next step is taken from where the arm is.
+    timeout : float
+        Seconds the whole run may take.
+    goal_tolerance : float
+        A movement is over within this distance of its target (m).
+    trajectory_period : float
+        Sample period of the joint trajectory (s).
+    max_speed : float
+        End-effector speed of the joint trajectory (m/s).
+    """
+
+    bundle: str = ""
+    effect: str = ""
+    robot: str = "baxter"
+    arm: str = "right"
+    object: str = "box"
+    frame: str = "base"
+    startup_timeout: float = 30.0
+    input_timeout: float = 5.0
+    movement_timeout: float = 3.0
+    timeout: float = 120.0
+    goal_tolerance: float = 0.005
+    trajectory_period: float = 0.004
+    max_speed: float = 0.25
+
+
+@dataclass
+class SkillNodeResult:
+    """How a run ended: exit code, stop status, message, steps taken."""
+
+    code: int
+    status: str
+    message: str
+    steps: int
+
+
+def check_robot(runner: CppSkillRunner, robot: str, arm: str) -> Any:
+    """The arm spec of `robot`/`arm`, checked against the bundle's robot entry.
+
+    Raises
+    ------
+    a2l.A2LValueError
+        The bundle was learned for another robot (name or URDF checksum), or an unknown arm.
+    """
+    try:
+        spec = arm_spec(robot, arm)
+    except ValueError as exc:
+        raise A2LValueError(str(exc)) from None
+    entry = runner.skill.robot
+    if entry:
+        name, sha = str(entry.get("name", "")), str(entry.get("urdf_sha256", ""))
+        if name != robot or (sha and sha != urdf_sha256(spec.urdf)):
+            raise A2LValueError(
+                f"skill bundle '{runner.path}' was learned for robot {name!r} (URDF sha256 "
+                f"{sha[:12]}...), the node drives {robot!r} ({spec.urdf.name}); learn the "
+                "skill for this robot")
+    return spec
+
+
+def make_skill_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
+    """The rclpy node (its class is made here: rclpy is imported only when a node is made)."""
+    from geometry_msgs.msg import PoseStamped
+    from rclpy.node import Node
+    from rclpy.parameter import Parameter
+    from sensor_msgs.msg import JointState
+    from std_msgs.msg import Bool, String
+    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+    class SkillNode(Node):
+        def __init__(self) -> None:
+            super().__init__("a2l_skill", parameter_overrides=[
+                Parameter(k, value=v) for k, v in overrides.items()])
+            for f in fields(SkillNodeConfig):
+                self.declare_parameter(f.name, f.default)
+            self.cfg = SkillNodeConfig(**{f.name: self.get_parameter(f.name).value
+                                          for f in fields(SkillNodeConfig)})
+            self.recorder = recorder
+            self.result: SkillNodeResult | None = None
+            self.t0 = time.monotonic()
+            self.runner = CppSkillRunner(self.cfg.bundle)
+            self._setup_skill()
+            self.js: Any = None
+            self.js_time = -1.0
+            self.obj: Any = None
+            self.obj_time = -1.0
+            self.states: dict[str, tuple[str, float]] = {}
+            self.last: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+            self.var_names = [str(v.name) for v in self.runner.skill.variables]
+            self.start_obj: NDArray[np.float64] | None = None
+            self.target: NDArray[np.float64] | None = None
+            self.cmd_time = 0.0
+            self.k = 0
+            self.latencies: list[float] = []
+            self.step_times: list[float] = []
+            qos = 10
+            self.create_subscription(JointState, T.JOINT_STATES, self._on_joints, qos)
+            self.create_subscription(PoseStamped, T.object_topic(self.cfg.object),
+                                     self._on_object, qos)
+            for s in self.state_names:
+                self.create_subscription(Bool, T.state_topic(s),
+                                         lambda m, s=s: self._on_state(s, m), qos)
+            self.pub_traj = self.create_publisher(JointTrajectory, T.JOINT_TRAJECTORY, qos)
+            self.pub_pose = self.create_publisher(PoseStamped, T.TARGET_POSE, qos)
+            self.pub_grip = self.create_publisher(Bool, T.GRIPPER, qos)
+            self.pub_trace = self.create_publisher(String, T.TRACE, qos)
+            self.create_timer(0.05, self._watchdog)
+
+        # --- set-up ------------------------------------------------------------------
+        def _setup_skill(self) -> None:
+            cfg = self.cfg
+            effects = list(self.runner.skill.effect_values)
+            if cfg.effect not in effects:
+                raise A2LValueError(f"effect {cfg.effect!r} is not one of the bundle's: "
+                                    f"{', '.join(effects)}")
+            self.test = effect_test_of(cfg.effect)
+            if self.test is None or cfg.effect not in ("left", "right", "close", "far"):
+                raise A2LValueError(f"effect {cfg.effect!r}: the ROS node tests push effects "
+                                    "(left, right, close, far) from the object's pose")
+            if not 0 < cfg.goal_tolerance < self.runner.step_length / 2:
+                raise A2LValueError(f"goal_tolerance {cfg.goal_tolerance} must be in (0, "
+                                    f"{self.runner.step_length / 2}) (half a movement)")
+            spec = check_robot(self.runner, cfg.robot, cfg.arm)
+            self.kin = _core.Kinematics(str(spec.urdf), spec.base_link, spec.tip_link)
+            self.joint_names = list(self.kin.joint_names)
+            opts = _core.ExecutorOptions()
+            opts.period = cfg.trajectory_period
+            opts.max_speed = cfg.max_speed
+            opts.position_tolerance = 1e-4
+            opts.watchdog_ticks = 5000
+            self.ik = _core.Executor(self.kin, np.asarray(spec.neutral), opts)
+            self.state_names = [str(v.name) for v in self.runner.skill.variables
+                                if v.kind.name == "high_level"]
+            for s in self.state_names:
+                T.bool_to_state(s, False)  # a clear error for a state with no Bool mapping
+
+        # --- inputs ------------------------------------------------------------------
+        def _record(self, topic: str, msg: Any) -> None:
+            if self.recorder is not None:
+                self.recorder.message(self.resolve_topic_name(topic), msg)
+
+        def _rerun(self, status: str, label: str = "", movement: int = -1,
+                   bins: list[int] | None = None, target: Any = None) -> None:
+            rerun = getattr(self.recorder, "rerun", None)
+            if rerun is None or self.last is None:
+                return
+            eef, obj = self.last
+            rerun.step(self.k, eef, obj, seconds=time.monotonic() - self.t0, label=label,
+                       movement=movement, status=status, target=target,
+                       bins=None if bins is None else dict(zip(self.var_names, bins,
+                                                                strict=False)),
+                       object_name=self.cfg.object)
+
+        def _on_object(self, msg: Any) -> None:
+            self._record(T.object_topic(self.cfg.object), msg)
+            self.obj, self.obj_time = msg, time.monotonic()
+
+        def _on_state(self, name: str, msg: Any) -> None:
+            self._record(T.state_topic(name), msg)
+            self.states[name] = (T.bool_to_state(name, msg.data), time.monotonic())
+
+        def _on_joints(self, msg: Any) -> None:
+            self._record(T.JOINT_STATES, msg)
+            self.js, self.js_time = msg, time.monotonic()
+            if self.result is None:
+                self._guard(self._tick)
+
+        def _guard(self, fn: Any) -> None:
+            try:
+                fn()
+            except A2LError as exc:
+                self.stop(2, "bad_input", str(exc))
+
+        def _watchdog(self) -> None:
+            if self.result is not None:
+                return
+            now = time.monotonic()
+            if now - self.t0 > self.cfg.timeout:
+                self.stop(1, "timeout", f"no effect within timeout {self.cfg.timeout} s")
+                return
+            silent = self._silent(now)
+            if silent:
+                self.stop(2, "bad_input", f"no message on {silent[0]} within {silent[1]} "
+                          f"{getattr(self.cfg, silent[1])} s")
+
+        def _silent(self, now: float) -> tuple[str, str] | None:
+            last = {self.resolve_topic_name(T.JOINT_STATES): self.js_time,
+                    self.resolve_topic_name(T.object_topic(self.cfg.object)): self.obj_time}
+            for s in self.state_names:
+                last[self.resolve_topic_name(T.state_topic(s))] = self.states.get(
+                    s, ("", -1.0))[1]
+            for topic, t in last.items():
+                if t < 0 and now - self.t0 > self.cfg.startup_timeout:
+                    return topic, "startup_timeout"
+                if t >= 0 and now - t > self.cfg.input_timeout:
+                    return topic, "input_timeout"
+            return None
+
+        # --- the control tick ----------------------------------------------------------
+        def _tick(self) -> None:
+            if self.obj is None or any(s not in self.states for s in self.state_names):
+                return  # waiting for the first messages (the watchdog times out)
+            q = T.joint_positions(self.js, self.joint_names)
+            obj = T.pose_position(self.obj, self.cfg.frame)
+            eef = np.asarray(self.kin.fk(q)[:3, 3], dtype=float)
+            self.last = (eef, obj)
+            now = time.monotonic()
+            if self.target is not None:
+                if (np.linalg.norm(eef - self.target) > self.cfg.goal_tolerance
+                        and now - self.cmd_time < self.cfg.movement_timeout):
+                    return  # still moving
+                self.target = None
+            states = {s: v for s, (v, _) in self.states.items()}
+            if self.start_obj is None:
+                self.start_obj = obj.copy()
+            done, ok = self.test(Progress(self.cfg.effect, obj - self.start_obj,
+                                          self.start_obj, obj, eef, states, states, None))
+            if done:
+                self.stop(0 if ok else 1, "effect_produced" if ok else "effect_failed",
+                          f"object moved {_xyz(obj - self.start_obj)} m")
+                return
+            if self.k >= self.runner.step_cap:
+                self.stop(1, "step_cap", f"{self.k} steps without the effect")
+                return
+            t = time.perf_counter()
+            out = self.runner.step(eef, obj, self.cfg.effect, states)
+            step_s = time.perf_counter() - t
+            rec = self.runner.state.trace()[-1].to_dict()
+            if out.status != "ok":
+                self._trace(rec, out.status, "", step_s, None)
+                self.stop(1, out.status, f"the skill step stopped: {out.status}")
+                return
+            if out.action is not None:
+                self._trace(rec, "ok", out.action, step_s, None)
+                if out.action in ("open", "close"):
+                    self.pub_grip.publish(Bool(data=out.action == "close"))
+                self.cmd_time, self.target = now, eef.copy()
+            else:
+                target = eef + np.asarray(out.displacement, dtype=float)
+                self._command(q, target, rec, out.label, step_s)
+            self.k += 1
+
+        def _command(self, q: NDArray[np.float64], target: NDArray[np.float64],
+                     rec: dict[str, Any], label: str, step_s: float) -> None:
+            ex = self.ik
+            ex.reset(q)
+            status = ex.set_target(target)
+            points = []
+            while status == _core.Status.ok and not ex.reached:
+                status = ex.tick()
+                points.append(np.asarray(ex.q, dtype=float))
+            if status != _core.Status.ok:
+                name = _core.status_name(status)
+                self._trace(rec, name, label, step_s, None)
+                self.stop(1, name, f"target {_xyz(target)}: {name}")
+                return
+            stamp = self.get_clock().now().to_msg()
+            traj = JointTrajectory()
+            traj.header.stamp, traj.header.frame_id = stamp, self.cfg.frame
+            traj.joint_names = self.joint_names
+            dt = self.cfg.trajectory_period
+            for i, qi in enumerate(points, 1):
+                pt = JointTrajectoryPoint(positions=[float(v) for v in qi])
+                pt.time_from_start.sec, pt.time_from_start.nanosec = divmod(
+                    int(round(i * dt * 1e9)), 1_000_000_000)
+                traj.points.append(pt)
+            pose = PoseStamped()
+            pose.header.stamp, pose.header.frame_id = stamp, self.cfg.frame
+            pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = map(
+                float, target)
+            w, x, y, z = _quaternion(np.asarray(self.kin.fk(q))[:3, :3])
+            o = pose.pose.orientation
+            o.w, o.x, o.y, o.z = w, x, y, z
+            self.pub_traj.publish(traj)
+            self.pub_pose.publish(pose)
+            latency = time.time() - T.stamp_seconds(self.js.header.stamp)
+            self.latencies.append(latency)
+            self.step_times.append(step_s)
+            self._record(T.JOINT_TRAJECTORY, traj)
+            self._record(T.TARGET_POSE, pose)
+            self._trace(rec, "ok", label, step_s, latency, target)
+            self._rerun("ok", label, int(rec["movement"]), list(rec["bins"]), target)
+            self.cmd_time, self.target = time.monotonic(), target
+
+        def _trace(self, rec: dict[str, Any], status: str, label: str, step_s: float,
+                   latency: float | None, target: NDArray[np.float64] | None = None) -> None:
+            msg = String(data=T.trace_json({
+                "step": self.k, "bins": list(rec["bins"]), "movement": int(rec["movement"]),
+                "label": label, "probability": float(rec["probability"]), "status": status,
+                "phase": int(rec["phase"]), "step_us": step_s * 1e6,
+                "latency_ms": None if latency is None else latency * 1e3,
+                "target": None if target is None else target}))
+            self.pub_trace.publish(msg)
+            self._record(T.TRACE, msg)
+
+        def stop(self, code: int, status: str, message: str) -> None:
+            """End the run: no command is published after this."""
+            if self.result is not None:
+                return
+            self.result = SkillNodeResult(code, status, message, self.k)
+            for pub in (self.pub_traj, self.pub_pose, self.pub_grip):
+                self.destroy_publisher(pub)
+            msg = String(data=T.trace_json({"step": self.k, "status": status,
+                                            "message": message, "final": True}))
+            self.pub_trace.publish(msg)
+            self._record(T.TRACE, msg)
+            self._rerun(status)
+
+    return SkillNode()
+
+
+def _xyz(v: NDArray[np.float64]) -> str:
+    return "(" + ", ".join(f"{x:.3f}" for x in v) + ")"
+
+
+def _quaternion(r: NDArray[np.float64]) -> tuple[float, float, float, float]:
+    """A rotation matrix (3, 3) as a unit quaternion ``(w, x, y, z)``."""
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_matrix(r).as_quat()
+    return float(w), float(x), float(y), float(z)

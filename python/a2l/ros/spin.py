@@ -1,0 +1,69 @@
+"""Running an a2l ROS 2 node: rclpy's set-up (remaps, namespace, localhost-only discovery by
+default), spinning until the node is done, SIGINT and SIGTERM as a clean stop."""
+
+from __future__ import annotations
+
+import os
+import signal
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any
+
+from a2l.errors import A2LValueError
+
+__all__ = ["ros_args", "ros_session", "spin_until"]
+
+
+def ros_args(remap: Sequence[str] = (), namespace: str | None = None) -> list[str]:
+    """rclpy's command-line arguments for topic remaps (``from:=to``) and a namespace.
+
+    Raises
+    ------
+    a2l.A2LValueError
+        A remap that is not ``from:=to``.
+    """
+    out = ["--ros-args"]
+    for r in remap:
+        a, sep, b = r.partition(":=")
+        if not sep or not a or not b:
+            raise A2LValueError(f"remap {r!r}: write it as from:=to (joint_states:=/robot/js)")
+        out += ["-r", r]
+    if namespace:
+        out += ["-r", f"__ns:={namespace if namespace.startswith('/') else '/' + namespace}"]
+    return out
+
+
+@contextmanager
+def ros_session(args: Sequence[str] = ()) -> Iterator[None]:
+    """rclpy initialised with `args` (discovery stays on this machine unless the environment
+    says otherwise: ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``), shut down on exit. SIGINT
+    and SIGTERM raise :class:`KeyboardInterrupt` in the spinning thread."""
+    import rclpy
+    from rclpy.signals import SignalHandlerOptions
+
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+    def interrupt(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    # SIGINT too: a process started in the background by a shell inherits it ignored
+    old = {s: signal.signal(s, interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
+    rclpy.init(args=list(args) or None, signal_handler_options=SignalHandlerOptions.NO)
+    try:
+        yield
+    finally:
+        rclpy.try_shutdown()
+        for s, handler in old.items():
+            signal.signal(s, handler)
+
+
+def spin_until(node: Any, done: Callable[[], bool], period: float = 0.02) -> bool:
+    """Spin `node` until ``done()``; False if interrupted (SIGINT, SIGTERM)."""
+    import rclpy
+
+    try:
+        while rclpy.ok() and not done():
+            rclpy.spin_once(node, timeout_sec=period)
+    except KeyboardInterrupt:
+        return False
+    return True

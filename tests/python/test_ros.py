@@ -1,0 +1,265 @@
+"""a2l.ros: the simulated Baxter and the skill node, each in its own process, push the box
+over ROS 2; bad input ends the skill node with a clear message and no command after it.
+
+Every test gets its own random ROS_DOMAIN_ID and localhost-only discovery, so test runs of
+other people on the same machine do not cross-talk.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import random
+import signal
+import subprocess
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy", reason="the ros extra (pip install 'a2l[ros]') is not installed")
+
+from a2l.rollout.effect_tests import PUSH_DISTANCE  # noqa: E402
+
+A2L = [sys.executable, "-m", "a2l.cli"]
+
+
+@pytest.fixture(scope="module")
+def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from a2l.lfd.library import learn_recipe
+
+    return learn_recipe("push_far", tmp_path_factory.mktemp("ros")).bundle
+
+
+@pytest.fixture
+def domain(monkeypatch: pytest.MonkeyPatch) -> int:
+    """A random ROS domain of this test, discovery on localhost only."""
+    d = random.SystemRandom().randint(1, 100)
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(d))
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    monkeypatch.delenv("ROS_LOCALHOST_ONLY", raising=False)
+    return d
+
+
+def _stop(proc: subprocess.Popen[str], timeout: float = 20.0) -> str:
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+    out, _ = proc.communicate(timeout=timeout)
+    return out
+
+
+@pytest.mark.timeout(180)
+@pytest.mark.parametrize("command", ["joint", "pose"])
+def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, domain: int, tmp_path: Path,
+                                                  command: str) -> None:
+    truth = tmp_path / "truth.json"
+    sim = subprocess.Popen([*A2L, "ros", "sim", "--trial", "push_far", "--seed", "1000",
+                            "--command", command, "--truth", str(truth)],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        assert sim.stdout is not None
+        ready = sim.stdout.readline()  # the scene is built and the node is up
+        assert ready.startswith("a2l ros sim: push scene"), ready
+        record = ["--record", str(tmp_path / "push.mcap")] if command == "joint" else []
+        skill = subprocess.run([*A2L, "ros", "skill", str(bundle), "--effect", "far",
+                                "--timeout", "90", *record], capture_output=True, text=True,
+                               timeout=150)
+    finally:
+        sim_out = _stop(sim)
+    assert sim.returncode == 0, sim_out
+    assert skill.returncode == 0, skill.stdout + skill.stderr
+    assert skill.stdout.startswith("success: stop effect_produced")
+    t = json.loads(truth.read_text())
+    moved = np.subtract(t["end"]["box"], t["start"]["box"])
+    # the simulator's ground truth: pushed far (+x) at least the push distance, mostly along x
+    assert t["effect"] == "far"
+    assert moved[0] >= PUSH_DISTANCE and abs(moved[1]) < moved[0] / 2
+    topic = "joint_trajectory" if command == "joint" else "target_pose"
+    assert t["commands"] and {c["topic"] for c in t["commands"]} == {topic}
+    if record:
+        check_recording(tmp_path / "push.mcap", len(t["commands"]))
+
+
+def check_recording(path: Path, n: int) -> None:
+    """The skill node's recording of a push of `n` movements, read back: the MCAP file's
+    topics, message types and counts, and the Rerun recording's steps beside it."""
+    from mcap_ros2.reader import read_ros2_messages
+
+    msgs = list(read_ros2_messages(str(path)))
+    counts = Counter((m.channel.topic, m.schema.name) for m in msgs)
+    assert counts[("/joint_trajectory", "trajectory_msgs/msg/JointTrajectory")] == n
+    assert counts[("/target_pose", "geometry_msgs/msg/PoseStamped")] == n
+    assert counts[("/skill/trace", "std_msgs/msg/String")] == n + 1  # + the final record
+    assert counts[("/joint_states", "sensor_msgs/msg/JointState")] > n
+    assert counts[("/objects/box/pose", "geometry_msgs/msg/PoseStamped")] > n
+    assert len(counts) == 5
+    traces = [json.loads(m.ros_msg.data) for m in msgs if m.channel.topic == "/skill/trace"]
+    assert [r["step"] for r in traces[:-1]] == list(range(n))
+    assert traces[-1]["final"] and traces[-1]["status"] == "effect_produced"
+    traj = next(m.ros_msg for m in msgs if m.channel.topic == "/joint_trajectory")
+    assert list(traj.joint_names)[0] == "right_s0" and len(traj.points) > 1
+    rerun = pytest.importorskip("rerun")
+    with rerun.server.Server(host="127.0.0.1",
+                             datasets={"run": [str(path.with_suffix(".rrd"))]}) as srv:
+        client = srv.client()
+        table = client.get_dataset("run").reader(index="step").to_arrow_table()
+    assert table.column("step").to_pylist() == list(range(n + 1))
+    assert "/rollout/0/world/objects/box:Boxes3D:centers" in table.column_names
+
+
+class FakeRobot:
+    """A kinematic arm in the test process: publishes Baxter's right arm joints and the box
+    (or a NaN box, or none), jumps to the end of each joint trajectory it receives."""
+
+    def __init__(self, box: str = "ok", nan_after: int = 3) -> None:
+        import rclpy
+        from geometry_msgs.msg import PoseStamped
+        from sensor_msgs.msg import JointState
+        from std_msgs.msg import String
+        from trajectory_msgs.msg import JointTrajectory
+
+        from a2l import _core
+        from a2l.robot import arm_spec
+
+        rclpy.init()
+        self.node = rclpy.create_node("fake_robot")
+        spec = arm_spec("baxter", "right")
+        kin = _core.Kinematics(str(spec.urdf), spec.base_link, spec.tip_link)
+        self.names = list(kin.joint_names)
+        self.q = np.asarray(spec.neutral, dtype=float)
+        # the box 15 cm in front of the end-effector, as at the start of a push far
+        self.box_xyz = kin.fk(self.q)[:3, 3] + np.array([0.15, 0.0, 0.0])
+        self.box, self.nan_after = box, nan_after
+        self.commands: list[float] = []
+        self.final: float | None = None
+        self.msgs = (JointState, PoseStamped)
+        self.pub_js = self.node.create_publisher(JointState, "joint_states", 10)
+        self.pub_box = self.node.create_publisher(PoseStamped, "objects/box/pose", 10)
+        self.node.create_subscription(JointTrajectory, "joint_trajectory", self._on_traj, 10)
+        self.node.create_subscription(String, "skill/trace", self._on_trace, 10)
+        self.node.create_timer(0.02, self._publish)
+
+    def _on_traj(self, msg: Any) -> None:
+        self.commands.append(time.monotonic())
+        self.q = np.asarray(msg.points[-1].positions, dtype=float)
+
+    def _on_trace(self, msg: Any) -> None:
+        if json.loads(msg.data).get("final"):
+            self.final = time.monotonic()
+
+    def _publish(self) -> None:
+        js_t, pose_t = self.msgs
+        stamp = self.node.get_clock().now().to_msg()
+        if self.box != "missing":
+            pose = pose_t()
+            pose.header.stamp, pose.header.frame_id = stamp, "base"
+            xyz = self.box_xyz
+            if self.box == "nan" and len(self.commands) >= self.nan_after:
+                xyz = np.array([np.nan, xyz[1], xyz[2]])
+            pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = map(float, xyz)
+            self.pub_box.publish(pose)
+        js = js_t(name=self.names, position=[float(v) for v in self.q])
+        js.header.stamp = stamp
+        self.pub_js.publish(js)
+
+    def spin_while(self, proc: subprocess.Popen[str], limit: float, after: float = 1.0
+                   ) -> None:
+        import rclpy
+
+        end = time.monotonic() + limit
+        while proc.poll() is None and time.monotonic() < end:
+            rclpy.spin_once(self.node, timeout_sec=0.02)
+        end = time.monotonic() + after  # anything the node still sends arrives here
+        while time.monotonic() < end:
+            rclpy.spin_once(self.node, timeout_sec=0.02)
+
+    def close(self) -> None:
+        import rclpy
+
+        self.node.destroy_node()
+        rclpy.shutdown()
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize(("box", "expect"), [
+    ("missing", "no message on /objects/box/pose within startup_timeout 4.0 s"),
+    ("nan", "is not finite"),
+])
+def test_bad_input_ends_the_skill_node_without_a_command_after_it(
+        bundle: Path, domain: int, box: str, expect: str) -> None:
+    robot = FakeRobot(box)
+    try:
+        proc = subprocess.Popen([*A2L, "ros", "skill", str(bundle), "--effect", "far",
+                                 "--startup_timeout", "4", "--movement_timeout", "0.5"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        robot.spin_while(proc, 60)
+        out, err = proc.communicate(timeout=20)
+    finally:
+        robot.close()
+    assert proc.returncode == 2, out + err
+    assert "a2l ros skill: error:" in err and expect in err
+    assert robot.final is not None  # the stop was announced on skill/trace
+    if box == "missing":
+        assert robot.commands == []
+    else:
+        assert len(robot.commands) >= robot.nan_after  # it ran, then the NaN came
+    assert all(t <= robot.final for t in robot.commands)
+
+
+@pytest.mark.timeout(120)
+def test_sigint_stops_the_skill_node_cleanly(bundle: Path, domain: int) -> None:
+    robot = FakeRobot()
+    try:
+        proc = subprocess.Popen([*A2L, "ros", "skill", str(bundle), "--effect", "far",
+                                 "--movement_timeout", "100"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        end = time.monotonic() + 60
+        while not robot.commands and time.monotonic() < end and proc.poll() is None:
+            robot.spin_while(proc, 0.1, after=0.0)
+        robot.q = robot.q + 0.0  # the arm never reaches: the node waits for the movement
+        proc.send_signal(signal.SIGINT)
+        robot.spin_while(proc, 20)
+        out, err = proc.communicate(timeout=20)
+    finally:
+        robot.close()
+    assert proc.returncode == 130, out + err
+    assert "stop interrupted" in out
+    assert robot.commands and robot.final is not None
+    assert all(t <= robot.final for t in robot.commands)
+
+
+def test_a_bundle_for_another_robot_is_refused(bundle: Path, domain: int,
+                                               tmp_path: Path) -> None:
+    from a2l.robot import arm_spec, urdf_sha256
+    from a2l.skills import load_bundle, load_ds_phases, save_bundle
+
+    spec = load_bundle(bundle)
+    panda = arm_spec("panda")
+    other = tmp_path / "panda_push.a2lb"
+    save_bundle(dataclasses.replace(spec, robot={
+        "name": "panda", "urdf_sha256": urdf_sha256(panda.urdf),
+        "base_link": panda.base_link, "tip_link": panda.tip_link}), other,
+        ds_phases=load_ds_phases(bundle))
+    res = subprocess.run([*A2L, "ros", "skill", str(other), "--effect", "far"],
+                         capture_output=True, text=True, timeout=60)
+    assert res.returncode == 2
+    assert "was learned for robot 'panda'" in res.stderr and "'baxter'" in res.stderr
+
+
+def test_bad_arguments_are_usage_errors(tmp_path: Path, bundle: Path,
+                                        capsys: pytest.CaptureFixture[str]) -> None:
+    from a2l.cli import main
+
+    for argv, message in (
+            (["skill", str(tmp_path / "none.a2lb"), "--effect", "far"], "is not a file"),
+            (["skill", str(bundle), "--effect", "far", "--remap", "joint_states"],
+             "write it as from:=to"),
+            (["sim", "--record", str(tmp_path / "run.txt")], "ends in .mcap")):
+        with pytest.raises(SystemExit) as info:
+            main(["ros", *argv])
+        assert info.value.code == 2
+        assert message in capsys.readouterr().err
