@@ -94,6 +94,7 @@ def test_each_perturbation_happens(bundle: str) -> None:
 
 def test_metrics_schema_and_report(runs: dict[int, Path]) -> None:
     m = json.loads((runs[1] / "metrics.json").read_text())
+    assert m["context_source"] == "perceived"  # the camera, by default
     assert m["trial_seeds"] == [SEEDS[0], SEEDS[-1]]
     assert m["demonstration_seeds"] == [0, 2 * DEFAULT.n_demos - 1]
     assert set(m["skills"]) == {SKILL}
@@ -113,6 +114,10 @@ def test_metrics_schema_and_report(runs: dict[int, Path]) -> None:
     assert len(trials) == len(CONDITIONS) * 2 * len(SEEDS)
     report = (runs[1] / "report.md").read_text()
     assert "| push_right | toggle_light |" in report and f"{SEEDS[0]}-{SEEDS[-1]}" in report
+    assert "Context: camera (perceived)." in report
+    config = json.loads((runs[1] / "config.json").read_text())
+    assert config["context_source"] == "perceived"
+    assert "--context_source perceived" in config["command"]
     for cond in CONDITIONS:
         assert (runs[1] / "plots" / f"{SKILL}_{cond}.png").stat().st_size > 1000
     with np.load(runs[1] / "trajectories.npz") as z:

@@ -30,6 +30,9 @@ def test_metrics_schema_and_every_task_reached_with_and_without_its_fault(run) -
     out, metrics = run
     assert json.loads((out / "metrics.json").read_text()) == json.loads(json.dumps(metrics))
     assert set(metrics["tasks"]) == set(TASKS)
+    # the skills and the planner's state read the camera by default, and the report says so
+    assert metrics["context_source"] == "perceived"
+    assert "Context: camera (perceived)." in (out / "report.md").read_text()
     for name, m in metrics["tasks"].items():
         for key in ("success_rate", "success_rate_with_faults", "mean_replans", "plan_ms",
                     "transit_ms", "wall_s"):

@@ -153,7 +153,8 @@ def _cmd_perturbations(args: Namespace) -> int:
 
     run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
                       args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
-                      cfg=lfd_config(args), quiet=args.quiet, plots=not args.no_plots)
+                      cfg=lfd_config(args), quiet=args.quiet, plots=not args.no_plots,
+                      context_source=args.context_source)
     return 0
 
 
@@ -178,6 +179,9 @@ def _perturbations_parser() -> Parser:
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--cluster", default=None,
                    help="address of a Dask scheduler (tcp://host:8786); overrides --workers")
+    p.add_argument("--context_source", choices=("perceived", "ground_truth"),
+                   default="perceived", help="where the skills read the context: the camera "
+                   "(perceived, default) or the simulator's ground truth")
     p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     add_config_fields(p, LfDConfig, nested_key="lfd")

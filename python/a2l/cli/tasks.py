@@ -18,7 +18,8 @@ def _cmd_tasks(args: Namespace) -> int:
 
     faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
     run_tasks(args.out, comma_list(args.tasks), args.trials, args.seed, args.workers, faults,
-              args.planner, quiet=args.quiet, plots=not args.no_plots)
+              args.planner, quiet=args.quiet, plots=not args.no_plots,
+              context_source=args.context_source)
     return 0
 
 
@@ -46,6 +47,9 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
                    help="run the trials without and/or with the injected fault (default both)")
     p.add_argument("--planner", choices=("pyperplan", "fast-downward"), default="pyperplan",
                    help="task planner (default pyperplan)")
+    p.add_argument("--context_source", choices=("perceived", "ground_truth"),
+                   default="perceived", help="where the skills and the planner read the "
+                   "scene: the camera (perceived, default) or the simulator's ground truth")
     p.add_argument("--no-plots", action="store_true", help="no figure")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     add_config_option(p)

@@ -284,6 +284,9 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
     misses = _misses(skills)
     text = "\n".join([
         "# Demonstrated skills under perturbations", "",
+        "Context: " + ("ground truth (the simulator's)"
+                       if config.get("context_source") == "ground_truth"
+                       else "camera (perceived)") + ".", "",
         f"Command: `{config['command']}`; {metrics['wall_s']:.0f} s with "
         f"{metrics['workers']} worker(s).", "",
         f"Trial seeds {s0}-{s1} (held out: demonstrations used seeds {d0}-{d1}); every "

@@ -163,15 +163,16 @@ def skill_test(recipe: Any, by_light: dict[str, str] | None
     return light_test(by_light)
 
 
-def _scene(skill: str, scene_name: str, cfg: LfDConfig) -> Any:
+def _scene(skill: str, scene_name: str, cfg: LfDConfig, source: str = "perceived") -> Any:
     from a2l.lfd.library import make_skill_scene
 
-    key = repr((scene_name, cfg.step))
+    key = repr((scene_name, cfg.step, source))
     if key not in _SCENES:
         for old in _SCENES.values():
             old.close()
         _SCENES.clear()
-        _SCENES[key] = make_skill_scene(skill, 0, cfg, scene=scene_name)
+        _SCENES[key] = make_skill_scene(skill, 0, cfg, scene=scene_name,
+                                        context_source=source)
     return _SCENES[key]
 
 
@@ -261,7 +262,8 @@ def _record(task: dict[str, Any], run: Any, plan: Perturbation, log: dict[str, A
 
 
 def trial_task(task: dict[str, Any]) -> list[dict[str, Any]]:
-    """One trial: ``{"skill", "bundle", "mode", "seed", "scene", "conditions", "cfg"}``.
+    """One trial: ``{"skill", "bundle", "mode", "seed", "scene", "conditions", "cfg"}`` and
+    optionally ``"context_source"`` (default the camera, ``"perceived"``).
 
     Runs the skill without perturbation, then under each other condition from the same
     start; returns one record per condition (``none`` first).
@@ -270,7 +272,7 @@ def trial_task(task: dict[str, Any]) -> list[dict[str, Any]]:
 
     cfg = LfDConfig(**task["cfg"])
     recipe = SKILLS[task["skill"]]
-    scene = _scene(task["skill"], task["scene"], cfg)
+    scene = _scene(task["skill"], task["scene"], cfg, task.get("context_source", "perceived"))
     t_move = movement_seconds(scene)
     by_light = light_effects(recipe, cfg)
     test = skill_test(recipe, by_light)

@@ -28,7 +28,8 @@ workers (one, two or a Dask cluster give the same metrics). The trial itself:
 Scenes: a skill runs in its recipe's scene if that scene has a light, else in the scene
 with the same object and a lamp (``push`` -> ``press``: the box and a button with its lamp;
 ``grasp`` -> ``grasp_light``), so the toggle really switches a light; every condition of a
-skill uses the same scene. Context from the ground truth (as :func:`make_skill_scene`).
+skill uses the same scene. Context from the camera by default (``context_source``, as
+:func:`make_skill_scene`), or from the ground truth; the report names it.
 
 Effect tests: the recipe's, except ``pressed`` (counted from the button's presses, since the
 toggle itself switches the light) and the light-dependent skill (the test of the effect its
@@ -128,7 +129,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
                       cluster: str | None = None, conditions: Sequence[str] = CONDITIONS,
                       cfg: LfDConfig | None = None, bundles: dict[str, str] | None = None,
                       quiet: bool = False, plots: bool = True,
-                      command: str | None = None) -> dict[str, Any]:
+                      command: str | None = None,
+                      context_source: str = "perceived") -> dict[str, Any]:
     """Learn the skills, run every trial under every condition and write the run directory.
 
     Parameters
@@ -154,6 +156,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         No progress bar / no figures.
     command : str, optional
         The command line recorded in the report.
+    context_source : {"perceived", "ground_truth"}
+        Where the skills read the context: the camera (default) or the simulator's truth.
 
     Returns
     -------
@@ -170,6 +174,9 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     names = list(skills) if skills else list(SKILLS)
     conds = [c for c in CONDITIONS if c in conditions] if conditions else []
     _check(names, list(conditions), trials, seed, workers, cfg)
+    if context_source not in ("perceived", "ground_truth"):
+        raise ConfigError("--context_source", f"must be 'perceived' or 'ground_truth', got "
+                          f"{context_source!r}")
     cfgs = {n: skill_cfg(n, cfg) for n in names}
     out_path = Path(out)
     if out_path.exists() and not out_path.is_dir():
@@ -181,7 +188,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         ["a2l", "experiment", "perturbations", "--out", str(run_dir), "--skills",
          ",".join(names), "--trials", str(trials), "--seed", str(seed), "--workers",
          str(workers)] + (["--cluster", cluster] if cluster else [])
-        + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)]))
+        + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)])
+        + ["--context_source", context_source])
     if cfg is not None:  # the skills' configuration given: its every field on the command
         command = command_line(shlex.split(command), cfg, prefix="lfd.")
     config = {"experiment": "perturbations", "skills": names, "conditions": conds,
@@ -189,7 +197,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
               "demonstration_seeds": demonstration_seeds(cfgs), "scenes": scenes,
               "window": list(WINDOW), "move_m": list(MOVE_RANGE), "hold_s": list(HOLD_RANGE),
               "lfd": {n: c.to_json() for n, c in cfgs.items()}, "workers": workers,
-              "cluster": cluster, "command": command,
+              "cluster": cluster, "command": command, "context_source": context_source,
               "seed_use": seed_record("perturbations", seeds)}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
@@ -201,7 +209,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         paths = {**{n: str(b) for n, b in (bundles or {}).items() if n in names},
                  **{r["skill"]: r["bundle"] for r in learned}}
         tasks = [{"skill": n, "bundle": paths[n], "mode": m, "seed": s, "scene": scenes[n],
-                  "conditions": conds, "cfg": cfgs[n].to_json()}
+                  "conditions": conds, "cfg": cfgs[n].to_json(),
+                  "context_source": context_source}
                  for n in names for m in MODES for s in seeds]
         with progress_bar("perturbation trials", len(tasks), quiet) as bar:
             results = ex.map(trial_task, tasks, on_done=bar)
@@ -216,6 +225,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     metrics = {"experiment": "perturbations", "trial_seeds": config["trial_seeds"],
                "demonstration_seeds": config["demonstration_seeds"], "scenes": scenes,
+               "context_source": context_source,
                "skills": summarise(frame), "learning": learning, "wall_s": wall,
                "workers": workers}
     write_json(run_dir / "metrics.json", metrics)

@@ -173,7 +173,8 @@ class Played:
 
 def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
               out: str | os.PathLike[str], planner: str = "pyperplan",
-              time_limit: float = 10.0, max_replans: int = 3, gui: bool = False) -> Played:
+              time_limit: float = 10.0, max_replans: int = 3, gui: bool = False,
+              context_source: str = "perceived") -> Played:
     """Play task `name` once from trial `seed`, in a scene of its own.
 
     Parameters
@@ -192,6 +193,9 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
         As :func:`a2l.planning.execute.execute_task`.
     gui : bool
         Open the PyBullet GUI.
+    context_source : {"perceived", "ground_truth"}
+        Where the skills and the planner's state read the scene: the camera (default) or
+        the simulator's truth.
 
     Returns
     -------
@@ -206,7 +210,8 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
     light = spec.light or _light(rng)
     goal = spec.goal(rng)
     jitter = rng.uniform(-JITTER, JITTER, 2)
-    scene = make_skill_scene("grasp", seed, scene="task", states={"light": light}, gui=gui)
+    scene = make_skill_scene("grasp", seed, scene="task", states={"light": light}, gui=gui,
+                             context_source=context_source)
     try:
         regions = TableRegions(tuple(scene.config.table_center), tuple(scene.config.table_size))
         start = np.asarray(regions.center_of(spec.start_region)) + jitter
@@ -234,7 +239,8 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
     ----------
     job : dict
         ``task``, ``seed``, ``fault`` (bool), ``bundles`` (operator -> path), ``out``
-        (where the plan files go), ``planner``, ``time_limit``, ``max_replans``.
+        (where the plan files go), ``planner``, ``time_limit``, ``max_replans``,
+        ``context_source`` (default ``"perceived"``, the camera).
 
     Returns
     -------
@@ -247,7 +253,8 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
     seed = int(job["seed"])
     p = play_task(job["task"], seed, bool(job["fault"]), job["bundles"], job["out"],
                   job.get("planner", "pyperplan"), float(job.get("time_limit", 10.0)),
-                  int(job.get("max_replans", 3)))
+                  int(job.get("max_replans", 3)),
+                  context_source=job.get("context_source", "perceived"))
     res = p.result
     fault = bool(job["fault"])
     not_applied = ""

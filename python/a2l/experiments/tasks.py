@@ -82,7 +82,8 @@ def _check(tasks: Sequence[str], trials: int, seed: int, workers: int) -> None:
 def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
               trials: int = 20, seed: int = DEFAULT_SEED, workers: int = 1,
               faults: Sequence[bool] = (False, True), planner: str = "pyperplan",
-              quiet: bool = False, plots: bool = True) -> dict[str, Any]:
+              quiet: bool = False, plots: bool = True,
+              context_source: str = "perceived") -> dict[str, Any]:
     """Learn the skills, run every trial and write the run directory.
 
     Parameters
@@ -102,6 +103,9 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     planner : {"pyperplan", "fast-downward"}
     quiet, plots : bool
         No progress bar / no figure.
+    context_source : {"perceived", "ground_truth"}
+        Where the skills and the planner's state read the scene: the camera (default) or
+        the simulator's truth; the report names it.
 
     Returns
     -------
@@ -118,27 +122,33 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
 
     names = list(tasks) if tasks else list(TASKS)
     _check(names, trials, seed, workers)
+    if context_source not in ("perceived", "ground_truth"):
+        raise ConfigError("--context_source", f"must be 'perceived' or 'ground_truth', got "
+                          f"{context_source!r}")
     out_path = Path(out)
     if out_path.exists() and not out_path.is_dir():
         raise ConfigError("--out", f"'{out_path}' exists and is not a directory")
     run_dir = make_run_dir("tasks", out_path)
     command = shlex.join(["a2l", "experiment", "tasks", "--out", str(run_dir), "--tasks",
                           ",".join(names), "--trials", str(trials), "--seed", str(seed),
-                          "--workers", str(workers), "--planner", planner]
+                          "--workers", str(workers), "--planner", planner,
+                          "--context_source", context_source]
                          + ([] if list(faults) == [False, True] else
                             ["--faults", "with" if list(faults) == [True] else "without"]))
     config = {"experiment": "tasks", "tasks": {n: {
         "description": TASKS[n].description, "start_region": TASKS[n].start_region,
         "gripper": TASKS[n].gripper, "light": TASKS[n].light, "fault": TASKS[n].fault}
         for n in names}, "trial_seeds": [seed, seed + trials - 1], "faults": list(faults),
-        "jitter_m": JITTER, "planner": planner, "workers": workers, "command": command,
+        "jitter_m": JITTER, "planner": planner, "context_source": context_source,
+        "workers": workers, "command": command,
         "seed_use": seed_record("tasks", range(seed, seed + trials))}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     bundles = learn_task_skills(run_dir / "skills")
     learn_s = time.perf_counter() - t0
     jobs = [{"task": n, "seed": s, "fault": f, "bundles": bundles,
-             "out": str(run_dir / "plans"), "planner": planner}
+             "out": str(run_dir / "plans"), "planner": planner,
+             "context_source": context_source}
             for n in names for f in faults for s in range(seed, seed + trials)]
     with Executor(workers) as ex, progress_bar("task trials", len(jobs), quiet) as bar:
         rows = ex.map(trial_task, jobs, on_done=bar)
@@ -146,7 +156,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     frame = pd.DataFrame(rows)
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     metrics = {"experiment": "tasks", "trial_seeds": config["trial_seeds"],
-               "planner": planner, "tasks": summarise(frame), "learn_s": learn_s,
+               "planner": planner, "context_source": context_source,
+               "tasks": summarise(frame), "learn_s": learn_s,
                "wall_s": wall, "workers": workers}
     write_json(run_dir / "metrics.json", metrics)
     text = write_report(run_dir, metrics, config, frame, plots=plots)

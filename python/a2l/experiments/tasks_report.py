@@ -171,6 +171,9 @@ def write_report(run_dir: Path, metrics: dict[str, Any], config: dict[str, Any],
                for name, m in tasks.items() for f in m["not_applied"]]
     text = "\n".join([
         "# Planned tasks with the learned skills", "",
+        "Context: " + ("ground truth (the simulator's)"
+                       if config.get("context_source") == "ground_truth"
+                       else "camera (perceived)") + ".", "",
         f"Command: `{config['command']}`; {metrics['wall_s']:.0f} s with "
         f"{metrics['workers']} worker(s) (skills learned in {metrics['learn_s']:.0f} s).", "",
         f"Trial seeds {s0}-{s1} (held out), planner {config['planner']}; the block starts "

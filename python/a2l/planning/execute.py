@@ -35,6 +35,7 @@ from a2l.planning.repertoire import TableRegions
 from a2l.planning.simulate import apply_step, goal_literals, unmet
 from a2l.rollout.protocol import ArmSceneProtocol, SceneProtocol
 from a2l.rollout.run import run_skill
+from a2l.rollout.world import observe
 
 __all__ = ["APPROACH", "SCRIPTED", "ExecutedStep", "TaskResult", "execute_task", "perceive_state"]
 
@@ -54,7 +55,7 @@ PLACE_GAP = 0.01
 
 
 def perceive_state(scene: SceneProtocol, regions: TableRegions, static: Sequence[str] = (),
-                   source: str = "ground_truth",
+                   source: str | None = None,
                    objects: Sequence[str] | None = None) -> PerceivedState:
     """The planner's state from the scene.
 
@@ -65,8 +66,9 @@ def perceive_state(scene: SceneProtocol, regions: TableRegions, static: Sequence
         The table's regions (an object off the table is in none and left out).
     static : sequence of str
         Static facts (region neighbourhood).
-    source : {"ground_truth", "perceived"}
-        Where positions and states come from.
+    source : {"perceived", "ground_truth"}, optional
+        Where positions and states come from (default: the scene's ``context_source``,
+        the camera unless the scene says ground truth).
     objects : sequence of str, optional
         The movable objects the planner may act on (default: every object of the scene
         but the button).
@@ -79,7 +81,7 @@ def perceive_state(scene: SceneProtocol, regions: TableRegions, static: Sequence
         gripper (within 8 cm of the end-effector) and more than the scene's
         ``lift_threshold`` above the table.
     """
-    obs = scene.perceive() if source == "perceived" else scene.ground_truth()
+    obs = observe(scene, source)
     states = dict(obs["states"])
     cfg = scene.config
     lift = float(getattr(cfg, "lift_threshold", _core.LIFT_THRESHOLD))
