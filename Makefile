@@ -20,7 +20,8 @@ PIP := $(PY) -m pip --disable-pip-version-check
 
 APT_PACKAGES := build-essential git libeigen3-dev libbullet-dev liborocos-kdl-dev liburdfdom-dev \
   libompl-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev zlib1g-dev libssl-dev \
-  libboost-serialization-dev libboost-filesystem-dev libboost-system-dev clang clang-format libclang-rt-14-dev
+  libboost-serialization-dev libboost-filesystem-dev libboost-system-dev clang clang-format libclang-rt-14-dev \
+  ccache
 
 CXX_SOURCES := $(shell find cpp bindings -name '*.cpp' -o -name '*.hpp' 2>/dev/null) CMakeLists.txt
 CXX_TEST_SOURCES := $(shell find tests/cpp benchmarks/cpp -name '*.cpp' 2>/dev/null)
@@ -34,14 +35,22 @@ $(shell mkdir -p $(BUILD) && find python -name '*.py' | sort > $(PY_MODULES).new
   { cmp -s $(PY_MODULES).new $(PY_MODULES) || mv $(PY_MODULES).new $(PY_MODULES); }; \
   rm -f $(PY_MODULES).new)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+# Every C++ build goes through ccache when it is installed: the Python module's build and the
+# test build compile the same core sources with the same flags, so the second one reuses them.
+LAUNCHER = -DCMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true)
+# Phase timing: a phase starts its clock with $(call CLOCK,name) and ends with $(call LAP,name,
+# label), which appends "label: N s" to $(BUILD)/times.log; `make test` prints the log.
+CLOCK = date +%s > $(BUILD)/.clock-$(1)
+LAP = echo "$(2): $$(( $$(date +%s) - $$(cat $(BUILD)/.clock-$(1)) )) s" >> $(BUILD)/times.log
 
-.PHONY: help setup demo results test test-layers test-cpp test-guarded test-python fuzz bench lint format clean
+.PHONY: help setup demo results test test-clock test-layers test-cpp test-guarded test-python fuzz bench lint format clean
 
 help:
 	@sed -n '2,10p' Makefile | sed 's/^# \{0,1\}//'
 
 # --- set-up ---------------------------------------------------------------
 $(STAMP_APT):
+	@mkdir -p $(BUILD) && $(call CLOCK,apt)
 	@missing=$$(for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "[setup] installing Debian packages:" $$missing; \
@@ -51,17 +60,20 @@ $(STAMP_APT):
 	@python3 -c 'import venv, ensurepip' 2>/dev/null || { \
 	  echo "[setup] installing python3-venv python3-dev"; \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq python3-venv python3-dev; }
-	@mkdir -p $(BUILD) && touch $@
+	@$(call LAP,apt,set-up: Debian packages) && touch $@
 
 $(STAMP_VENV): $(STAMP_APT)
+	@$(call CLOCK,venv)
 	@[ -x $(PY) ] || { echo "[setup] creating $(VENV)"; python3 -m venv $(VENV); }
 	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools wheel
-	@touch $@
+	@$(call LAP,venv,set-up: virtual environment and build tools) && touch $@
 
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
-	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py -e ".[dev,ros]"
-	@touch $@
+	@$(call CLOCK,install)
+	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py \
+	  -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true) -e ".[dev,ros]"
+	@$(call LAP,install,set-up: pip dependencies and the Python module's C++ build) && touch $@
 
 setup: $(STAMP_INSTALL)
 
@@ -81,15 +93,18 @@ results: setup
 # --- tests ----------------------------------------------------------------
 $(BUILD)/cpp/build.ninja: $(STAMP_VENV) CMakeLists.txt
 	@$(VENV)/bin/cmake -S . -B $(BUILD)/cpp -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON -DA2L_BUILD_BENCHMARKS=ON \
+	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON -DA2L_BUILD_BENCHMARKS=ON $(LAUNCHER) \
 	  -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
 
 test-cpp: setup $(BUILD)/cpp/build.ninja
 	@echo "[test] C++ (gtest via ctest)"
+	@$(call CLOCK,cpp)
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp -j $(JOBS)
+	@$(call LAP,cpp,C++ build (core, tests, benchmarks, a2l-run)) && $(call CLOCK,cpp)
 	@export A2L_ROBOTS_DIR=$$($(PY) -m a2l.robot --robots-dir); \
 	cd $(BUILD)/cpp && $(abspath $(VENV))/bin/ctest --output-on-failure -j $(JOBS) \
 	  2>&1 | tee ctest.log
+	@$(call LAP,cpp,C++ tests (ctest))
 
 # The real-time tests (every gtest whose suite or test name holds `NoAlloc`, and the allocation
 # counter's self-tests) again, in a build with Eigen's allocation guard on and assertions
@@ -98,45 +113,60 @@ test-cpp: setup $(BUILD)/cpp/build.ninja
 GUARD_TESTS := NoAlloc|AllocationCounter
 test-guarded: setup
 	@echo "[test] real-time tests with Eigen's allocation guard (A2L_MALLOC_GUARD, assertions on)"
+	@$(call CLOCK,guard)
 	@$(VENV)/bin/cmake -S . -B $(BUILD)/cpp-guard -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DA2L_MALLOC_GUARD=ON -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON \
+	  -DA2L_MALLOC_GUARD=ON -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON $(LAUNCHER) \
 	  -DA2L_BUILD_BENCHMARKS=OFF -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp-guard -j $(JOBS) --target a2l_tests
 	@export A2L_ROBOTS_DIR=$$($(PY) -m a2l.robot --robots-dir); \
 	cd $(BUILD)/cpp-guard && $(abspath $(VENV))/bin/ctest --output-on-failure -j $(JOBS) \
 	  --no-tests=error -R '$(GUARD_TESTS)' 2>&1 | tee ctest.log
+	@$(call LAP,guard,C++ real-time tests with the guard (build and run))
 
 test-python: setup
-	@echo "[test] Python (pytest)"
-	@mkdir -p $(BUILD)
-	@$(PY) -m pytest -q tests/python 2>&1 | tee $(BUILD)/pytest.log
+	@echo "[test] Python (pytest, $(JOBS) processes)"
+	@mkdir -p $(BUILD) && $(call CLOCK,pytest)
+	@$(PY) -m pytest -q -n $(JOBS) tests/python 2>&1 | tee $(BUILD)/pytest.log
+	@$(call LAP,pytest,Python tests (pytest))
 
 # libFuzzer on the bundle loader under ASan + UBSan (clang; its own build tree).
 FUZZ_RUNS ?= 200000
 fuzz: setup
 	@echo "[fuzz] bundle loader: $(FUZZ_RUNS) inputs under ASan + UBSan"
+	@$(call CLOCK,fuzz)
 	@$(VENV)/bin/cmake -S . -B $(BUILD)/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++ \
+	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++ $(LAUNCHER) \
 	  "-DCMAKE_CXX_FLAGS=-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
 	  -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
 	@$(VENV)/bin/cmake --build $(BUILD)/fuzz -j $(JOBS) --target fuzz_bundle
+	@$(call LAP,fuzz,fuzzer build (skill library under ASan + UBSan)) && $(call CLOCK,fuzz)
 	@mkdir -p $(BUILD)/fuzz/corpus && $(PY) tests/fuzz/make_seeds.py $(BUILD)/fuzz/corpus
 	@$(BUILD)/fuzz/fuzz_bundle -runs=$(FUZZ_RUNS) -seed=1 -max_len=8192 -print_final_stats=1 \
 	  -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus > $(BUILD)/fuzz/fuzz.log 2>&1 \
 	  || { tail -n 40 $(BUILD)/fuzz/fuzz.log; exit 1; }
 	@grep -E '^stat::number_of_executed_units' $(BUILD)/fuzz/fuzz.log | sed 's/^/[fuzz] /'
+	@$(call LAP,fuzz,fuzzing)
 
 # The import-layer contracts of the Python package (pyproject.toml, docs/architecture.md).
 test-layers: setup
 	@echo "[test] import layers (lint-imports)"
+	@$(call CLOCK,layers)
 	@$(VENV)/bin/lint-imports --no-cache 2>&1 | tee $(BUILD)/layers.log | grep -E 'KEPT|BROKEN|Contracts:'
+	@$(call LAP,layers,import layers)
 
-test: test-layers test-cpp test-guarded test-python fuzz
+# The clock of `make test` starts before its set-up: on a fresh clone the total is the time to a
+# first green run, set-up included. Its phases are printed after the counts.
+test-clock:
+	@rm -f $(BUILD)/times.log && $(call CLOCK,total)
+
+test: test-clock test-layers test-cpp test-guarded test-python fuzz
 	@echo "[test] import layers:               $$(grep -E '^Contracts:' $(BUILD)/layers.log)"
 	@echo "[test] C++ (ctest):                 $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
 	@echo "[test] C++ with Eigen's guard:      $$(grep -E 'tests passed' $(BUILD)/cpp-guard/ctest.log)"
 	@echo "[test] Python (pytest):             $$(grep -E '^[0-9]+ passed' $(BUILD)/pytest.log | tail -n 1)"
 	@echo "[test] all C++ and Python tests passed"
+	@sed 's/^/[time] /' $(BUILD)/times.log
+	@$(call LAP,total,total) && echo "[time] $$(tail -n 1 $(BUILD)/times.log)"
 
 # --- benchmarks -------------------------------------------------------------
 bench: setup $(BUILD)/cpp/build.ninja
