@@ -5,15 +5,16 @@ command on evaluation seeds, and a results page records its commit, clean or dir
 from __future__ import annotations
 
 import re
+import shlex
 import subprocess
 from pathlib import Path
 
 import pytest
 
-from a2l.results.blocks import block, fill_blocks, read_blocks, stale_blocks
+from a2l.results.blocks import block, fill_blocks, pages_with_blocks, read_blocks, stale_blocks
 from a2l.results.catalog import ENTRIES, PROFILES, entries
 from a2l.results.provenance import git_state
-from a2l.results.run import copy_blocks, run_results
+from a2l.results.run import copy_blocks, run_results, sources
 from a2l.seeds import is_tuning
 
 ROOT = Path(__file__).parents[2]
@@ -26,6 +27,45 @@ def _edit_a_number(text: str, name: str) -> str:
     assert m is not None
     i = m.end() + re.search(r"\d", text[m.end():]).start()  # type: ignore[union-attr]
     return text[:i] + str((int(text[i]) + 1) % 10) + text[i + 1:]
+
+
+def test_the_readme_and_the_docs_show_the_generated_tables() -> None:
+    """Every block of the README and of docs/ is a copy of its docs/results/ table, every
+    generated table is shown somewhere, and the README shows some."""
+    src = sources(DOCS)
+    pages = {p.stem for p in DOCS.glob("*.md") if p.name != "README.md"}
+    assert pages <= {e.name for e in ENTRIES}, "a docs/results/ page is no catalog entry"
+    assert set(src) == pages, "a docs/results/ page without its block"
+    shown: dict[str, str] = {}
+    for page in pages_with_blocks(ROOT):
+        text = page.read_text()
+        assert stale_blocks(text, src) == [], f"{page}: a results block differs from " \
+            "docs/results/ (`a2l results --no-run` copies the generated tables)"
+        shown.update(read_blocks(text))
+    assert set(shown) == set(src), "a generated table is shown nowhere"
+    assert read_blocks((ROOT / "README.md").read_text()), "the README shows no generated table"
+
+
+def test_a_number_edited_by_hand_fails() -> None:
+    src = sources(DOCS)
+    for page in pages_with_blocks(ROOT):
+        text = page.read_text()
+        for name in read_blocks(text):
+            assert stale_blocks(_edit_a_number(text, name), src) == [name], (page, name)
+
+
+def test_every_page_names_the_commands_that_made_it() -> None:
+    from a2l.cli import parse
+
+    for page in sorted(DOCS.glob("*.md")):
+        if page.name == "README.md":
+            continue
+        text = page.read_text()
+        commands = re.findall(r"\| `(a2l [^`]+)` \|", text)
+        assert commands, page
+        for cmd in commands:
+            parse(shlex.split(cmd.replace("DIR/", "runs/x/"))[1:])
+        assert re.search(r"at commit [0-9a-f]{7}", text), page
 
 
 def test_blocks_are_read_filled_and_checked() -> None:
@@ -102,7 +142,7 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     assert done["missing"] == []
     page = (root / "docs" / "results" / "push-virtual.md").read_text()
     body = read_blocks(page)["push-virtual"]
-    assert "| 1000–1002 (3) | 2 of 3 | 2 of 3 | 2.5 (2–3) | 15 |" in body
+    assert "| 1000–1002 (3) | 2 of 3 | 2 of 3 | 2.5 (2–3) |" in body
     assert "fffffff (dirty tree)" in body and "evaluation seeds 1000-1002" in body
     assert "`a2l experiment sweep --seeds 1000-1002`" in page
     readme = (root / "README.md").read_text()

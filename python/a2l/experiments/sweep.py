@@ -72,16 +72,16 @@ def summarize_sweep(rows: Sequence[dict[str, Any]], within: int = 3) -> dict[str
 
 def headline_table(metrics: dict[str, Any]) -> str:
     """One-row Markdown table of a sweep's ``metrics.json``: seeds, how many reach 100 (and
-    within how many iterations), the iterations (median, range) and the wall time."""
+    within how many iterations) and the iterations to 100 (median, range; iteration 0
+    counted)."""
     s, rows = metrics["summary"], metrics["rows"]
     seeds = [r["seed"] for r in rows]
     its = "—" if s["median"] is None else f"{s['median']:g} ({s['min']}–{s['max']})"
     return "\n".join([
         "| seeds | reach 100 | within " + str(s["within"]) + " iterations | iterations to 100 "
-        "(median, range) | wall, all seeds (s) |", "|---|---|---|---|---|",
+        "(median, range) |", "|---|---|---|---|",
         f"| {seeds[0]}–{seeds[-1]} ({s['runs']}) | {s['reached']} of {s['runs']} | "
-        f"{s['reached_within']} of {s['runs']} | {its} | "
-        f"{sum(r['wall_s'] for r in rows):.0f} |"])
+        f"{s['reached_within']} of {s['runs']} | {its} |"])
 
 
 def _table(rows: Sequence[dict[str, Any]], summary: dict[str, Any]) -> str:

@@ -52,7 +52,7 @@ def _make_run(entry: Entry, run: Run, root: Path, workers: int, state: dict[str,
     words = _command(run, run_dir, workers)
     log = root / entry.name / f"{run.key}.log"
     t0 = time.perf_counter()
-    started = utc_now()
+    started, load = utc_now(), os.getloadavg()[0]
     with open(log, "w") as f:
         proc = subprocess.run([sys.executable, "-m", "a2l.cli", *words], stdout=f,
                               stderr=subprocess.STDOUT, check=False)
@@ -64,7 +64,7 @@ def _make_run(entry: Entry, run: Run, root: Path, workers: int, state: dict[str,
     record = {"command": shlex.join(["a2l", *run.args, "--out", f"DIR/{run.key}",
                                      "--workers", str(workers)]),
               "commit": state["commit"], "short": state["short"], "dirty": state["dirty"],
-              "started": started, "wall_s": wall, "workers": workers,
+              "started": started, "load": load, "wall_s": wall, "workers": workers,
               "seed_use": _seed_use(run_dir)}
     write_json(_done_path(root, entry, run), record)
     return record
@@ -131,19 +131,26 @@ def write_entry(entry: Entry, profile: str, root: Path, docs: Path, mach: str) -
     lines = [f"# {entry.title}", "",
              "Written by `a2l results`; do not edit (the README and the docs copy the block "
              "below, and a test compares them).", "", block(entry.name, body), "",
-             "| run | command | commit | started | wall (s) | seeds |",
-             "|---|---|---|---|---|---|"]
+             "| run | command | commit | started | load at start | wall (s) | seeds |",
+             "|---|---|---|---|---|---|---|"]
     for run, rec in zip(runs, records, strict=True):
         s = rec.get("seed_use") or {}
         lines.append(f"| {run.key} | `{rec['command']}` | {rec['short']}"
                      f"{' (dirty tree)' if rec['dirty'] else ''} | {rec['started']} | "
-                     f"{rec['wall_s']:.0f} | {s.get('use', '?')} {s.get('seeds', '')} |")
-    lines += ["", f"Machine: {mach}.", "",
+                     f"{_load(rec)} | {rec['wall_s']:.0f} | "
+                     f"{s.get('use', '?')} {s.get('seeds', '')} |")
+    lines += ["", f"Machine: {mach}. Load at start: the 1-minute load average as the run "
+              "started (above the number of cores, other jobs shared them: wall times are "
+              "upper bounds).", "",
               "Seeds: see [seeds.md](../seeds.md); `DIR` is the run's output directory.", ""]
     lines += [f"{f}\n" for f in figures]
     page = docs / f"{entry.name}.md"
     atomic_write_text(page, "\n".join(lines))
     return page
+
+
+def _load(rec: dict[str, Any]) -> str:
+    return "not recorded" if rec.get("load") is None else f"{rec['load']:.1f}"
 
 
 def sources(docs: Path) -> dict[str, str]:
