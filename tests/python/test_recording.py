@@ -15,14 +15,6 @@ pytest.importorskip("datafusion", reason="rerun-sdk[catalog] is not installed")
 from a2l.rollout.effect_tests import PUSH_DISTANCE  # noqa: E402
 
 
-def read_rrd(path: Path) -> dict[str, list]:
-    """Every column of a recording on the ``step`` timeline, as Python lists."""
-    with rr.server.Server(host="127.0.0.1", datasets={"run": [str(path)]}) as srv:
-        client = srv.client()  # kept alive while the query runs
-        table = client.get_dataset("run").reader(index="step").to_arrow_table()
-    return {name: table.column(name).to_pylist() for name in table.column_names}
-
-
 def scalar_column(cols: dict[str, list], entity: str) -> list[float | None]:
     return [None if v is None else float(v[0]) for v in cols[f"{entity}:Scalars:scalars"]]
 
@@ -44,13 +36,15 @@ def recorded(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, object]:
                         on_step=lambda k, st: frames.append(scene_frame(scene)))
     rec = RerunRecorder(out / "push.rrd")
     record_run(rec, run, CppSkillRunner(bundle).skill, object_name="box", frames=frames)
-    return rec.close(), run
+    return rec.close(), run, bundle
 
 
 def test_a_recorded_push_reads_back_with_its_entities_and_counts(recorded) -> None:
-    path, run = recorded
+    path, run, _ = recorded
     assert run.success  # the rollout recorded is a successful push far
-    cols = read_rrd(path)
+    from a2l.rollout.recording import read_recording
+
+    cols = read_recording(path)
     pre = "/rollout/0"
     for entity in ("world/eef:Points3D:positions", "world/eef_path:LineStrips3D:strips",
                    "world/objects/box:Boxes3D:centers", "world/target:Points3D:positions",
@@ -75,6 +69,33 @@ def test_a_recorded_push_reads_back_with_its_entities_and_counts(recorded) -> No
     assert sum(v is not None for v in cols[f"{pre}/camera:Image:buffer"]) == len(run.steps)
 
 
+def test_framework_rollouts_are_recorded_one_per_rollout(recorded, tmp_path: Path) -> None:
+    """What ``a2l experiment push --record`` writes: the validation rollouts, each its own
+    entity tree, with its movements and how it ended."""
+    from a2l.acquisition.rollout import Rollout
+    from a2l.rollout.recording import RerunRecorder, read_recording, record_rollouts
+    from a2l.skills.runner import CppSkillRunner
+
+    skill = CppSkillRunner(recorded[2]).skill
+    box = np.array([0.6, -0.2, -0.16])
+    path0 = box + np.array([[-0.15, 0, 0.0], [-0.13, 0, 0.0], [-0.11, 0, 0.0]])
+    rollouts = [Rollout(0, [0, 0], path0, np.array([box, box, box + [0.06, 0, 0]]),
+                        effect=3, wanted=3, outcome="success", stop="moved"),
+                Rollout(1, [2], path0[:2], np.array([box, box]), effect=-1, wanted=0,
+                        outcome="fail", stop="step_cap")]
+    rec = RerunRecorder(tmp_path / "validation.rrd")
+    assert record_rollouts(rec, rollouts, skill) == 2
+    cols = read_recording(rec.close())
+    assert cols["step"] == [0, 1, 2]
+    assert scalar_column(cols, "/rollout/0/movement_index") == [0.0, 0.0, -1.0]
+    assert scalar_column(cols, "/rollout/1/movement_index")[:2] == [2.0, -1.0]
+    assert scalar_column(cols, "/rollout/0/effect/x")[2] == pytest.approx(0.06)
+    summaries = [v[0] for v in cols["/rollout/1/summary:TextLog:text"] if v]
+    assert summaries == ["start 1, wanted left: fail (step_cap)"]
+    assert [v[0] for v in cols["/rollout/0/movement:TextLog:text"]] == [
+        "ok: +x", "ok: +x", "success: -"]
+
+
 def test_skill_run_records_and_view_refuses_bad_paths(tmp_path: Path,
                                                       capsys: pytest.CaptureFixture[str]
                                                       ) -> None:
@@ -88,7 +109,9 @@ def test_skill_run_records_and_view_refuses_bad_paths(tmp_path: Path,
             (["view", str(tmp_path / "run.mcap")], "open it with Foxglove or ros2 bag"),
             (["view", str(tmp_path / "run.txt")], "a Rerun recording ends in .rrd"),
             (["skill", "run", str(tmp_path / "junk.rrd"), "--effect", "far", "--record",
-              str(tmp_path / "x.rrd")], "is not a valid bundle")):
+              str(tmp_path / "x.rrd")], "is not a valid bundle"),
+            (["experiment", "push", "--record", str(tmp_path / "push.txt")],
+             "a Rerun recording ends in .rrd")):
         with pytest.raises(SystemExit) as info:
             main(argv)
         assert info.value.code == 2

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import json
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from a2l.errors import ConfigError
@@ -108,3 +109,17 @@ def parse_overrides(items: Sequence[str]) -> dict[str, Any]:
         except json.JSONDecodeError:
             out[name] = value
     return out
+
+
+def check_record(path: Path, argument: str = "--record") -> None:
+    """Fail early, as a usage error, unless a Rerun recording can be written at `path`
+    (``.rrd``, an existing directory, ``rerun-sdk`` installed: the ``ros`` extra)."""
+    if path.suffix != ".rrd":
+        raise UsageError(argument, f"'{path}': a Rerun recording ends in .rrd")
+    if not path.resolve().parent.is_dir():
+        raise UsageError(argument, f"'{path}': its directory does not exist")
+    try:
+        import rerun  # noqa: F401
+    except ImportError:
+        raise UsageError(argument, "rerun-sdk is not installed: pip install 'a2l[ros]'"
+                         ) from None

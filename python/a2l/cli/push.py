@@ -15,7 +15,7 @@ from typing import Any
 from jsonargparse import Namespace
 from jsonargparse.typing import PositiveInt
 
-from a2l.cli.args import UsageError, check_cluster, parse_overrides, parse_seeds
+from a2l.cli.args import UsageError, check_cluster, check_record, parse_overrides, parse_seeds
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.framework.config import FrameworkConfig
 from a2l.rundir import command_line
@@ -51,8 +51,8 @@ def _cmd_push(ns: Namespace) -> int:
         default, given = FrameworkConfig(), config_from(ns, FrameworkConfig)
         changed = [f"--{f.name}" for f in dataclasses.fields(FrameworkConfig)
                    if getattr(given, f.name) != getattr(default, f.name)]
-        changed += [o for o, v in (("--out", ns.out), ("--acquisition", ns.acquisition))
-                    if v is not None]
+        changed += [o for o, v in (("--out", ns.out), ("--acquisition", ns.acquisition),
+                                   ("--record", ns.record)) if v is not None]
         if changed:
             raise UsageError(changed[0], "not allowed with --resume (the run continues with "
                              "its own config.json, in its own directory)")
@@ -71,10 +71,12 @@ def _cmd_push(ns: Namespace) -> int:
         raise UsageError("--acquisition", "noveb sees the world through a camera: use "
                          "--scene baxter (the virtual scene has none)")
     _check_out(None if ns.out is None else Path(ns.out), resume_hint=True)
+    if ns.record is not None:
+        check_record(Path(ns.record))
     check_cluster(ns.cluster)
     run_push_experiment(cfg, out=ns.out, workers=ns.workers, cluster=ns.cluster,
                         quiet=ns.quiet, acquisition=ns.acquisition or "random",
-                        noveb_evaluations=ns.noveb_evaluations)
+                        noveb_evaluations=ns.noveb_evaluations, record=ns.record)
     return 0
 
 
@@ -138,6 +140,9 @@ def _push_parser() -> Parser:
                    "(PyBullet scene only)")
     p.add_argument("--noveb-evaluations", type=PositiveInt, default=200, metavar="N",
                    help="NovEB's trajectories with --acquisition noveb (default 200)")
+    p.add_argument("--record", metavar="FILE.rrd", default=None,
+                   help="write the final validation's rollouts to a Rerun recording "
+                   "(a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     return p
 

@@ -20,7 +20,7 @@ from typing import Any
 from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
-from a2l.cli.args import UsageError
+from a2l.cli.args import UsageError, check_record
 from a2l.cli.lfd import lfd_config
 from a2l.cli.parser import Parser, add_config_fields, add_config_option
 from a2l.errors import BundleError
@@ -162,7 +162,7 @@ def _cmd_run(ns: Namespace) -> int:
     from a2l.rollout.recording import scene_frame
 
     if ns.record is not None:
-        _check_rrd(Path(ns.record))
+        check_record(Path(ns.record))
     frames: list[dict[str, Any]] = []
     with make_scene(ns.scene, seed=ns.seed, step=summary["movements"]["step"],
                     context_source="ground_truth") as scene:
@@ -180,18 +180,6 @@ def _cmd_run(ns: Namespace) -> int:
           f"{run.wall:.2f} s")
     print("trace: " + ", ".join(f"{k} {v}" for k, v in statuses.items()))
     return 0 if run.success else 1
-
-
-def _check_rrd(path: Path) -> None:
-    if path.suffix != ".rrd":
-        raise UsageError("--record", f"'{path}': a Rerun recording ends in .rrd")
-    if not path.resolve().parent.is_dir():
-        raise UsageError("--record", f"'{path}': its directory does not exist")
-    try:
-        import rerun  # noqa: F401
-    except ImportError:
-        raise UsageError("--record", "rerun-sdk is not installed: pip install 'a2l[ros]'"
-                         ) from None
 
 
 def _record(path: Path, run: Any, bundle: str, name: str, frames: list[dict[str, Any]]

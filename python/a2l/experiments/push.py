@@ -57,7 +57,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                         resume: str | Path | None = None, quiet: bool = False,
                         plots: bool = True, acquisition: str = "random",
                         noveb_evaluations: int = 200,
-                        executor: Executor | None = None) -> dict[str, Any]:
+                        executor: Executor | None = None,
+                        record: str | Path | None = None) -> dict[str, Any]:
     """Run (or resume) the push experiment and write its run directory.
 
     Parameters
@@ -86,6 +87,10 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         Where rollouts run, shared by several runs (a sweep): its worker processes are
         started once, not per run, and it stays open. When given, `workers` and `cluster`
         are ignored (the metrics record the executor's).
+    record : path, optional
+        Write the final validation's rollouts to this Rerun recording (``.rrd``; ``a2l
+        view``): per rollout and step the end-effector, the object, the movement, the bins
+        and the effect.
 
     Returns
     -------
@@ -146,6 +151,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
            if acquisition != "random" else {}),
     }
     write_json(run_dir / "metrics.json", metrics)
+    if record is not None:
+        _record(Path(record), list(result["validation"].itertuples(index=False)), final)
     if plots:
         plot_scores(history, run_dir / "score.png")
         plot_trajectories(cfg, result["validation"], run_dir / "trajectories.png")
@@ -167,6 +174,16 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
               + f"; context: {context_label(cfg)}"
               + f"; run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
+
+
+def _record(path: Path, rollouts: list[Any], bundle: Path) -> None:
+    """The final validation's rollouts as a Rerun recording (:mod:`a2l.rollout.recording`)."""
+    from a2l.rollout.recording import RerunRecorder, record_rollouts
+    from a2l.skills.runner import CppSkillRunner
+
+    rec = RerunRecorder(path, name="a2l experiment push")
+    record_rollouts(rec, rollouts, CppSkillRunner(bundle).skill)
+    rec.close()
 
 
 def _iteration_done(bars: ProgressBars, m: IterationResult) -> None:

@@ -37,7 +37,8 @@ from numpy.typing import ArrayLike, NDArray
 from a2l import _core
 from a2l.errors import A2LValueError
 
-__all__ = ["RerunRecorder", "context_variables", "record_run", "scene_frame", "step_bins"]
+__all__ = ["RerunRecorder", "context_variables", "read_recording", "record_rollouts",
+           "record_run", "scene_frame", "step_bins"]
 
 #: Half extents of an object whose size the recording does not know (m).
 DEFAULT_HALF = (0.035, 0.0425, 0.04)
@@ -113,6 +114,10 @@ class RerunRecorder:
         rec.log(f"{pre}/movement", rr.TextLog(f"{status}: {label or '-'}",
                                               level="INFO" if status == "ok" else "WARN"))
         rec.log(f"{pre}/movement_index", rr.Scalars([float(movement)]))
+
+    def note(self, text: str) -> None:
+        """A line of text about the current rollout (what it wanted, how it ended)."""
+        self.rec.log(f"{self.prefix}/summary", self.rr.TextLog(text))
 
     def links(self, poses: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> None:
         """The robot's link frames: ``{name: (position (3,), quaternion (4,) x, y, z, w)}``."""
@@ -202,3 +207,47 @@ def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str =
             recorder.links(frame["links"])
         if frame.get("image") is not None:
             recorder.image(frame["image"])
+
+
+def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any) -> int:
+    """Log trajectories of the framework (:class:`a2l.acquisition.rollout.Rollout`, or the
+    rows of the validation table: ``eef`` and ``obj`` (T + 1, 3) or flattened, ``moves``
+    (T,), ``start``, ``wanted``, ``outcome``, ``stop``), one rollout each (``a2l experiment push --record``); the movement labels, effect names and bins are
+    `skill`'s. Returns the number of rollouts."""
+    labels = list(skill.movements.labels)
+    effects = list(skill.effect_values)
+    for i, ro in enumerate(rollouts):
+        recorder.rollout(i)
+        eef = np.asarray(ro.eef, dtype=float).reshape(-1, 3)
+        obj = np.asarray(ro.obj, dtype=float).reshape(-1, 3)
+        bins = step_bins(skill, eef, obj)
+        n = len(ro.moves)
+        for k in range(len(eef)):
+            m = int(ro.moves[k]) if k < n else -1
+            recorder.step(k, eef[k], obj[k], label=labels[m] if m >= 0 else "", movement=m,
+                          status="ok" if k < n else (ro.outcome or ro.stop or "end"),
+                          bins=bins[k], target=eef[k + 1] if k < n else None,
+                          object_name="object")
+        wanted = effects[ro.wanted] if 0 <= ro.wanted < len(effects) else "-"
+        recorder.note(f"start {ro.start}, wanted {wanted}: {ro.outcome or '-'} ({ro.stop})")
+    return len(rollouts)
+
+
+def read_recording(path: str | os.PathLike[str], index: str = "step") -> dict[str, list]:
+    """Every column of a recording on timeline `index`, read back with Rerun's dataframe
+    API (a local, in-process server: ``rerun-sdk[catalog]``), as Python lists by column
+    name (``/rollout/0/effect/x:Scalars:scalars``...; None where a step logged nothing).
+
+    Raises
+    ------
+    a2l.A2LValueError
+        `path` is not a file.
+    """
+    import rerun as rr
+
+    if not Path(path).is_file():
+        raise A2LValueError(f"recording '{path}' is not a file")
+    with rr.server.Server(host="127.0.0.1", datasets={"run": [str(path)]}) as srv:
+        client = srv.client()  # kept alive while the query runs
+        table = client.get_dataset("run").reader(index=index).to_arrow_table()
+    return {name: table.column(name).to_pylist() for name in table.column_names}

@@ -31,6 +31,7 @@ from a2l.errors import A2LError, A2LValueError
 from a2l.robot import arm_spec, urdf_sha256
 from a2l.rollout.effect_tests import Progress, effect_test_of
 from a2l.ros import topics as T
+from a2l.skills.effects import AXIS_EFFECTS
 from a2l.skills.runner import CppSkillRunner
 
 __all__ = ["SkillNodeConfig", "SkillNodeResult", "check_robot"]
@@ -149,8 +150,6 @@ def make_skill_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
             self.target: NDArray[np.float64] | None = None
             self.cmd_time = 0.0
             self.k = 0
-            self.latencies: list[float] = []
-            self.step_times: list[float] = []
             qos = 10
             self.create_subscription(JointState, T.JOINT_STATES, self._on_joints, qos)
             self.create_subscription(PoseStamped, T.object_topic(self.cfg.object),
@@ -172,9 +171,9 @@ def make_skill_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
                 raise A2LValueError(f"effect {cfg.effect!r} is not one of the bundle's: "
                                     f"{', '.join(effects)}")
             self.test = effect_test_of(cfg.effect)
-            if self.test is None or cfg.effect not in ("left", "right", "close", "far"):
+            if self.test is None or cfg.effect not in AXIS_EFFECTS:
                 raise A2LValueError(f"effect {cfg.effect!r}: the ROS node tests push effects "
-                                    "(left, right, close, far) from the object's pose")
+                                    f"({', '.join(AXIS_EFFECTS)}) from the object's pose")
             if not 0 < cfg.goal_tolerance < self.runner.step_length / 2:
                 raise A2LValueError(f"goal_tolerance {cfg.goal_tolerance} must be in (0, "
                                     f"{self.runner.step_length / 2}) (half a movement)")
@@ -301,12 +300,14 @@ def make_skill_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
         def _command(self, q: NDArray[np.float64], target: NDArray[np.float64],
                      rec: dict[str, Any], label: str, step_s: float) -> None:
             ex = self.ik
+            t_ik = time.perf_counter()
             ex.reset(q)
             status = ex.set_target(target)
             points = []
             while status == _core.Status.ok and not ex.reached:
                 status = ex.tick()
                 points.append(np.asarray(ex.q, dtype=float))
+            ik_s = time.perf_counter() - t_ik
             if status != _core.Status.ok:
                 name = _core.status_name(status)
                 self._trace(rec, name, label, step_s, None)
@@ -332,20 +333,20 @@ def make_skill_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
             self.pub_traj.publish(traj)
             self.pub_pose.publish(pose)
             latency = time.time() - T.stamp_seconds(self.js.header.stamp)
-            self.latencies.append(latency)
-            self.step_times.append(step_s)
             self._record(T.JOINT_TRAJECTORY, traj)
             self._record(T.TARGET_POSE, pose)
-            self._trace(rec, "ok", label, step_s, latency, target)
+            self._trace(rec, "ok", label, step_s, latency, target, ik_s)
             self._rerun("ok", label, int(rec["movement"]), list(rec["bins"]), target)
             self.cmd_time, self.target = time.monotonic(), target
 
         def _trace(self, rec: dict[str, Any], status: str, label: str, step_s: float,
-                   latency: float | None, target: NDArray[np.float64] | None = None) -> None:
+                   latency: float | None, target: NDArray[np.float64] | None = None,
+                   ik_s: float | None = None) -> None:
             msg = String(data=T.trace_json({
                 "step": self.k, "bins": list(rec["bins"]), "movement": int(rec["movement"]),
                 "label": label, "probability": float(rec["probability"]), "status": status,
                 "phase": int(rec["phase"]), "step_us": step_s * 1e6,
+                "ik_us": None if ik_s is None else ik_s * 1e6,
                 "latency_ms": None if latency is None else latency * 1e3,
                 "target": None if target is None else target}))
             self.pub_trace.publish(msg)
