@@ -212,8 +212,9 @@ def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str =
 def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any) -> int:
     """Log trajectories of the framework (:class:`a2l.acquisition.rollout.Rollout`, or the
     rows of the validation table: ``eef`` and ``obj`` (T + 1, 3) or flattened, ``moves``
-    (T,), ``start``, ``wanted``, ``outcome``, ``stop``), one rollout each (``a2l experiment push --record``); the movement labels, effect names and bins are
-    `skill`'s. Returns the number of rollouts."""
+    (T,), ``start``, ``wanted``, ``outcome``, ``stop``), one rollout each (``a2l experiment
+    push --record``); the movement labels, effect names and bins are `skill`'s. Returns the
+    number of rollouts."""
     labels = list(skill.movements.labels)
     effects = list(skill.effect_values)
     for i, ro in enumerate(rollouts):
