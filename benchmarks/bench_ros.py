@@ -4,7 +4,7 @@
 The benchmark process is a kinematic robot (Baxter's right arm): it publishes one
 ``joint_states`` message, the skill node (``a2l ros skill``, a learned ``push_far`` bundle)
 answers with a ``joint_trajectory``, the robot jumps to its last point and publishes the next
-joint state at once. The latency is the time from publishing a joint state to receiving the
+joint state at once. The latency is the time from sending a joint state to receiving the
 command it caused (both ends in this process: one clock), so it holds two DDS hops, the
 node's forward kinematics, the effect test, the C++ step, the C++ executor's IK of the
 trajectory and the messages' (de)serialisation. The node's own trace gives, for the same
@@ -166,9 +166,9 @@ def run() -> str:
         "",
         "| what | samples | median | p99 | max |",
         "|---|---|---|---|---|",
-        row("joint state published -> its command received (round trip through ROS 2)",
+        row("joint state sent -> its command received (round trip through ROS 2)",
             lat_ms, "ms"),
-        row("in the node: joint state stamp -> command published", np.asarray(node_ms), "ms"),
+        row("in the node: joint state stamp -> command sent", np.asarray(node_ms), "ms"),
         row("skill step in the node (`CppSkillRunner.step`)", np.asarray(step_us), "µs"),
         row("C++ executor IK of the trajectory (in the node)", np.asarray(ik_us), "µs"),
         row("bare C++ step `a2l._core.step` on the same contexts, called from Python",
