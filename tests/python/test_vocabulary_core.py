@@ -133,6 +133,26 @@ def test_away_is_the_cores() -> None:
     assert not _core.stayed_away(np.full(3, np.nan), np.zeros(3), np.zeros(3))
 
 
+def test_away_judges_the_true_block_not_the_one_the_camera_saw() -> None:
+    """grasp_light, trial seed 1000 with the camera at 256 x 192: the block read 4.1 mm off,
+    the gripper 3.8 cm from the retreat pose of the true block but 4.0 cm from that of the
+    seen one; the outcome is the true block's."""
+
+    class Scene:
+        def observe_effect(self, since: str, source: str) -> str:
+            return "none"
+
+    block = np.array([0.607, -0.277, -0.17])
+    seen = block + [0.0037, -0.0018, 0.0]
+    eef = np.array([0.487, -0.241, 0.003])
+    assert np.linalg.norm(eef - block - et.RETREAT) < et.AWAY_RADIUS
+    assert np.linalg.norm(eef - seen - et.RETREAT) > et.AWAY_RADIUS
+    pr = et.Progress("away", np.zeros(3), seen, seen, eef, {}, {}, Scene())
+    assert et.away_test(pr) == (False, False)  # the seen block alone
+    pr.true_obj = block
+    assert et.away_test(pr) == (True, True)
+
+
 def test_one_registry_of_effect_tests() -> None:
     assert set(et.EFFECT_TESTS) >= {*AXIS_EFFECTS, "grasped", "pressed", "away"}
     assert set(et.SCENE_OUTCOMES) == {"grasped", "pressed", "away"}

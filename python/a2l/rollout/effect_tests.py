@@ -67,6 +67,10 @@ class Progress:
         High-level states at the start and now.
     scene : a2l.sim.Scene
         The scene (for tests that need more, e.g. whether the gripper holds the object).
+    true_obj : ndarray, shape (3,), optional
+        The object's true position now (None: `obj` is the truth, or it is unknown). With
+        the context read from the camera, `obj` is what the skill saw; a test judges the
+        outcome on this one.
     """
 
     effect: str
@@ -77,6 +81,7 @@ class Progress:
     start_states: dict[str, str]
     states: dict[str, str]
     scene: SceneProtocol
+    true_obj: np.ndarray | None = None
 
 
 #: An effect test: ``progress -> (done, success)``.
@@ -154,10 +159,13 @@ def away_test(pr: Progress) -> tuple[bool, bool]:
     success)``: done and successful once the end-effector is within :data:`AWAY_RADIUS` of
     the retreat pose relative to the block where it is now, the movements having moved the
     block less than :data:`AWAY_TOLERANCE` (a perturbation that moves it is not the skill's
-    doing); done and failed if the block was grasped."""
+    doing); done and failed if the block was grasped. The block is its true position
+    (``pr.true_obj``) when the progress has it, as every other test judges on the truth: with
+    the context from the camera, the block the skill saw may be a few millimetres off."""
     if pr.scene.observe_effect(since="episode", source="ground_truth") == "grasped":
         return True, False
-    ok = bool(_core.stayed_away(np.asarray(pr.eef, dtype=float), np.asarray(pr.obj, dtype=float),
+    obj = pr.obj if pr.true_obj is None else pr.true_obj
+    ok = bool(_core.stayed_away(np.asarray(pr.eef, dtype=float), np.asarray(obj, dtype=float),
                                 np.asarray(pr.produced, dtype=float)))
     return ok, ok
 

@@ -165,7 +165,7 @@ def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect:
         if not start:
             start.extend((obj.copy(), dict(states)))
         pr = Progress(effect, world.produced.copy(), start[0], obj, eef, start[1], states,
-                      scene)
+                      scene, true_obj=world.truth())
         done, ok = test(pr)
         if not done:
             return None
