@@ -63,11 +63,10 @@ class SceneConfig:
         ``"collision"`` draws the robot with its collision shapes (fast camera frames),
         ``"mesh"`` with its visual meshes (slow, pretty; the GUI's default).
     camera_width, camera_height : int
-        Camera image size (pixels). The default, 256 x 192, is the smallest of the sizes
-        measured in ``BENCHMARKS.md`` (simulation, perception error vs resolution) whose
-        planar error stays within the error budget on the push and grasp scenes: 95 % of
-        reads within half the effect threshold (5 mm); 320 x 240 costs 1.6 times as much
-        per frame.
+        Camera image size (pixels). The default, 256 x 192, keeps the planar error within
+        the error budget on the push and grasp scenes (95 % of reads within half the
+        effect threshold, 5 mm; ``BENCHMARKS.md``, simulation, perception error vs
+        resolution); a 320 x 240 frame costs 1.4 times its CPU.
     camera_eye, camera_target : tuple of 3 float
         Camera position and the point it looks at (m): by default a camera facing the robot
         from beyond the table, high enough to see the whole table top.
