@@ -275,17 +275,17 @@ def _resolution_section() -> str:
         lines.append(f"| {label} | {cells[0]} | {cells[3]} | {cells[1]} | {cells[2]} |")
     lines += [
         "",
-        "Error budget: 95 % of reads within half the effect threshold (5 mm of the 1 cm below "
-        "which a displacement is no effect) on both scenes. The default was chosen on a first "
-        "measurement of the same spots, where 224 × 168 read the grasp block 5.0 mm off at "
-        "p95; when this run finds a smaller size within the budget too, the difference "
-        "between the two is within the noise of the spots. A spot is a uniform position on the table with the arm at its "
-        "neutral pose (`perception_errors`, seed 1); 'gripper in front': the box pushed 4 "
-        "times toward the robot from 5 directions, the side cameras rendered when the arm "
-        "hides the box and the top-face points of every view joined. A closed loop reads "
-        "the context once per movement and renders one main-camera frame per movement: the "
-        "observation a movement's effect is measured from is the frame its context was "
-        "read from (cached until the scene changes).",
+        "Error budget: 95 % of reads within half the effect threshold (5 mm of the 1 cm below"
+        " which a displacement is no effect) on both scenes. The default was chosen on a "
+        "first measurement of the same spots, where 224 × 168 read the grasp block 5.0 mm off"
+        " at p95; when this run finds a smaller size within the budget too, the difference "
+        "between the two is within the noise of the spots. A spot is a uniform position on "
+        "the table with the arm at its neutral pose (`perception_errors`, seed 1); 'gripper "
+        "in front': the box pushed 4 times toward the robot from 5 directions, the side "
+        "cameras rendered when the arm hides the box and the top-face points of every view "
+        "joined. A closed loop reads the context once per movement and renders one main-"
+        "camera frame per movement: the observation a movement's effect is measured from is "
+        "the frame its context was read from (cached until the scene changes).",
     ]
     return "\n".join(lines) + "\n"
 
