@@ -28,6 +28,7 @@ py::dict trace_dict(const TraceRecord& r) {
   d["probability"] = r.probability;
   d["status"] = r.status;
   d["phase"] = r.phase;
+  d["fallback"] = r.fallback;
   return d;
 }
 
@@ -73,6 +74,17 @@ A skill loaded from a bundle (immutable). Load with ``a2l._core.load_bundle(path
       .def_property_readonly("smoothing", [](const Skill& s) { return s.settings().smoothing; })
       .def_property_readonly("uniform_tolerance",
                              [](const Skill& s) { return s.settings().uniform_tolerance; })
+      .def_property_readonly(
+          "fallback",
+          [](const Skill& s) { return std::string(fallback_name(s.settings().fallback)); },
+          "The answer for a cell with no information: 'none' (stop) or 'nearest'.")
+      .def(
+          "fallback_row",
+          [](const Skill& s, std::size_t row) {
+            if (row >= s.table().n_rows()) raise(Status::invalid_argument, "row out of range");
+            return s.fallback_row(row);
+          },
+          py::arg("row"), "The row step() reads for table row `row` (itself, its fallback, or -1).")
       .def_property_readonly(
           "robot",
           [](const Skill& s) -> py::object {
@@ -151,6 +163,8 @@ effect_produced : bool
       .def_readonly("probability", &TraceRecord::probability)
       .def_readonly("status", &TraceRecord::status)
       .def_readonly("phase", &TraceRecord::phase)
+      .def_readonly("fallback", &TraceRecord::fallback,
+                    "True if the cell had no information and the movement is its fallback's.")
       .def("to_dict", &trace_dict);
 
   py::class_<StepOutput>(m, "StepOutput", "What step() returns.")
@@ -215,7 +229,9 @@ Returns
 StepOutput
     ``status`` is ``Status.ok`` with ``movement``, ``probability`` and ``displacement``
     (3,), or why the run stops: ``effect_produced``, ``step_cap``, ``unknown_context``
-    (non-finite position, index out of range, uniform row: never a guess).
+    (non-finite position, index out of range, uniform row without a fallback: never a
+    guess). A uniform row with the skill's ``nearest`` fallback is answered from its
+    nearest informative cell (``record.fallback`` True).
 )doc");
 
   m.attr("BUNDLE_SCHEMA_VERSION") = kBundleSchemaVersion;

@@ -151,6 +151,14 @@ bool bundle_detail::parse_execution(const json& m, SkillSettings& s, Errors& e) 
   if (!get_bool(*x, "execution.", "smoothing", s.smoothing, e)) return false;
   if (!get_number(*x, "execution.", "uniform_tolerance", s.uniform_tolerance, e)) return false;
   if (s.uniform_tolerance < 0.0) return e.parse("execution.uniform_tolerance: must be >= 0");
+  s.fallback = Fallback::none;  // optional key: bundles written before it have none
+  if (x->contains("fallback")) {
+    std::string name;
+    if (!get_string(*x, "execution.", "fallback", name, e)) return false;
+    if (!parse_fallback(name, s.fallback)) {
+      return e.parse("execution.fallback: '" + name + "' is not 'none' or 'nearest'");
+    }
+  }
   return true;
 }
 

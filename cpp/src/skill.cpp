@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 
 #include "rt_guard.hpp"
 
@@ -40,7 +42,84 @@ Result check_ds_phases(const DSPhaseSet& set) {
   return Result::success();
 }
 
+// The bins of table row `row` into `bins` (C order, strides of `table`).
+void bins_of(const PolicyTable& table, std::size_t row, int* bins) noexcept {
+  const auto& strides = table.strides();
+  for (std::size_t i = 0; i < strides.size(); ++i) {
+    bins[i] = static_cast<int>(row / strides[i]);
+    row %= strides[i];
+  }
+}
+
+// The nearest-cell fallback of every row (Skill::fallback_row): a row's own index where it
+// is informative; else the nearest informative row with the same effect and high-level
+// values, or -1.
+Result compile_fallback(const Discretizer& disc, const PolicyTable& table,
+                        std::vector<std::int32_t>& out) {
+  const std::size_t rows = table.n_rows();
+  const int na = table.n_axes();
+  std::size_t uniform = 0;
+  for (std::size_t r = 0; r < rows; ++r) uniform += table.argmax(r) < 0 ? 1 : 0;
+  if (uniform != 0 && rows > kMaxFallbackWork / uniform) {
+    return Result::failure(Status::invalid_argument,
+                           "execution.fallback: 'nearest' on a table of " + std::to_string(rows) +
+                               " rows with " + std::to_string(uniform) +
+                               " uniform ones is too large to compile");
+  }
+  if (rows > static_cast<std::size_t>(INT32_MAX)) {
+    return Result::failure(Status::invalid_argument,
+                           "execution.fallback: too many rows for 'nearest'");
+  }
+  out.assign(rows, -1);
+  std::vector<int> a(static_cast<std::size_t>(na)), b(static_cast<std::size_t>(na));
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (table.argmax(r) >= 0) {
+      out[r] = static_cast<std::int32_t>(r);
+      continue;
+    }
+    bins_of(table, r, a.data());
+    long best = -1;
+    for (std::size_t q = 0; q < rows; ++q) {
+      if (table.argmax(q) < 0) continue;
+      bins_of(table, q, b.data());
+      long d = 0;
+      for (int i = 0; i < na && d >= 0; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const Variable& v = disc.variable(i);
+        int diff = std::abs(a[k] - b[k]);
+        if (!is_geometric(v.kind)) {
+          if (diff != 0) d = -1;  // another effect or high-level value: not a neighbour
+          continue;
+        }
+        if (v.kind == VariableKind::orientation) diff = std::min(diff, v.n_bins - diff);
+        d += diff;
+      }
+      if (d >= 0 && (best < 0 || d < best)) {
+        best = d;
+        out[r] = static_cast<std::int32_t>(q);
+      }
+    }
+  }
+  return Result::success();
+}
+
 }  // namespace
+
+const char* fallback_name(Fallback f) noexcept {
+  return f == Fallback::nearest ? "nearest" : "none";
+}
+
+bool parse_fallback(const std::string& name, Fallback& out) noexcept {
+  if (name == "none") {
+    out = Fallback::none;
+    return true;
+  }
+  if (name == "nearest") {
+    out = Fallback::nearest;
+    return true;
+  }
+  return false;
+}
 
 Result Skill::create(std::string name, Discretizer discretizer, PolicyTable table,
                      MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
@@ -75,6 +154,11 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
                            "execution.uniform_tolerance: must be finite and >= 0");
   }
   if (Result r = check_ds_phases(ds_phases); !r.ok()) return r;
+  std::vector<std::int32_t> fallback;
+  if (settings.fallback == Fallback::nearest) {
+    if (Result r = compile_fallback(discretizer, table, fallback); !r.ok()) return r;
+  }
+  out.fallback_ = std::move(fallback);
   out.name_ = std::move(name);
   out.discretizer_ = std::move(discretizer);
   out.table_ = std::move(table);
@@ -116,6 +200,7 @@ void SkillState::begin_step(StepOutput& out) const noexcept {
   rec.probability = 0.0;
   rec.n_variables = 0;
   rec.phase = -1;
+  rec.fallback = false;
 }
 
 Status SkillState::finish_step(StepOutput& out, Status s) noexcept {
@@ -174,9 +259,12 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   if (state.steps_ >= skill.settings().step_cap) return finish(Status::step_cap);
   if (s != Status::ok || !table.in_range(bins)) return finish(Status::unknown_context);
 
-  const std::size_t row = table.row_index(bins);
+  const std::size_t cell = table.row_index(bins);
+  const std::int32_t answer = skill.fallback_row(cell);
+  if (answer < 0) return finish(Status::unknown_context);
+  const auto row = static_cast<std::size_t>(answer);
   const int am = table.argmax(row);
-  if (am < 0) return finish(Status::unknown_context);
+  rec.fallback = row != cell;
 
   const bool smooth = state.smoothing == Smoothing::on ||
                       (state.smoothing == Smoothing::from_skill && skill.settings().smoothing);

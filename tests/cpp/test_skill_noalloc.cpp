@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <tuple>
 #include <type_traits>
 
 #include "a2l/bundle.hpp"
@@ -59,11 +60,14 @@ int random_index(std::mt19937_64& rng, int n) {
   }
 }
 
-class StepNoAlloc : public ::testing::TestWithParam<bool> {};
+// (smoothing, nearest-cell fallback)
+class StepNoAlloc : public ::testing::TestWithParam<std::tuple<bool, bool>> {};
 
 TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
-  const bool smoothing = GetParam();
-  const auto bytes = a2l::testing::build(a2l::testing::sample_parts(11, 0.3, smoothing));
+  const auto [smoothing, fallback] = GetParam();
+  auto parts = a2l::testing::sample_parts(11, 0.3, smoothing);
+  if (fallback) parts.manifest["execution"]["fallback"] = "nearest";
+  const auto bytes = a2l::testing::build(parts);
   a2l::Skill skill;
   ASSERT_TRUE(a2l::load_bundle_from_memory(bytes.data(), bytes.size(), skill).ok());
   a2l::SkillState state(skill, 256);
@@ -80,7 +84,7 @@ TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
     c.effect_produced = std::uniform_int_distribution<int>(0, 99)(rng) == 0;
   }
   int counts[32] = {};
-  int wrong = 0;
+  int wrong = 0, fallbacks = 0;
   a2l::StepOutput out;
   bool threw = false;
   std::size_t allocations = 0;
@@ -99,6 +103,10 @@ TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
         if (s == Status::ok && (out.movement < 0 || out.movement >= 8)) ++wrong;
         if (s != Status::ok && out.movement != -1) ++wrong;
         if (unknown_input && !c.effect_produced && s != Status::unknown_context) ++wrong;
+        if (out.record.fallback) {
+          ++fallbacks;
+          if (!fallback || s != Status::ok) ++wrong;  // marked only when it answered
+        }
       }
     } catch (...) {
       threw = true;
@@ -113,9 +121,14 @@ TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
   EXPECT_GT(counts[static_cast<int>(Status::unknown_context)], 1000);
   EXPECT_GT(counts[static_cast<int>(Status::effect_produced)], 100);
   EXPECT_EQ(state.trace_size(), 256u);
+  // With the fallback, the uniform rows (30 %) of known contexts answer from it.
+  if (fallback) {
+    EXPECT_GT(fallbacks, 1000);
+  }
 }
 
-INSTANTIATE_TEST_SUITE_P(Smoothing, StepNoAlloc, ::testing::Values(false, true));
+INSTANTIATE_TEST_SUITE_P(SmoothingFallback, StepNoAlloc,
+                         ::testing::Combine(::testing::Bool(), ::testing::Bool()));
 
 TEST(SceneNoAlloc, VirtualMoveAllocatesNothing) {
   a2l::VirtualScene scene;

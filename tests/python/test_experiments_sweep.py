@@ -76,7 +76,12 @@ def test_sweep_writes_the_table_and_resumes(tmp_path: Path,
         assert row["iterations_run"] == len(scores) <= 3
     assert m["summary"]["runs"] == 2
     report = (out / "report.md").read_text()
-    assert "| seed | iterations to 100 |" in report and "directed_per_pair = 20" in report
+    assert "| seed | held-out success | iterations to 100 |" in report
+    assert "directed_per_pair = 20" in report
+    for row in m["rows"]:  # the final skill's held-out success rate, as its run has it
+        run = json.loads((out / f"seed_{row['seed']:03d}" / "metrics.json").read_text())
+        assert row["heldout_success"] == run["heldout_success"]
+        assert f"| {row['seed']} | {row['heldout_success']:.0%} |" in report
     # Run again: finished seeds are read back, not rerun.
     stamp = (out / "seed_000" / "metrics.json").stat().st_mtime_ns
     capsys.readouterr()

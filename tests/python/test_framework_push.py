@@ -153,6 +153,16 @@ def test_heldout_metrics_beside_the_training_ones(run: Path, metrics: dict[str, 
         assert it["heldout_wall_s"] > 0
     kept = [it for it in metrics["iterations"] if it["accepted"]][-1]
     assert metrics["heldout_score"] == kept["heldout_score"]
+    # the success rate: a false positive is a failure; the misses add up
+    for it in metrics["iterations"]:
+        rates = it["heldout_success_rate"].values()
+        assert it["heldout_success"] == pytest.approx(sum(rates) / 4)
+        misses = it["heldout_misses"]
+        assert misses.get("false_positive", 0) == it["heldout_false_positives"]
+        assert sum(n for k, n in misses.items() if k != "with_fallback") == round(
+            4 * 32 * (1 - it["heldout_success"]))
+    assert metrics["heldout_success"] == kept["heldout_success"]
+    assert metrics["heldout_success_rate"] == kept["heldout_success_rate"]
     with Executor(workers=1) as ex:
         rollouts = validate_heldout(cfg, ex, run / "skills" / "push.a2lb")
     assert len(rollouts) == 4 * 32
@@ -180,8 +190,13 @@ def test_report(run: Path, metrics: dict[str, Any]) -> None:
     assert f"Final score: **{metrics['final_score']:.1f}**" in text
     for name in ("score.png", "trajectories.png", "policy.png", "heldout_trajectories.png"):
         assert f"]({name})" in text
-    assert f"Held-out score of the final skill: **{metrics['heldout_score']:.1f}**" in text
-    assert "| iteration | score | held-out score |" in text
+    # the success rate leads: overall and per effect from the held-out starts
+    rate = metrics["heldout_success"]
+    assert f"from the held-out starts: **{rate:.0%}**" in text
+    assert f"Held-out score: **{metrics['heldout_score']:.1f}**" in text
+    assert ("| iteration | held-out success | held-out left | held-out right | held-out close "
+            "| held-out far | held-out false positives | success (training starts) | score | "
+            "held-out score |") in text
     rows = [line for line in text.splitlines() if line.startswith("| ") and
             line.split("|")[1].strip().isdigit()]
     # the results table, then the robot movements per phase: a row per iteration each

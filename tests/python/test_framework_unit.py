@@ -28,6 +28,7 @@ from a2l.framework import (
     random_waypoints,
     score_of,
 )
+from a2l.framework.scoring import miss_counts, success_of
 from a2l.parallel import Executor
 from a2l.rollout.env import make_env
 
@@ -55,6 +56,19 @@ def test_score_of_hand_values(outcomes: list[str], n_effects: int, n_starts: int
                               expected: float) -> None:
     assert score_of(_rollouts(outcomes), n_effects, n_starts) == pytest.approx(expected,
                                                                                 abs=1e-12)
+
+
+def test_success_rate_counts_a_false_positive_as_a_failure() -> None:
+    """The headline: 3 successes of 8 is 37.5 % whatever the 2 false positives; the score
+    counts them as points (43.75); the misses are told apart by how they ended."""
+    rs = _rollouts([SUCCESS] * 3 + [FALSE_POSITIVE] * 2 + [FAIL] * 3)
+    rs[5].stop, rs[6].stop, rs[7].stop = "unknown_context", "step_cap", "unknown_context"
+    rs[6].fallbacks = 2
+    assert success_of(rs) == pytest.approx(3 / 8)
+    assert score_of(rs, 4, 2) == pytest.approx(43.75)
+    assert miss_counts(rs) == {"false_positive": 2, "unknown_context": 2, "step_cap": 1,
+                               "with_fallback": 1}
+    assert np.isnan(success_of([]))
 
 
 def test_score_of_babbling_rollouts_count_nothing() -> None:
@@ -100,6 +114,10 @@ def test_score_of_babbling_rollouts_count_nothing() -> None:
     ("fixed_parents", [1]),
     ("fixed_parents", ("distance", "light")),
     ("fixed_parents", ("offset_x",)),
+    ("start_layout", "spiral"),
+    ("start_r_low", 0.0),
+    ("start_r_high", float("nan")),
+    ("fallback", "guess"),
 ])
 def test_validate_names_the_bad_field(field: str, value: object) -> None:
     cfg = FrameworkConfig(**{field: value})
@@ -158,7 +176,7 @@ def test_from_dict_names_unknown_keys() -> None:
 # --- start positions --------------------------------------------------------------------
 
 def test_start_offsets_evenly_on_the_circle() -> None:
-    cfg = FrameworkConfig(n_starts=8, start_radius=0.2)
+    cfg = FrameworkConfig(n_starts=8, start_layout="circle", start_radius=0.2)
     off = cfg.start_offsets()
     assert off.shape == (8, 3)
     np.testing.assert_allclose(np.linalg.norm(off, axis=1), 0.2, atol=1e-12)
@@ -175,8 +193,29 @@ def test_start_offsets_evenly_on_the_circle() -> None:
     np.testing.assert_allclose(chords, 2 * 0.2 * np.sin(np.pi / 8), atol=1e-12)
 
 
+def test_start_offsets_spread_over_the_ring() -> None:
+    """The ring layout: every angle of the circle layout, the radii spread over the ring
+    users start from (0.10-0.25 m), each once, neighbouring angles far apart."""
+    cfg = FrameworkConfig(start_layout="ring")
+    assert (cfg.start_r_low, cfg.start_r_high, cfg.n_starts) == (0.10, 0.25, 8)
+    off = cfg.start_offsets()
+    circle = FrameworkConfig(start_layout="circle").start_offsets()
+    angles = np.arctan2(off[:, 1], off[:, 0])
+    np.testing.assert_allclose(angles, np.arctan2(circle[:, 1], circle[:, 0]), atol=1e-12)
+    r = np.linalg.norm(off, axis=1)
+    np.testing.assert_allclose(np.sort(r), np.linspace(0.10, 0.25, 8), atol=1e-12)
+    np.testing.assert_allclose(r[:4], [0.10, 0.10 + 0.15 * 4 / 7, 0.10 + 0.15 * 2 / 7,
+                                       0.10 + 0.15 * 6 / 7], atol=1e-12)
+    assert np.min(np.abs(np.diff(np.append(r, r[0])))) >= 0.15 / 7 - 1e-12
+    assert cfg.outer_start_radius() == 0.25
+    assert FrameworkConfig(start_layout="circle").outer_start_radius() == 0.2
+    # any count: each radius of the ring once
+    r5 = np.linalg.norm(FrameworkConfig(n_starts=5, start_layout="ring").start_offsets(), axis=1)
+    np.testing.assert_allclose(np.sort(r5), np.linspace(0.10, 0.25, 5), atol=1e-12)
+
+
 def test_start_offsets_other_radius_and_count() -> None:
-    off = FrameworkConfig(n_starts=3, start_radius=0.15).start_offsets()
+    off = FrameworkConfig(n_starts=3, start_layout="circle", start_radius=0.15).start_offsets()
     angles = np.degrees(np.arctan2(off[:, 1], off[:, 0]))
     np.testing.assert_allclose(angles, [0.0, 120.0, -120.0], atol=1e-9)
     np.testing.assert_allclose(np.linalg.norm(off, axis=1), 0.15, atol=1e-12)
@@ -192,7 +231,7 @@ def test_start_position_in_the_virtual_scene() -> None:
             np.testing.assert_allclose(env.object(), env.home, atol=1e-9)
             np.testing.assert_allclose(env.eef(), env.home + offset, atol=1e-9)
             planar = np.linalg.norm((env.eef() - env.object())[:2])
-            assert planar == pytest.approx(cfg.start_radius, abs=1e-9)
+            assert planar == pytest.approx(np.linalg.norm(offset), abs=1e-9)
     finally:
         env.close()
 

@@ -196,3 +196,56 @@ def test_runtime_repr_and_properties(learned, tmp_path: Path) -> None:
     assert skill.table.posterior().flags.writeable is False
     assert skill.uniform_tolerance == spec.uniform_tolerance
     assert _core.BUNDLE_SCHEMA_VERSION == 4
+
+
+def test_runtime_fallback_answers_a_cell_without_data_and_the_trace_marks_it(
+        learned, tmp_path: Path) -> None:
+    """A learned skill written with ``fallback="nearest"``: every cell of the table the
+    dataset never reached (a uniform row) steps to its nearest informative cell of the same
+    effect and light, through the bundle writer, the C++ loader and the Python runner; the
+    same bundle without the fallback stops there with ``unknown_context``."""
+    from dataclasses import replace
+
+    from a2l.skills.runner import CppSkillRunner
+
+    disc, _, spec, plain = learned
+    path = tmp_path / "fallback.a2lb"
+    save_bundle(replace(spec, fallback="nearest"), path)
+    runner = CppSkillRunner(path)
+    skill = runner.skill
+    assert (skill.fallback, plain.fallback) == ("nearest", "none")
+    table = skill.table
+    uniform = [r for r in range(table.n_rows) if table.argmax(r) < 0]
+    assert uniform, "the fixture's dataset leaves some cells without data"
+    shape = [v.n_bins for v in skill.variables]
+    obj = np.array([0.7, 0.0, 0.04])
+    checked = 0
+    for r in uniform:
+        f = skill.fallback_row(r)
+        assert f >= 0 and table.argmax(f) >= 0
+        bins = np.unravel_index(r, shape)
+        fb = np.unravel_index(f, shape)
+        for axis, v in enumerate(skill.variables):   # same effect and light
+            if v.name in ("effect", "light"):
+                assert bins[axis] == fb[axis]
+        # a context in that cell: the centre of its distance and orientation bins
+        names = [v.name for v in skill.variables]
+        d = 0.075 + 0.05 * bins[names.index("distance")]
+        n_or = shape[names.index("orientation")]
+        yaw = -np.pi + 2 * np.pi / n_or * bins[names.index("orientation")]
+        eef = obj + d * np.array([np.cos(yaw), np.sin(yaw), 0.0])
+        effect = int(bins[names.index("effect")])
+        light = ("off", "on")[bins[names.index("light")]]
+        runner.reset()
+        out = runner.step(eef, obj, effect, {"light": light})
+        ctx_bins = runner.trace()[-1]["bins"]
+        if list(ctx_bins) != [int(b) for b in bins]:
+            continue  # the planar context cannot reach this inclination/distance cell
+        assert out.ok and out.fallback
+        assert out.movement == table.argmax(f)
+        assert runner.trace()[-1]["fallback"] is True
+        state = _core.SkillState(plain)
+        ctx = plain.context(eef, obj, effect, {"light": light})
+        assert _core.step(plain, state, ctx).status == Status.unknown_context
+        checked += 1
+    assert checked >= 1

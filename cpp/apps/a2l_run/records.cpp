@@ -10,7 +10,7 @@ namespace a2l_run {
 void write_trace_header(std::ostream& out, const a2l::Skill& skill) {
   out << "episode,effect,step,status,movement,label,probability";
   for (const auto& v : skill.discretizer().variables()) out << ",bin_" << v.name;
-  out << ",eef_x,eef_y,eef_z,obj_x,obj_y,obj_z,phase\n";
+  out << ",eef_x,eef_y,eef_z,obj_x,obj_y,obj_z,phase,fallback\n";
 }
 
 void write_trace(std::ostream& out, bool csv, const a2l::Skill& skill, int episode,
@@ -25,7 +25,8 @@ void write_trace(std::ostream& out, bool csv, const a2l::Skill& skill, int episo
           << r.movement << "," << label << "," << r.probability;
       for (int i = 0; i < r.n_variables; ++i) out << "," << r.bins[static_cast<size_t>(i)];
       out << "," << row.eef.x() << "," << row.eef.y() << "," << row.eef.z() << "," << row.object.x()
-          << "," << row.object.y() << "," << row.object.z() << "," << r.phase << "\n";
+          << "," << row.object.y() << "," << row.object.z() << "," << r.phase << ","
+          << (r.fallback ? 1 : 0) << "\n";
       continue;
     }
     nlohmann::json j;
@@ -36,6 +37,7 @@ void write_trace(std::ostream& out, bool csv, const a2l::Skill& skill, int episo
     j["movement"] = r.movement;
     j["label"] = label;
     j["probability"] = r.probability;
+    j["fallback"] = r.fallback;
     nlohmann::json bins = nlohmann::json::object();
     for (int i = 0; i < r.n_variables; ++i) {
       bins[skill.discretizer().variable(i).name] = r.bins[static_cast<size_t>(i)];

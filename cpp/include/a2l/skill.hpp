@@ -31,12 +31,30 @@ struct RobotInfo {
   std::string tip_link;     //!< last link of the arm chain
 };
 
+//! What step() does in a context cell the table has no information for (a uniform row).
+enum class Fallback : int {
+  none = 0,     //!< stop with `unknown_context`
+  nearest = 1,  //!< take the nearest informative cell's movement (Skill::fallback_row)
+};
+
+//! The manifest name of a fallback rule ("none", "nearest"). Never allocates.
+const char* fallback_name(Fallback f) noexcept;
+
+//! Parse a manifest fallback name; false if `name` is not one.
+bool parse_fallback(const std::string& name, Fallback& out) noexcept;
+
 //! How step() chooses among the movements of a known context.
 struct SkillSettings {
-  int step_cap = 12;                //!< most movements a run may take
-  bool smoothing = false;           //!< neighbour smoothing (docs/method.md)
-  double uniform_tolerance = 1e-9;  //!< a row within this of uniform carries no information
+  int step_cap = 12;                   //!< most movements a run may take
+  bool smoothing = false;              //!< neighbour smoothing (docs/method.md)
+  double uniform_tolerance = 1e-9;     //!< a row within this of uniform carries no information
+  Fallback fallback = Fallback::none;  //!< the answer for a cell with no information
 };
+
+//! Most row-pair comparisons Skill::create may spend on the nearest-cell fallback
+//! (uniform rows x cells sharing their effect and high-level values); a larger table is
+//! refused with `invalid_argument` rather than loaded slowly.
+constexpr std::size_t kMaxFallbackWork = std::size_t{1} << 28;
 
 //! A skill: discretizer, policy table and movement repertoire, loaded from a bundle, and
 //! optionally its DS phases (run by step_ds()). Immutable: every method is const and may be
@@ -48,7 +66,9 @@ class Skill {
 
   //! Assemble a skill from its parts, checking that they agree (table axes = variables'
   //! bins, table movements = repertoire size; phase conditions name declared states and
-  //! values, at most kMaxDSPhases phases, tolerances finite and > 0).
+  //! values, at most kMaxDSPhases phases, tolerances finite and > 0). With
+  //! `settings.fallback == Fallback::nearest` it compiles the fallback of every uniform row
+  //! (fallback_row()).
   //! \return `size_mismatch` or `invalid_argument` naming the check, else `ok`.
   static Result create(std::string name, Discretizer discretizer, PolicyTable table,
                        MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
@@ -74,6 +94,15 @@ class Skill {
   int n_moves() const noexcept { return table_.n_moves(); }
   //! The DS phases (empty if the bundle has none).
   const DSPhaseSet& ds_phases() const noexcept { return ds_phases_; }
+  //! The row step() reads for table row `row`: `row` itself where it is informative; for a
+  //! uniform row with the `nearest` fallback, the nearest informative row with the same
+  //! effect and high-level values (distance: the sum over the geometric axes of the bin
+  //! differences, orientation's bins counted around the circle; the lowest row on a tie),
+  //! -1 where there is none or without a fallback. Compiled by create(), O(1) here.
+  std::int32_t fallback_row(std::size_t row) const noexcept {
+    return fallback_.empty() ? (table_.argmax(row) < 0 ? -1 : static_cast<std::int32_t>(row))
+                             : fallback_[row];
+  }
 
  private:
   std::string name_;
@@ -83,6 +112,7 @@ class Skill {
   SkillSettings settings_;
   RobotInfo robot_;
   DSPhaseSet ds_phases_;
+  std::vector<std::int32_t> fallback_;  // per row, with Fallback::nearest (fallback_row())
 };
 
 //! One step of a skill as the trace records it (docs/method.md: context bins, movement,
@@ -94,7 +124,8 @@ struct TraceRecord {
   int movement = -1;                               //!< chosen movement, -1 if none
   double probability = 0.0;                        //!< its (smoothed) probability, 0 if none
   Status status = Status::not_initialized;         //!< what the step returned
-  int phase = -1;  //!< the DS phase of a step_ds() call, -1 for a table step or none
+  int phase = -1;         //!< the DS phase of a step_ds() call, -1 for a table step or none
+  bool fallback = false;  //!< the cell had no information: the movement is its fallback's
 };
 
 //! What one step() returns.
@@ -189,7 +220,10 @@ class SkillState {
 //! - `context.effect_produced` is set: `effect_produced`;
 //! - `state.steps()` reached the skill's step cap: `step_cap`;
 //! - the context is unknown (a non-finite position, an effect or high-level index out of
-//!   range, or a uniform table row = argmax -1): `unknown_context`. It never guesses.
+//!   range, or a uniform table row = argmax -1 without a fallback row): `unknown_context`.
+//! A uniform row with a fallback row (Skill::fallback_row, the skill's `nearest` fallback)
+//! is answered from that row, status `ok`, `record.fallback` set: a defined answer compiled
+//! at load time, never a guess at step time.
 //! With smoothing (docs/method.md), the posterior is averaged over the current point and
 //! its 6 neighbours (eef +- step/2 along x, y, z), uniform (uninformative) neighbours left
 //! out; the top movement is taken if it is alone, has p > 0.95, or the second is below 0.75

@@ -50,6 +50,9 @@ class Rollout:
         moves, plus the one that could not be carried out (``stop == "unreachable"``),
         plus those :func:`erase_loops` cut out; 0 when not recorded (a rollout read back
         from a checkpoint).
+    fallbacks : int
+        Validation only: the movements the skill took in a context cell without data, from
+        the nearest cell with data (the C++ step's fallback, the trace's ``fallback``).
     """
 
     start: int
@@ -61,6 +64,7 @@ class Rollout:
     outcome: str = ""
     stop: str = ""
     executed: int = 0
+    fallbacks: int = 0
 
     @property
     def moved(self) -> bool:

@@ -142,6 +142,9 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     metrics = {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
         "seed": cfg.seed, "iterations": history,
+        "heldout_success": result["heldout_success"],
+        "heldout_success_rate": result["heldout_success_rate"],
+        "final_success": next(m.get("success") for m in reversed(history) if m["accepted"]),
         "final_score": result["final_score"], "heldout_score": result["heldout_score"],
         "heldout": {"starts": cfg.heldout_starts, "r_low": cfg.heldout_r_low,
                     "r_high": cfg.heldout_r_high},
@@ -168,8 +171,11 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         from rich.markdown import Markdown
 
         Console().print(Markdown(results_table(history)))
-        held = result["heldout_score"]
-        print(f"final score {result['final_score']:.1f}"
+        held, rate = result["heldout_score"], result["heldout_success"]
+        print((f"held-out success {rate:.1%} ("
+               + ", ".join(f"{e} {v:.0%}" for e, v in result["heldout_success_rate"].items())
+               + "); " if rate is not None else "")
+              + f"final score {result['final_score']:.1f}"
               + (f" (held-out {held:.1f})" if held is not None else "")
               + f"; context: {context_label(cfg)}"
               + f"; run directory: {run_dir}")

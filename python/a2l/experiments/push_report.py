@@ -39,22 +39,37 @@ def with_heldout(history: list[dict[str, Any]], *records: list[dict[str, Any]]
     return out
 
 
+def _pct(x: float | None) -> str:
+    return "—" if x is None or np.isnan(x) else f"{x:.0%}"
+
+
 def results_table(history: list[dict[str, Any]]) -> str:
-    """Markdown table of the iterations' metrics (with a held-out score column when the
-    iterations have one, and the robot movements made so far when they were counted)."""
+    """Markdown table of the iterations' metrics, led by the success rate (a false positive
+    is a failure): from the held-out starts overall and per effect when the iterations have
+    them (else per effect from the training starts), then from the training starts, then
+    the score (``docs/method.md``), the held-out score, and the robot movements made so far
+    when they were counted."""
     if not history:
         return "(no iteration)"
-    effects = list(history[0]["success_rate"])
     held = all("heldout_score" in m for m in history)
+    held_rate = held and all("heldout_success" in m for m in history)
+    rates = "heldout_success_rate" if held else "success_rate"
+    effects = list(history[0][rates])
     moves = all("robot_movements_total" in m for m in history)
-    head = ["iteration", "score", *(["held-out score"] if held else []), *effects,
+    head = ["iteration", *(["held-out success"] if held_rate else []),
+            *(f"{'held-out ' if held else ''}{e}" for e in effects),
+            *(["held-out false positives"] if held else []),
+            "success (training starts)", "score", *(["held-out score"] if held else []),
             "false positives", "movements/action", "dataset rows", "accepted",
             *(["movements"] if moves else []), "wall (s)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for m in history:
-        cells = [str(m["iteration"]), f"{m['score']:.1f}",
+        cells = [str(m["iteration"]),
+                 *([f"**{_pct(m['heldout_success'])}**"] if held_rate else []),
+                 *(_pct(m[rates][e]) for e in effects),
+                 *([str(m["heldout_false_positives"])] if held else []),
+                 _pct(m.get("success")), f"{m['score']:.1f}",
                  *([f"{m['heldout_score']:.1f}"] if held else []),
-                 *(f"{m['success_rate'][e]:.0%}" for e in effects),
                  str(m["false_positives"]),
                  "—" if np.isnan(m["mean_movements"]) else f"{m['mean_movements']:.1f}",
                  str(m["dataset_size"]), "yes" if m["accepted"] else "no",
@@ -249,12 +264,23 @@ def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
     """The run directory's ``report.md``: final and held-out scores, the iterations' table,
     the robot movements per phase and the plots."""
     held = result.get("heldout_score")
+    final = next((m for m in history if m["iteration"] == _accepted_iteration(history)), {})
+    rate = final.get("heldout_success")
+    per_effect = ", ".join(f"{e} {_pct(v)}"
+                           for e, v in final.get("heldout_success_rate", {}).items())
+    misses = final.get("heldout_misses")
     heldout_lines = [] if held is None else [
-        f"Held-out score of the final skill: **{held:.1f}**, from {cfg.heldout_starts} "
+        *([f"Success rate of the final skill from the held-out starts: **{_pct(rate)}** "
+           f"({per_effect}; a false positive is a failure)"
+           + (f"; misses: {_misses_text(misses)}" if misses else "") + ". "]
+          if rate is not None else []),
+        f"Held-out score: **{held:.1f}**, from {cfg.heldout_starts} "
         f"start positions no phase of training used (uniform angle, distance "
         f"{cfg.heldout_r_low:.2f}-{cfg.heldout_r_high:.2f} m from the object, their own "
         f"seed stream); the score above is from the {cfg.n_starts} training starts the "
-        "skill was validated and extended from.",
+        "skill was validated and extended from "
+        + (f"(at {cfg.start_r_low:.2f}-{cfg.start_r_high:.2f} m)." if cfg.start_layout == "ring"
+           else f"(on the {cfg.start_radius:.2f} m circle)."),
         "",
     ]
     return "\n".join([
@@ -280,3 +306,15 @@ def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
         "",
         "Configuration: `config.json`; machine-readable results: `metrics.json`.",
     ]) + "\n"
+
+
+def _accepted_iteration(history: list[dict[str, Any]]) -> int | None:
+    """The last accepted iteration (the final skill's), or None."""
+    acc = [m["iteration"] for m in history if m.get("accepted")]
+    return acc[-1] if acc else None
+
+
+def _misses_text(misses: dict[str, int]) -> str:
+    """``heldout_misses`` in words: ``3 false positives, 2 unknown_context, ...``."""
+    names = {"false_positive": "false positives", "with_fallback": "with a fallback step"}
+    return ", ".join(f"{n} {names.get(k, k)}" for k, n in misses.items())

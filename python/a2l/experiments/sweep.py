@@ -87,9 +87,12 @@ def headline_table(metrics: dict[str, Any]) -> str:
 def _table(rows: Sequence[dict[str, Any]], summary: dict[str, Any]) -> str:
     cells = [("x" if r["iterations_to_100"] is None else str(r["iterations_to_100"]))
              for r in rows]
-    lines = ["| seed | iterations to 100 | final score | iterations run |", "|---|---|---|---|"]
-    lines += [f"| {r['seed']} | {c} | {r['final_score']:.1f} | {r['iterations_run']} |"
+    lines = ["| seed | held-out success | iterations to 100 | final score | iterations run |",
+             "|---|---|---|---|---|"]
+    lines += [f"| {r['seed']} | {_rate(r.get('heldout_success'))} | {c} | "
+              f"{r['final_score']:.1f} | {r['iterations_run']} |"
               for r, c in zip(rows, cells, strict=True)]
+    held = [r["heldout_success"] for r in rows if r.get("heldout_success") is not None]
     s = summary
     seeds = [r["seed"] for r in rows]
     lines += [
@@ -98,11 +101,18 @@ def _table(rows: Sequence[dict[str, Any]], summary: dict[str, Any]) -> str:
         f"100; {s['reached_within']} of {s['runs']} within {s['within']} iterations"
         + ("" if s["median"] is None else
            f"; iterations {s['min']} to {s['max']} (median {s['median']:g}, "
-           f"mean {s['mean']:.1f})") + ". \"x\": not within the run's iterations.",
+           f"mean {s['mean']:.1f})") + ". \"x\": not within the run's iterations."
+        + (f" Held-out success rate (final skill; a false positive is a failure): mean "
+           f"{np.mean(held):.1%}, lowest {min(held):.1%}, {sum(h >= 0.98 for h in held)} of "
+           f"{len(held)} seeds at 98 % or more." if held else ""),
         "",
         "Iterations per seed, in order: " + ", ".join(cells) + ".",
     ]
     return "\n".join(lines)
+
+
+def _rate(x: float | None) -> str:
+    return "—" if x is None else f"{x:.0%}"
 
 
 #: One seed of a sweep: ``(configuration as a dict, seed, run directory, workers, executor,
@@ -121,6 +131,7 @@ def seed_run(job: SeedJob) -> dict[str, Any]:
     -------
     dict
         The row of the sweep's table: ``seed``, ``iterations_to_100``, ``final_score``,
+        ``heldout_success`` (the final skill's success rate from the held-out starts),
         ``iterations_run``, ``wall_s``.
     """
     cfg_d, seed, sub_s, workers, executor, announce = job
@@ -136,6 +147,7 @@ def seed_run(job: SeedJob) -> dict[str, Any]:
         m = run_push_experiment(cfg, out=sub, **opts)
     row = {"seed": seed, "iterations_to_100": iterations_to_full_score(m["iterations"]),
            "final_score": float(m["final_score"]), "iterations_run": len(m["iterations"]),
+           "heldout_success": m.get("heldout_success"),
            "wall_s": float(m["wall_s"])}
     if announce:
         n = row["iterations_to_100"]

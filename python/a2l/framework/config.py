@@ -36,9 +36,16 @@ class FrameworkConfig:
     n_effects : {4, 8}
         Push effects to learn.
     n_starts : int
-        Start positions, evenly on a circle around the object.
+        Training start positions around the object, evenly spaced in angle.
+    start_layout : {"circle", "ring"}
+        Their distances from the object: ``"circle"`` (default) puts them all at
+        ``start_radius`` (the authors' layout); ``"ring"`` spreads them over
+        ``[start_r_low, start_r_high]``, the region users start a skill from (the held-out
+        starts' ring), neighbouring angles at distant radii (:meth:`start_offsets`).
     start_radius : float
-        Radius of that circle (m).
+        Radius of the circle (m), with ``start_layout="circle"``.
+    start_r_low, start_r_high : float
+        Range of the ring's radii (m), with ``start_layout="ring"``.
     max_babble_steps : int
         Most random movements of a babbling trajectory.
     try_cap : int
@@ -85,6 +92,10 @@ class FrameworkConfig:
         cuts 1 to ``extension_cut`` steps, drawn at random).
     erase_loops : bool
         Cut the loops out of babbling trajectories (:func:`erase_loops`).
+    fallback : {"none", "nearest"}
+        The C++ step's answer in a context cell the training never reached (a uniform row of
+        the table): ``"none"`` (default) stops with ``unknown_context``; ``"nearest"`` takes
+        the movement of the nearest cell with data, same effect (the trace marks the step).
     smoothing : bool
         Neighbour smoothing (``docs/method.md``) in the C++ step (default on: with
         hill-climbing + K2, 27 of virtual seeds 0-29 reach 100 within 3 iterations, 21
@@ -137,7 +148,10 @@ class FrameworkConfig:
     scene: str = "virtual"
     n_effects: int = 4
     n_starts: int = 8
+    start_layout: str = "circle"
     start_radius: float = 0.2
+    start_r_low: float = 0.10
+    start_r_high: float = 0.25
     max_babble_steps: int = 7
     try_cap: int = 5000
     max_iterations: int = 10
@@ -159,6 +173,7 @@ class FrameworkConfig:
     extension_cut: int = 3
     keep_validation: bool = True
     smoothing: bool = True
+    fallback: str = "none"
     erase_loops: bool = False
     max_extensions: int = 50
     stuck_after: int = 1
@@ -198,8 +213,9 @@ class FrameworkConfig:
             v = getattr(self, name)
             if not isinstance(v, int) or v < 1:
                 raise ConfigError(name, f"must be a positive integer, got {v!r}")
-        for name in ("start_radius", "step", "effect_threshold", "waypoint_aim", "heldout_r_low",
-                     "heldout_r_high", "offset_half_x", "offset_half_y"):
+        for name in ("start_radius", "start_r_low", "start_r_high", "step", "effect_threshold",
+                     "waypoint_aim", "heldout_r_low", "heldout_r_high",
+                     "offset_half_x", "offset_half_y"):
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise ConfigError(name, f"must be a positive length, got {v!r}")
@@ -210,6 +226,15 @@ class FrameworkConfig:
                 self.n_offset and self.n_offset % 2 == 0):
             raise ConfigError("n_offset", f"must be 0 or an odd positive integer, got "
                              f"{self.n_offset!r}")
+        if self.start_layout not in ("ring", "circle"):
+            raise ConfigError("start_layout", f"unknown {self.start_layout!r}; choose 'ring' "
+                              "or 'circle'")
+        if self.start_r_low > self.start_r_high:
+            raise ConfigError("start_r_low, start_r_high", f"need low <= high, got "
+                             f"{self.start_r_low}, {self.start_r_high}")
+        if self.fallback not in ("nearest", "none"):
+            raise ConfigError("fallback", f"unknown {self.fallback!r}; choose 'nearest' or "
+                             "'none'")
         if self.n_incl < 0:
             raise ConfigError("n_incl", f"must be >= 0, got {self.n_incl}")
         if self.extension_cut < 1:
@@ -266,10 +291,27 @@ class FrameworkConfig:
         return cfg
 
     def start_offsets(self) -> np.ndarray:
-        """End-effector start positions relative to the object, shape (n_starts, 3)."""
-        a = 2 * np.pi * np.arange(self.n_starts) / self.n_starts
-        r = self.start_radius
+        """End-effector training start positions relative to the object, shape (n_starts, 3).
+
+        Start ``i`` is at angle ``2πi / n_starts``; its distance is ``start_radius``
+        (``start_layout="circle"``) or, on the ring, ``start_r_low + (start_r_high - start_r_low)
+        · k / (n_starts - 1)`` with ``k`` the bit-reversed rank of ``i`` (0, 4, 2, 6, 1, 5,
+        3, 7 for 8 starts): every radius from the inner to the outer edge once, neighbouring
+        angles far apart in radius. A fixed layout, independent of the held-out starts'
+        random draw (:meth:`heldout_offsets`).
+        """
+        n = self.n_starts
+        a = 2 * np.pi * np.arange(n) / n
+        if self.start_layout == "circle" or n == 1:
+            r = np.full(n, self.start_radius)
+        else:
+            r = self.start_r_low + (self.start_r_high - self.start_r_low) * \
+                _spread_ranks(n) / (n - 1)
         return np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(a)], axis=1)
+
+    def outer_start_radius(self) -> float:
+        """The largest distance of a training start from the object (m)."""
+        return self.start_radius if self.start_layout == "circle" else self.start_r_high
 
     def heldout_offsets(self) -> np.ndarray:
         """Held-out end-effector start positions relative to the object, shape
@@ -277,6 +319,16 @@ class FrameworkConfig:
         heldout_r_high]``, drawn from their own stream (:data:`HELDOUT_STREAM`)."""
         return _heldout_offsets(self.seed, self.heldout_starts, self.heldout_r_low,
                                 self.heldout_r_high).copy()
+
+
+def _spread_ranks(n: int) -> np.ndarray:
+    """A permutation of ``0 .. n-1``, shape (n,): the indices ordered by their bit-reversed
+    value (van der Corput), so consecutive entries are far apart."""
+    bits = max(1, (n - 1).bit_length())
+    rev = [int(format(i, f"0{bits}b")[::-1], 2) for i in range(n)]
+    ranks = np.empty(n, dtype=float)
+    ranks[np.argsort(rev, kind="stable")] = np.arange(n)
+    return ranks
 
 
 #: Most redraws of one held-out start the arm cannot reach (:func:`heldout_redraw`).

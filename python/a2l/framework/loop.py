@@ -158,7 +158,8 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
                                         + list(cfg.fixed_parents))
     learned = learn_bundle(dataset, disc, bundle_path, name="push", structure=cfg.structure,
                            constraints=constraints, robot=robot, step_cap=cfg.step_cap,
-                           smoothing=cfg.smoothing, extra={"framework": asdict(cfg)})
+                           smoothing=cfg.smoothing, fallback=cfg.fallback,
+                           extra={"framework": asdict(cfg)})
     return learned.table
 
 
@@ -168,6 +169,7 @@ def _rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
         "start": [r.start for r in rollouts], "wanted": [r.wanted for r in rollouts],
         "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
         "stop": [r.stop for r in rollouts], "moves": [list(r.moves) for r in rollouts],
+        "fallbacks": [r.fallbacks for r in rollouts],
         "eef": [r.eef.ravel().tolist() for r in rollouts],
         "obj": [r.obj.ravel().tolist() for r in rollouts],
     })
@@ -180,7 +182,8 @@ def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
                            np.asarray(row.eef, dtype=float).reshape(-1, 3),
                            np.asarray(row.obj, dtype=float).reshape(-1, 3),
                            effect=int(row.effect), wanted=int(row.wanted),
-                           outcome=str(row.outcome), stop=str(row.stop)))
+                           outcome=str(row.outcome), stop=str(row.stop),
+                           fallbacks=int(getattr(row, "fallbacks", 0))))
     return out
 
 
@@ -220,14 +223,16 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     dict
         ``{"iterations": [...], "final_score": float, "bundle": str, "validation":
         DataFrame of the accepted iteration's rollouts, "heldout": [...],
-        "heldout_score": float or None, "heldout_validation": DataFrame,
+        "heldout_score": float or None, "heldout_success": float or None,
+        "heldout_success_rate": {effect: rate} or None, "heldout_validation": DataFrame,
         "movements": [...]}``.
         ``heldout`` holds each iteration's held-out metrics (:func:`heldout_metrics`,
         plus ``heldout_wall_s``), apart from ``iterations``: the held-out rollouts
         (``cfg.heldout_starts`` starts, :func:`validate_heldout`) run after the
         iteration's own metrics are taken and decide nothing (no acceptance, no stuck
-        pair, no draw of training). ``heldout_score`` and ``heldout_validation`` are those
-        of the accepted skill (None and an empty table without held-out starts).
+        pair, no draw of training). ``heldout_score``, ``heldout_success`` (the success rate,
+        a false positive a failure), ``heldout_success_rate`` and ``heldout_validation`` are
+        those of the accepted skill (None and an empty table without held-out starts).
         ``movements`` holds, apart from ``iterations`` too, each iteration's robot
         movements (:func:`_movement_record`): the discrete movements the scene executed in
         each phase (:data:`MOVEMENT_PHASES`), counted from the rollouts told to the run
@@ -312,6 +317,9 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
             "bundle": str(skills_dir / accepted_name), "dataset": dataset,
             "validation": _rollouts_frame(best_val), "heldout": heldout,
             "heldout_score": final_held[0]["heldout_score"] if final_held else None,
+            "heldout_success": final_held[0].get("heldout_success") if final_held else None,
+            "heldout_success_rate": (final_held[0].get("heldout_success_rate")
+                                     if final_held else None),
             "heldout_validation": _rollouts_frame(best_held), "movements": movement_log or []}
 
 

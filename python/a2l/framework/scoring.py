@@ -1,5 +1,7 @@
-"""Scoring an iteration: the outcomes of a validation rollout, the score of ``docs/method.md``
-(:func:`score_of`) and the metrics of one iteration (:class:`IterationResult`)."""
+"""Scoring an iteration: the outcomes of a validation rollout, the success rate (the share of
+rollouts that produced the wanted effect: a false positive is a failure, :func:`success_of`),
+the score of ``docs/method.md`` (:func:`score_of`, which counts a false positive as a point)
+and the metrics of one iteration (:class:`IterationResult`)."""
 
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ from a2l.acquisition.rollout import Rollout
 from a2l.framework.config import FrameworkConfig, discretizers
 
 __all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "heldout_metrics",
-           "iteration_metrics", "score_of"]
+           "iteration_metrics", "miss_counts", "score_of", "success_of"]
 
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
@@ -26,11 +28,36 @@ def score_of(rollouts: Sequence[Rollout], n_effects: int, n_starts: int) -> floa
     return 100.0 * points / (4 * n_effects * n_starts)
 
 
+def success_of(rollouts: Sequence[Rollout]) -> float:
+    """The success rate: the share of `rollouts` that produced their wanted effect (a false
+    positive is a failure), in [0, 1]; NaN without rollouts."""
+    return float(np.mean([r.outcome == SUCCESS for r in rollouts])) if rollouts else float("nan")
+
+
+def miss_counts(rollouts: Sequence[Rollout]) -> dict[str, int]:
+    """How the rollouts that did not succeed ended: ``{"false_positive": n, <stop>: n}``,
+    a fail counted by its stop (``unknown_context``, ``step_cap``, ``unreachable``, ...,
+    ``""`` when the step never stopped the run), and ``"with_fallback"``: misses in which
+    the skill took at least one fallback movement (a cell without data)."""
+    out: dict[str, int] = {}
+    for r in rollouts:
+        if r.outcome == SUCCESS:
+            continue
+        key = FALSE_POSITIVE if r.outcome == FALSE_POSITIVE else (r.stop or "none")
+        out[key] = out.get(key, 0) + 1
+        if r.fallbacks:
+            out["with_fallback"] = out.get("with_fallback", 0) + 1
+    return out
+
+
 @dataclass
 class IterationResult:
-    """Metrics of one iteration (one entry of ``metrics.json``'s ``iterations``)."""
+    """Metrics of one iteration (one entry of ``metrics.json``'s ``iterations``):
+    ``success``, the success rate over every (training start, effect) pair, leads;
+    ``success_rate`` per effect; ``score`` as ``docs/method.md`` defines it."""
 
     iteration: int
+    success: float
     score: float
     success_rate: dict[str, float]
     false_positives: int
@@ -47,7 +74,8 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
     rate = _success_rates(cfg, val)
     moves = [len(r.moves) for r in val if r.outcome == SUCCESS]
     return IterationResult(
-        iteration=it, score=score_of(val, cfg.n_effects, cfg.n_starts), success_rate=rate,
+        iteration=it, success=success_of(val),
+        score=score_of(val, cfg.n_effects, cfg.n_starts), success_rate=rate,
         false_positives=sum(r.outcome == FALSE_POSITIVE for r in val),
         mean_movements=float(np.mean(moves)) if moves else float("nan"),
         dataset_size=size, accepted=accepted, wall_s=wall)
@@ -55,13 +83,16 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
 
 def heldout_metrics(cfg: FrameworkConfig, it: int, held: Sequence[Rollout]) -> dict[str, Any]:
     """The held-out metrics of iteration `it` from its rollouts `held` from the
-    ``cfg.heldout_starts`` held-out starts: ``{"iteration", "heldout_score",
-    "heldout_success_rate": {effect: rate}, "heldout_false_positives"}`` (the score as
-    :func:`score_of`, over the held-out starts)."""
+    ``cfg.heldout_starts`` held-out starts: ``{"iteration", "heldout_success" (overall
+    success rate, :func:`success_of`), "heldout_success_rate": {effect: rate},
+    "heldout_score", "heldout_false_positives", "heldout_misses"}`` (the score as
+    :func:`score_of`, over the held-out starts; the misses as :func:`miss_counts`)."""
     return {"iteration": it,
-            "heldout_score": score_of(held, cfg.n_effects, cfg.heldout_starts),
+            "heldout_success": success_of(held),
             "heldout_success_rate": _success_rates(cfg, held),
-            "heldout_false_positives": sum(r.outcome == FALSE_POSITIVE for r in held)}
+            "heldout_score": score_of(held, cfg.n_effects, cfg.heldout_starts),
+            "heldout_false_positives": sum(r.outcome == FALSE_POSITIVE for r in held),
+            "heldout_misses": miss_counts(held)}
 
 
 def _success_rates(cfg: FrameworkConfig, rollouts: Sequence[Rollout]) -> dict[str, float]:

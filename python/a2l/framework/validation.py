@@ -102,16 +102,19 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
                          f"framework's repertoire is {disc.movements.labels}")
     runner.reset()
     status: list[str] = []
+    fallbacks = [0]
 
     def choose(eef: np.ndarray, obj: np.ndarray) -> int | None:
         out = runner.step(eef, obj, wanted)
         if not out.ok:
             status.append(out.status)
             return None
+        fallbacks[0] += out.fallback
         return out.movement
 
     r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.step_cap + 1)
     r.wanted = wanted
+    r.fallbacks = fallbacks[0]
     if r.moved:
         r.outcome = SUCCESS if r.effect == wanted else FALSE_POSITIVE
     else:

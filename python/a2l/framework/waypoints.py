@@ -91,7 +91,7 @@ def directed_task(task: DirectedTask) -> Rollout:
     ``directed_mode == "random"``: uniformly random movements (as :func:`babble_task`);
     ``"waypoints"``: a random waypoint trajectory (:func:`random_waypoints`,
     :func:`heading_chooser`) with via-points between ``dist_low`` and
-    ``start_radius + step`` from the object. At most `steps` movements, until the object
+    the outer start radius + ``step`` from the object. At most `steps` movements, until the object
     moves.
     """
     cfg_d, start, seed, steps = task
@@ -102,7 +102,7 @@ def directed_task(task: DirectedTask) -> Rollout:
     env = scene_env(cfg)
     offset = cfg.start_offsets()[start]
     points = random_waypoints(np.random.default_rng(seed), env.home, cfg.waypoints_max,
-                              cfg.dist_low, cfg.start_radius + cfg.step, cfg.waypoint_aim)
+                              cfg.dist_low, cfg.outer_start_radius() + cfg.step, cfg.waypoint_aim)
     choose = heading_chooser(points, disc, env.home + offset)
     r = play(env, disc, start, offset, [], choose, steps)
     return erase_loops(r) if cfg.erase_loops else r

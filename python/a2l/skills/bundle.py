@@ -120,6 +120,7 @@ def bundle_bytes(
             "step_cap": int(spec.step_cap),
             "smoothing": bool(spec.smoothing),
             "uniform_tolerance": float(spec.uniform_tolerance),
+            "fallback": str(spec.fallback),
         },
         "extra": spec.extra,
     }
@@ -224,6 +225,7 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
         step_cap=int(ex["step_cap"]),
         smoothing=bool(ex["smoothing"]),
         uniform_tolerance=float(ex["uniform_tolerance"]),
+        fallback=str(ex.get("fallback", "none")),
         robot=None if manifest["robot"] is None else dict(manifest["robot"]),
         extra=view.extra,
         actions=[str(x) for x in mv["actions"]],

@@ -22,6 +22,7 @@ def make_skill_spec(
     robot: dict[str, str] | None = None,
     step_cap: int = 12,
     smoothing: bool = False,
+    fallback: str = "none",
     extra: dict[str, Any] | None = None,
 ) -> SkillSpec:
     """Build the bundle content of a skill from its compiled table.
@@ -45,6 +46,8 @@ def make_skill_spec(
         Most movements per run.
     smoothing : bool
         Neighbour smoothing (``docs/method.md``) in the runtime.
+    fallback : {"none", "nearest"}
+        The runtime's answer in a cell with no data (:class:`SkillSpec`).
     extra : dict, optional
         Free-form metadata; the discretizer's description is added under ``"discretizer"``.
 
@@ -109,6 +112,7 @@ def make_skill_spec(
         actions=[states[i] for i in perm[n_dirs:]],
         step_cap=step_cap,
         smoothing=smoothing,
+        fallback=fallback,
         uniform_tolerance=table.uniform_tolerance,
         robot=robot,
         extra=meta,

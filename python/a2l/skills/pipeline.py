@@ -75,6 +75,7 @@ def learn_bundle(
     robot: dict[str, str] | None = None,
     step_cap: int = 12,
     smoothing: bool = False,
+    fallback: str = "none",
     extra: Extra | None = None,
     ds: DSArrays | None = None,
     ds_phases: Sequence[DSPhase] | None = None,
@@ -104,6 +105,8 @@ def learn_bundle(
         Most movements per run.
     smoothing : bool
         The runtime's neighbour smoothing.
+    fallback : {"none", "nearest"}
+        The runtime's answer in a context cell with no data (:class:`SkillSpec`).
     extra : mapping or callable, optional
         The bundle's ``extra`` metadata, or ``extra(rows)`` giving it from the number of
         usable rows (the discretizer's description is added).
@@ -137,7 +140,8 @@ def learn_bundle(
     t3 = time.perf_counter()
     meta = extra(len(discrete)) if callable(extra) else extra
     spec = make_skill_spec(table, discretizer, name=name, robot=robot, step_cap=step_cap,
-                           smoothing=smoothing, extra=dict(meta) if meta is not None else None)
+                           smoothing=smoothing, fallback=fallback,
+                           extra=dict(meta) if meta is not None else None)
     out = save_bundle(spec, path, ds_phases=ds_phases or None, ds=ds)
     timings = {"discretize": t1 - t0, "learn": t2 - t1, "compile": t3 - t2,
                "save": time.perf_counter() - t3}

@@ -50,6 +50,9 @@ class StepResult:
         The movement's (smoothed) probability for a table step; 1 for a DS step; 0 on a stop.
     phase : str or None
         The DS phase that decided (``mode="ds"``), else None.
+    fallback : bool
+        The context cell had no data and the movement is its fallback's (the skill's
+        ``nearest`` fallback, ``docs/runtime.md``).
     """
 
     status: str
@@ -59,6 +62,7 @@ class StepResult:
     action: str | None
     probability: float = 0.0
     phase: str | None = None
+    fallback: bool = False
 
     @property
     def ok(self) -> bool:
@@ -143,7 +147,7 @@ class CppSkillRunner:
 
     def trace(self) -> list[dict[str, Any]]:
         """The C++ trace, oldest first: ``{step, bins, movement, probability, status,
-        phase}`` per step."""
+        phase, fallback}`` per step."""
         return [r.to_dict() for r in self.state.trace()]
 
     def step(self, eef: np.ndarray, obj: np.ndarray, effect: str | int,
@@ -191,4 +195,4 @@ class CppSkillRunner:
         else:
             label = self.labels[m] if m >= 0 else "ds"
         return StepResult(status, m, label, np.array(out.displacement, dtype=np.float64),
-                          action, float(out.probability), phase)
+                          action, float(out.probability), phase, bool(out.record.fallback))

@@ -94,6 +94,11 @@ class SkillSpec:
         Neighbour smoothing (``docs/method.md``).
     uniform_tolerance : float
         A row whose entries all lie within this of 1/n_moves is uniform.
+    fallback : {"none", "nearest"}
+        The runtime's answer in a context cell with no data (a uniform row): stop with
+        ``unknown_context``, or the movement of the nearest informative cell with the same
+        effect and high-level values (compiled when the bundle is loaded; the trace marks
+        the step, ``docs/runtime.md``).
     robot : dict or None
         ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
     extra : dict
@@ -113,6 +118,7 @@ class SkillSpec:
     step_cap: int = 12
     smoothing: bool = False
     uniform_tolerance: float = 1e-9
+    fallback: str = "none"
     robot: dict[str, str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     actions: list[str] = field(default_factory=list)

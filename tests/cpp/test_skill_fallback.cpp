@@ -1,0 +1,172 @@
+// The nearest-cell fallback (execution.fallback = "nearest"): a context cell with no data
+// (a uniform row) gets the movement of the nearest informative cell with the same effect and
+// high-level values, compiled when the bundle is loaded, and the trace marks it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <random>
+
+#include "a2l/bundle.hpp"
+#include "a2l/skill.hpp"
+#include "bundle_builder.hpp"
+
+namespace {
+
+using a2l::Status;
+using a2l::testing::build;
+using a2l::testing::BundleParts;
+using a2l::testing::sample_parts;
+
+a2l::Skill load(const BundleParts& p) {
+  const auto bytes = build(p);
+  a2l::Skill s;
+  const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+  EXPECT_TRUE(r.ok()) << r.message;
+  return s;
+}
+
+BundleParts with_fallback(BundleParts p, const char* rule = "nearest") {
+  p.manifest["execution"]["fallback"] = rule;
+  return p;
+}
+
+// Bins of row r of a C-order table of `shape`.
+std::vector<int> bins_of(std::size_t r, const std::vector<std::int64_t>& shape) {
+  std::vector<int> b(shape.size());
+  for (int i = static_cast<int>(shape.size()) - 1; i >= 0; --i) {
+    b[static_cast<size_t>(i)] = static_cast<int>(r % static_cast<std::size_t>(shape[i]));
+    r /= static_cast<std::size_t>(shape[i]);
+  }
+  return b;
+}
+
+// The context of the cell `bins` of sample_parts' variables (effect, distance(3, 0.05-0.20),
+// orientation(8), inclination(4), light): its centre.
+a2l::Context context_of(const std::vector<int>& b) {
+  constexpr double kPi = 3.14159265358979323846;
+  a2l::Context c;
+  c.object = {0.7, 0.0, 0.04};
+  const double d = 0.075 + 0.05 * b[1];
+  const double yaw = -kPi + 2 * kPi / 8 * b[2];
+  const double incl = kPi / 4 * (b[3] + 0.5);
+  c.eef = c.object + d * Eigen::Vector3d(std::sin(incl) * std::cos(yaw),
+                                         std::sin(incl) * std::sin(yaw), std::cos(incl));
+  c.effect = b[0];
+  c.high_level[4] = b[4];
+  return c;
+}
+
+TEST(Fallback, EveryUniformRowGetsTheNearestInformativeRowOfItsEffectAndStates) {
+  const BundleParts p = sample_parts(9, 0.6);
+  const a2l::Skill skill = load(with_fallback(p));
+  const std::size_t rows = skill.table().n_rows();
+  int uniform = 0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::int32_t f = skill.fallback_row(r);
+    if (p.argmax[r] >= 0) {
+      EXPECT_EQ(f, static_cast<std::int32_t>(r));
+      continue;
+    }
+    ++uniform;
+    // Brute force: the distance to every informative row of the same effect and light.
+    const auto a = bins_of(r, p.shape);
+    int best = -1;
+    std::size_t best_row = 0;
+    for (std::size_t q = 0; q < rows; ++q) {
+      const auto b = bins_of(q, p.shape);
+      if (p.argmax[q] < 0 || a[0] != b[0] || a[4] != b[4]) continue;
+      const int dor = std::abs(a[2] - b[2]);
+      const int d = std::abs(a[1] - b[1]) + std::min(dor, 8 - dor) + std::abs(a[3] - b[3]);
+      if (best < 0 || d < best) best = d, best_row = q;
+    }
+    ASSERT_GE(best, 1) << "sample_parts(9, 0.6) has informative rows for every effect";
+    EXPECT_EQ(f, static_cast<std::int32_t>(best_row)) << "row " << r;
+  }
+  EXPECT_GT(uniform, 100);
+}
+
+TEST(Fallback, AnUnseenCellGetsTheFallbackMovementAndTheTraceMarksIt) {
+  const BundleParts p = sample_parts(9, 0.6);
+  const a2l::Skill plain = load(p);
+  const a2l::Skill skill = load(with_fallback(p));
+  EXPECT_EQ(plain.settings().fallback, a2l::Fallback::none);
+  EXPECT_EQ(skill.settings().fallback, a2l::Fallback::nearest);
+  a2l::SkillState state(skill), plain_state(plain);
+  int checked = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    const a2l::Context c = context_of(bins_of(r, p.shape));
+    int bins[a2l::kMaxVariables];
+    ASSERT_EQ(skill.discretizer().discretize(c, bins), Status::ok);
+    ASSERT_EQ(skill.table().row_index(bins), r);
+    state.reset();
+    plain_state.reset();
+    a2l::StepOutput out, plain_out;
+    ASSERT_EQ(a2l::step(skill, state, c, out), Status::ok);
+    const Status ps = a2l::step(plain, plain_state, c, plain_out);
+    if (p.argmax[r] >= 0) {
+      EXPECT_EQ(ps, Status::ok);
+      EXPECT_EQ(out.movement, plain_out.movement);
+      EXPECT_FALSE(out.record.fallback);
+      continue;
+    }
+    // The cell has no data: without the fallback the step stops, with it the step takes
+    // the fallback row's movement, and the trace says so.
+    EXPECT_EQ(ps, Status::unknown_context);
+    const auto f = static_cast<std::size_t>(skill.fallback_row(r));
+    EXPECT_EQ(out.movement, skill.table().argmax(f));
+    EXPECT_EQ(out.probability, skill.table().posterior_row(f)[out.movement]);
+    EXPECT_TRUE(out.record.fallback);
+    const a2l::TraceRecord& last = state.trace(state.trace_size() - 1);
+    EXPECT_TRUE(last.fallback);
+    EXPECT_EQ(last.movement, out.movement);
+    EXPECT_EQ(last.bins[2], bins[2]);  // the trace keeps the cell observed, not the fallback's
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(Fallback, NoInformativeCellOfTheEffectIsStillAnUnknownContext) {
+  BundleParts p = sample_parts(9, 0.3);
+  // Effect 2 has no data at all: every one of its rows uniform.
+  for (std::size_t r = 0; r < p.argmax.size(); ++r) {
+    if (bins_of(r, p.shape)[0] != 2) continue;
+    p.argmax[r] = -1;
+    for (int m = 0; m < p.n_moves; ++m) p.posterior[r * 8 + static_cast<size_t>(m)] = 1.0 / 8;
+  }
+  const a2l::Skill skill = load(with_fallback(p));
+  a2l::SkillState state(skill);
+  a2l::StepOutput out;
+  a2l::Context c = context_of({2, 1, 3, 2, 0});
+  EXPECT_EQ(a2l::step(skill, state, c, out), Status::unknown_context);
+  EXPECT_EQ(out.movement, -1);
+  EXPECT_FALSE(out.record.fallback);
+  c.effect = 1;  // another effect, with data: never borrowed across effects
+  EXPECT_EQ(a2l::step(skill, state, c, out), Status::ok);
+}
+
+TEST(Fallback, SmoothingAppliesToTheFallbackRow) {
+  const BundleParts p = sample_parts(9, 0.6, true);
+  const a2l::Skill skill = load(with_fallback(p));
+  a2l::SkillState state(skill);
+  int fallbacks = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    if (p.argmax[r] >= 0) continue;
+    state.reset();
+    a2l::StepOutput out;
+    ASSERT_EQ(a2l::step(skill, state, context_of(bins_of(r, p.shape)), out), Status::ok);
+    EXPECT_TRUE(out.record.fallback);
+    ++fallbacks;
+  }
+  EXPECT_GT(fallbacks, 100);
+}
+
+TEST(Fallback, AnUnknownRuleIsAParseError) {
+  const auto bytes = build(with_fallback(sample_parts(), "guess"));
+  a2l::Skill s;
+  const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+  EXPECT_EQ(r.status, Status::parse_error);
+  EXPECT_NE(r.message.find("execution.fallback"), std::string::npos) << r.message;
+}
+
+}  // namespace
