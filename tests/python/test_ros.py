@@ -133,6 +133,7 @@ class FakeRobot:
         # the box 15 cm in front of the end-effector, as at the start of a push far
         self.box_xyz = kin.fk(self.q)[:3, 3] + np.array([0.15, 0.0, 0.0])
         self.box, self.nan_after = box, nan_after
+        self.jump = True  # carry out a trajectory at once (False: ignore it)
         self.commands: list[float] = []
         self.final: float | None = None
         self.msgs = (JointState, PoseStamped)
@@ -144,7 +145,8 @@ class FakeRobot:
 
     def _on_traj(self, msg: Any) -> None:
         self.commands.append(time.monotonic())
-        self.q = np.asarray(msg.points[-1].positions, dtype=float)
+        if self.jump:
+            self.q = np.asarray(msg.points[-1].positions, dtype=float)
 
     def _on_trace(self, msg: Any) -> None:
         if json.loads(msg.data).get("final"):
@@ -210,24 +212,29 @@ def test_bad_input_ends_the_skill_node_without_a_command_after_it(
 
 
 @pytest.mark.timeout(120)
-def test_sigint_stops_the_skill_node_cleanly(bundle: Path, domain: int) -> None:
+@pytest.mark.parametrize(("how", "code", "stop"), [("sigint", 130, "interrupted"),
+                                                   ("timeout", 1, "timeout")])
+def test_sigint_and_timeout_stop_the_skill_node_cleanly(bundle: Path, domain: int, how: str,
+                                                       code: int, stop: str) -> None:
     robot = FakeRobot()
+    robot.jump = False  # the arm never reaches its target: the node waits for the movement
     try:
         proc = subprocess.Popen([*A2L, "ros", "skill", str(bundle), "--effect", "far",
-                                 "--movement_timeout", "100"],
+                                 "--movement_timeout", "100",
+                                 "--timeout", "100" if how == "sigint" else "8"],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         end = time.monotonic() + 60
         while not robot.commands and time.monotonic() < end and proc.poll() is None:
             robot.spin_while(proc, 0.1, after=0.0)
-        robot.q = robot.q + 0.0  # the arm never reaches: the node waits for the movement
-        proc.send_signal(signal.SIGINT)
-        robot.spin_while(proc, 20)
+        if how == "sigint":
+            proc.send_signal(signal.SIGINT)
+        robot.spin_while(proc, 30)
         out, err = proc.communicate(timeout=20)
     finally:
         robot.close()
-    assert proc.returncode == 130, out + err
-    assert "stop interrupted" in out
-    assert robot.commands and robot.final is not None
+    assert proc.returncode == code, out + err
+    assert f"stop {stop}" in out
+    assert len(robot.commands) == 1 and robot.final is not None
     assert all(t <= robot.final for t in robot.commands)
 
 

@@ -47,6 +47,8 @@ def run_skill(params: dict[str, Any], args: Sequence[str] = (), record: str | No
         try:
             node = make_skill_node(params, recorder)
         except (A2LError, ValueError) as exc:
+            if recorder is not None:
+                recorder.close()
             return SkillNodeResult(2, "bad_input", str(exc), 0)
         try:
             if not spin_until(node, lambda: node.result is not None):

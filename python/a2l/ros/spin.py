@@ -58,12 +58,14 @@ def ros_session(args: Sequence[str] = ()) -> Iterator[None]:
 
 
 def spin_until(node: Any, done: Callable[[], bool], period: float = 0.02) -> bool:
-    """Spin `node` until ``done()``; False if interrupted (SIGINT, SIGTERM)."""
+    """Spin `node` until ``done()``; False if interrupted (SIGINT, SIGTERM, or rclpy shut
+    down from outside)."""
     import rclpy
+    from rclpy.executors import ExternalShutdownException
 
     try:
         while rclpy.ok() and not done():
             rclpy.spin_once(node, timeout_sec=period)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, ExternalShutdownException):
         return False
-    return True
+    return rclpy.ok()
