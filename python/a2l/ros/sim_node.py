@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -26,6 +26,7 @@ import numpy as np
 from a2l.atomic import atomic_write_text
 from a2l.errors import A2LValueError
 from a2l.ros import topics as T
+from a2l.ros.spin import declare_config, overrides
 
 __all__ = ["SimNodeConfig", "make_sim_node"]
 
@@ -70,11 +71,10 @@ class SimNodeConfig:
     truth: str = ""
 
 
-def make_sim_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
+def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
     """The simulated robot's rclpy node; ``node.close()`` writes the truth file."""
     from geometry_msgs.msg import PoseStamped
     from rclpy.node import Node
-    from rclpy.parameter import Parameter
     from sensor_msgs.msg import JointState
     from std_msgs.msg import Bool
     from trajectory_msgs.msg import JointTrajectory
@@ -85,12 +85,8 @@ def make_sim_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
 
     class SimNode(Node):
         def __init__(self) -> None:
-            super().__init__("a2l_sim", parameter_overrides=[
-                Parameter(k, value=v) for k, v in overrides.items()])
-            for f in fields(SimNodeConfig):
-                self.declare_parameter(f.name, f.default)
-            cfg = self.cfg = SimNodeConfig(**{f.name: self.get_parameter(f.name).value
-                                              for f in fields(SimNodeConfig)})
+            super().__init__("a2l_sim", parameter_overrides=overrides(params))
+            cfg = self.cfg = declare_config(self, SimNodeConfig)
             if cfg.command not in COMMANDS:
                 raise A2LValueError(f"command {cfg.command!r} is not one of {COMMANDS}")
             self.recorder = recorder

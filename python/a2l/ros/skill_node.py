@@ -20,7 +20,7 @@ position that is not finite. After a stop it publishes no command. Topics and fr
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -31,6 +31,7 @@ from a2l.errors import A2LError, A2LValueError
 from a2l.robot import arm_spec, urdf_sha256
 from a2l.rollout.effect_tests import Progress, effect_test_of
 from a2l.ros import topics as T
+from a2l.ros.spin import declare_config, overrides
 from a2l.skills.effects import AXIS_EFFECTS
 from a2l.skills.runner import CppSkillRunner
 
@@ -117,23 +118,18 @@ def check_robot(runner: CppSkillRunner, robot: str, arm: str) -> Any:
     return spec
 
 
-def make_skill_node(overrides: dict[str, Any], recorder: Any = None) -> Any:
+def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
     """The rclpy node (its class is made here: rclpy is imported only when a node is made)."""
     from geometry_msgs.msg import PoseStamped
     from rclpy.node import Node
-    from rclpy.parameter import Parameter
     from sensor_msgs.msg import JointState
     from std_msgs.msg import Bool, String
     from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
     class SkillNode(Node):
         def __init__(self) -> None:
-            super().__init__("a2l_skill", parameter_overrides=[
-                Parameter(k, value=v) for k, v in overrides.items()])
-            for f in fields(SkillNodeConfig):
-                self.declare_parameter(f.name, f.default)
-            self.cfg = SkillNodeConfig(**{f.name: self.get_parameter(f.name).value
-                                          for f in fields(SkillNodeConfig)})
+            super().__init__("a2l_skill", parameter_overrides=overrides(params))
+            self.cfg = declare_config(self, SkillNodeConfig)
             self.recorder = recorder
             self.result: SkillNodeResult | None = None
             self.t0 = time.monotonic()

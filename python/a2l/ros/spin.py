@@ -7,11 +7,12 @@ import os
 import signal
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import fields
 from typing import Any
 
 from a2l.errors import A2LValueError
 
-__all__ = ["ros_args", "ros_session", "spin_until"]
+__all__ = ["declare_config", "overrides", "ros_args", "ros_session", "spin_until"]
 
 
 def ros_args(remap: Sequence[str] = (), namespace: str | None = None) -> list[str]:
@@ -55,6 +56,22 @@ def ros_session(args: Sequence[str] = ()) -> Iterator[None]:
         rclpy.try_shutdown()
         for s, handler in old.items():
             signal.signal(s, handler)
+
+
+def overrides(values: dict[str, Any]) -> list[Any]:
+    """`values` as rclpy parameter overrides (a node's ``parameter_overrides``)."""
+    from rclpy.parameter import Parameter
+
+    return [Parameter(k, value=v) for k, v in values.items()]
+
+
+def declare_config(node: Any, cls: type) -> Any:
+    """Declare every field of the dataclass `cls` as a ROS parameter of `node` (its
+    default, overridden by the node's parameter overrides) and return their values as a
+    `cls`."""
+    for f in fields(cls):
+        node.declare_parameter(f.name, f.default)
+    return cls(**{f.name: node.get_parameter(f.name).value for f in fields(cls)})
 
 
 def spin_until(node: Any, done: Callable[[], bool], period: float = 0.02) -> bool:
