@@ -61,6 +61,8 @@ void bind_transit(py::module_& m) {
       .def_readwrite("time_limit", &TransitOptions::time_limit)
       .def_readwrite("resolution", &TransitOptions::resolution)
       .def_readwrite("shorten", &TransitOptions::shorten)
+      .def_readwrite("shortcut_rounds", &TransitOptions::shortcut_rounds)
+      .def_readwrite("shortcut_patience", &TransitOptions::shortcut_patience)
       .def_readwrite("velocity_scale", &TransitOptions::velocity_scale)
       .def_readwrite("acceleration", &TransitOptions::acceleration)
       .def_readwrite("sample_period", &TransitOptions::sample_period)
@@ -154,6 +156,14 @@ meshes : dict of str to ndarray, shape (k, 3)
             return p.model().in_collision(q);
           },
           py::arg("q"))
+      .def(
+          "set_pairwise",
+          [](TransitPlanner& p, bool pairwise) { p.model().set_pairwise(pairwise); },
+          py::arg("pairwise"),
+          "Checks pair by pair (True, the default) or by Bullet's world pass (False).")
+      .def(
+          "pairwise", [](TransitPlanner& p) { return p.model().pairwise(); },
+          "True if checks run pair by pair.")
       .def(
           "colliding_pairs",
           [](TransitPlanner& p, const Eigen::VectorXd& q) {

@@ -174,6 +174,10 @@ std::vector<CollisionPair> CollisionModel::colliding_pairs(
   return out;
 }
 
+void CollisionModel::set_pairwise(bool pairwise) noexcept { impl_->pairwise = pairwise; }
+
+bool CollisionModel::pairwise() const noexcept { return impl_->pairwise; }
+
 long long CollisionModel::checks() const noexcept { return impl_->checks; }
 
 Result CollisionModel::link_pose(const Eigen::Ref<const Eigen::VectorXd>& q,

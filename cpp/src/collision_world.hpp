@@ -68,8 +68,12 @@ struct CollisionModel::Impl {
   int n_link_objects = 0;
   std::vector<std::vector<char> > allowed;  // link x link
   std::vector<std::vector<char> > check;    // object x object: the pair is tested
+  std::vector<std::pair<int, int> > pairs;  // the tested pairs (i < j), for pairwise checks
+  size_t last_hit = 0;                      // index in pairs of the last colliding pair
+  bool pairwise = true;                     // detect(): pair by pair, not Bullet's world pass
   long long checks = 0;
-  std::vector<KDL::Frame> frames;  // per node, scratch
+  std::vector<KDL::Frame> frames;           // per node, scratch
+  std::vector<btVector3> aabb_lo, aabb_hi;  // per object, scratch of detect_pairwise()
 
   Impl() {
     world.getPairCache()->setOverlapFilterCallback(&filter);
@@ -90,6 +94,16 @@ struct CollisionModel::Impl {
         check[i][j] = links ? !allowed[i][j] : 1;
       }
     filter.check = &check;
+    pairs.clear();
+    // pairs with an obstacle first: near the table they collide most often
+    for (int pass = 0; pass < 2; ++pass)
+      for (size_t i = 0; i < n; ++i)
+        for (size_t j = i + 1; j < n; ++j) {
+          const bool obstacle = static_cast<int>(j) >= n_link_objects;
+          if (check[i][j] && obstacle == (pass == 0))
+            pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
+        }
+    last_hit = 0;
   }
 
   // Poses of every node in the base link's frame for arm configuration q.
@@ -114,12 +128,53 @@ struct CollisionModel::Impl {
     }
   }
 
-  // Runs Bullet; calls `hit(a, b)` for every tested pair in contact; stops if it returns true.
+  // Calls `hit(a, b)` for every tested pair in contact at q; stops if it returns true.
   void detect(const Eigen::Ref<const Eigen::VectorXd>& q,
               const std::function<bool(int, int)>& hit) {
     ++checks;
     forward(q);
     place(true);
+    if (pairwise)
+      detect_pairwise(hit);
+    else
+      detect_world(hit);
+  }
+
+  // Penetration (distance < 0) reported by Bullet's narrow phase for one pair.
+  struct PenetrationCallback : public btCollisionWorld::ContactResultCallback {
+    bool hit = false;
+    btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper*, int, int,
+                             const btCollisionObjectWrapper*, int, int) override {
+      if (cp.getDistance() < 0.0) hit = true;
+      return 0;
+    }
+  };
+
+  // The tested pairs one by one: their exact bounding boxes first (no contact threshold), the
+  // narrow phase (the same convex algorithms as the world pass) only where they overlap, the
+  // pair that collided last time first. Stateless: no contact cache between calls.
+  void detect_pairwise(const std::function<bool(int, int)>& hit) {
+    const size_t n = objects.size();
+    aabb_lo.resize(n);
+    aabb_hi.resize(n);
+    for (size_t i = 0; i < n; ++i)
+      objects[i]->getCollisionShape()->getAabb(objects[i]->getWorldTransform(), aabb_lo[i],
+                                               aabb_hi[i]);
+    const size_t m = pairs.size(), first = last_hit;
+    for (size_t k = 0; k < m; ++k) {
+      const size_t idx = (first + k) % m;
+      const int a = pairs[idx].first, b = pairs[idx].second;
+      if (!TestAabbAgainstAabb2(aabb_lo[a], aabb_hi[a], aabb_lo[b], aabb_hi[b])) continue;
+      PenetrationCallback cb;
+      world.contactPairTest(objects[a].get(), objects[b].get(), cb);
+      if (!cb.hit) continue;
+      last_hit = idx;
+      if (hit(a, b)) return;
+    }
+  }
+
+  // Bullet's world pass: its broad phase, persistent contact manifolds.
+  void detect_world(const std::function<bool(int, int)>& hit) {
     world.performDiscreteCollisionDetection();
     const int m = dispatcher.getNumManifolds();
     for (int k = 0; k < m; ++k) {

@@ -212,10 +212,11 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
     return finish(TransitStatus::invalid_argument, "q_start or q_goal contains NaN or inf");
   if (!(o.time_limit > 0) || !(o.resolution > 0) || !(o.velocity_scale > 0) ||
       o.velocity_scale > 1 || !(o.acceleration > 0) || !(o.sample_period > 0) ||
-      !(o.default_velocity > 0))
+      !(o.default_velocity > 0) || o.shortcut_rounds < 0 || o.shortcut_patience < 0)
     return finish(TransitStatus::invalid_argument,
                   "options: time_limit, resolution, acceleration, sample_period and "
-                  "default_velocity must be > 0, velocity_scale in (0, 1]");
+                  "default_velocity must be > 0, velocity_scale in (0, 1], shortcut_rounds "
+                  "and shortcut_patience >= 0");
   if (!kin.within_limits(q_start, 1e-9))
     return finish(TransitStatus::start_out_of_limits, "the start violates the joint limits");
   if (!kin.within_limits(q_goal, 1e-9))
@@ -265,14 +266,19 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
   og::PathGeometric path = raw;
   if (o.shorten) {
     // bounded work, in slices that stop at the time limit (no smoothing, which would add
-    // vertices where the trajectory stops): drop needless vertices, up to 200 shortcut
-    // attempts, drop again
+    // vertices where the trajectory stops): drop needless vertices, up to shortcut_rounds x 10
+    // shortcut attempts (fewer once shortcut_patience rounds in a row changed nothing), drop
+    // again
     const auto left = [&] {
       return o.time_limit - std::chrono::duration<double>(clock::now() - t0).count();
     };
     og::PathSimplifier simplifier(si);
     if (left() > 0) simplifier.reduceVertices(path);
-    for (int k = 0; k < 20 && left() > 0; ++k) simplifier.shortcutPath(path, 10);
+    int stalled = 0;
+    for (int k = 0; k < o.shortcut_rounds && left() > 0; ++k) {
+      stalled = simplifier.shortcutPath(path, 10) ? 0 : stalled + 1;
+      if (o.shortcut_patience > 0 && stalled >= o.shortcut_patience) break;
+    }
     if (left() > 0) simplifier.reduceVertices(path);
   }
   // the shortened path's new edges are checked at other points than the planner's: if the

@@ -97,6 +97,28 @@ TEST(CollisionModel, ObstaclesAndSelfCollision) {
   EXPECT_FALSE(m.set_joint_positions({{"nope", 0.0}}).ok());
 }
 
+TEST(CollisionModel, PairwiseChecksAgreeWithTheWorldPass) {
+  // the same verdict and the same colliding pairs by both methods over a grid of the plane
+  // around a post (obstacle contacts) and the base (self-collisions when link2 folds back)
+  a2l::CollisionModel m = load();
+  EXPECT_TRUE(m.pairwise());  // the default
+  ASSERT_TRUE(m.set_obstacles({box("post", {0.75, 0, 0.05}, {0.03, 0.03, 0.2})}, 0.01).ok());
+  int colliding = 0, free = 0;
+  for (double q1 = -3.0; q1 <= 3.0; q1 += 0.05)
+    for (double q2 = -2.5; q2 <= 2.5; q2 += 0.05) {
+      const Eigen::Vector2d q(q1, q2);
+      m.set_pairwise(false);
+      const bool world = m.in_collision(q);
+      const auto world_pairs = m.colliding_pairs(q);
+      m.set_pairwise(true);
+      ASSERT_EQ(m.in_collision(q), world) << q.transpose();
+      ASSERT_EQ(m.colliding_pairs(q), world_pairs) << q.transpose();
+      (world ? colliding : free) += 1;
+    }
+  EXPECT_GT(colliding, 100);  // the grid has both kinds
+  EXPECT_GT(free, 100);
+}
+
 TEST(TransitPlanner, PathAroundObstacleIsCollisionFreeAndWithinLimits) {
   a2l::TransitPlanner planner(load());
   // a post the arm cannot sweep through: from j1 = -1 to j1 = +1 the arm must fold link2

@@ -96,6 +96,14 @@ class CollisionModel {
   bool in_collision(const Eigen::Ref<const Eigen::VectorXd>& q);
   //! Every colliding pair at `q` (empty if none).
   std::vector<CollisionPair> colliding_pairs(const Eigen::Ref<const Eigen::VectorXd>& q);
+  //! How a check runs: pair by pair (true, the default: each tested pair's exact bounding boxes,
+  //! then Bullet's narrow phase only where they overlap, stopping at the first collision for
+  //! in_collision()), or Bullet's world pass (false: its broad phase with a 2 cm contact
+  //! threshold and persistent contact manifolds over every pair, as before). Both use the same
+  //! shapes and call the same configurations colliding up to Bullet's contact caching.
+  void set_pairwise(bool pairwise) noexcept;
+  //! True if checks run pair by pair (set_pairwise()).
+  bool pairwise() const noexcept;
   //! Number of in_collision() / colliding_pairs() calls since load.
   long long checks() const noexcept;
   //! Pose of link `link` (base link frame) at arm configuration `q`.

@@ -39,9 +39,12 @@ bool transit_available() noexcept;
 
 //! Options of TransitPlanner::plan().
 struct TransitOptions {
-  double time_limit = 1.0;        //!< s: the search stops at 90 % of it, the shortening at it
-  double resolution = 0.01;       //!< rad: longest joint-space step between collision checks
-  bool shorten = true;            //!< shortcut and reduce the path (OMPL's PathSimplifier)
+  double time_limit = 1.0;   //!< s: the search stops at 90 % of it, the shortening at it
+  double resolution = 0.01;  //!< rad: longest joint-space step between collision checks
+  bool shorten = true;       //!< shortcut and reduce the path (OMPL's PathSimplifier)
+  int shortcut_rounds = 20;  //!< at most this many rounds of 10 shortcut attempts (>= 0)
+  //! stop shortcutting after this many rounds in a row that shortened nothing (0: never)
+  int shortcut_patience = 1;
   double velocity_scale = 1.0;    //!< fraction (0, 1] of the URDF's velocity limits
   double acceleration = 2.0;      //!< rad/s^2 (or m/s^2): the limit of every joint
   double sample_period = 0.01;    //!< s between trajectory samples (> 0)
