@@ -169,9 +169,17 @@ test: test-clock test-layers test-cpp test-guarded test-python fuzz
 	@$(call LAP,total,total) && echo "[time] $$(tail -n 1 $(BUILD)/times.log)"
 
 # --- benchmarks -------------------------------------------------------------
+# the extras `bench` (into $(VENV)) and `bench-mplib` (into an environment of its own, see
+# pyproject.toml) hold the transit benchmark's peers
+EXTRA = $(PY) -c 'import sys, tomllib; print(" ".join(tomllib.load(open("pyproject.toml", "rb"))["project"]["optional-dependencies"][sys.argv[1]]))'
+MPLIB_VENV := $(BUILD)/venv-mplib
 bench: setup $(BUILD)/cpp/build.ninja
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp -j $(JOBS)
-	@A2L_BENCH_BIN=$(BUILD)/cpp $(PY) benchmarks/run.py --out BENCHMARKS.md
+	@$(PIP) install -q $$($(EXTRA) bench)
+	@[ -x $(MPLIB_VENV)/bin/python ] || python3 -m venv $(MPLIB_VENV)
+	@$(MPLIB_VENV)/bin/pip install -q $$($(EXTRA) bench-mplib)
+	@A2L_BENCH_BIN=$(BUILD)/cpp A2L_MPLIB_PYTHON=$(abspath $(MPLIB_VENV))/bin/python \
+	  $(PY) benchmarks/run.py --out BENCHMARKS.md
 
 # --- style ----------------------------------------------------------------
 lint: setup
