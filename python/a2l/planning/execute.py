@@ -18,6 +18,7 @@
 
 from __future__ import annotations
 
+import itertools
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -52,6 +53,10 @@ SCRIPTED = ("gripper", "place")
 PLACE_HEIGHT = 0.10
 #: ``place`` lowers the held object until its bottom is this close to the table (m).
 PLACE_GAP = 0.01
+#: A transit's goal: after 10 IK starts near the current and neutral poses, this many starts
+#: drawn wider (normal, this sigma in rad around the neutral pose) before ``goal_in_collision``.
+WIDE_IK_STARTS = 16
+WIDE_IK_SIGMA = 1.0
 
 
 def perceive_state(scene: SceneProtocol, regions: TableRegions, static: Sequence[str] = (),
@@ -187,10 +192,13 @@ def _transit_to(scene: ArmSceneProtocol, transit: Any, target: np.ndarray, held:
     q0 = scene.joint_positions()
     transit.sync(scene, ignore=held)
     # IK from the current joints, the neutral pose, then seeded random starts: the first
-    # collision-free solution (one seed may land the elbow in the torso)
+    # collision-free solution. Starts near the neutral pose may all land the elbow in the
+    # torso (above the button, every one of 10 did): wider starts follow.
     rng = np.random.default_rng(seed)
     neutral = scene.neutral_joint_positions
-    starts = [q0, neutral, *(neutral + rng.normal(0.0, 0.5, neutral.shape) for _ in range(8))]
+    starts = itertools.chain(
+        [q0, neutral], (neutral + rng.normal(0.0, 0.5, neutral.shape) for _ in range(8)),
+        (neutral + rng.normal(0.0, WIDE_IK_SIGMA, neutral.shape) for _ in range(WIDE_IK_STARTS)))
     q1, why = None, "ik_failed"
     for start in starts:
         q, rep = scene.kinematics.ik_report(scene.gripper_down_pose(target), start)
