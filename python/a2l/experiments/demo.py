@@ -119,15 +119,21 @@ def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
     """
     from a2l import _core
     from a2l.errors import A2LError
-    from a2l.lfd.config import DEFAULT
     from a2l.lfd.dataset import skill_discretizer
-    from a2l.lfd.library import SKILLS, learn_recipe, make_skill_scene, reset_for_trial
+    from a2l.lfd.library import (
+        SKILLS,
+        learn_recipe,
+        make_skill_scene,
+        reset_for_trial,
+        skill_config,
+    )
     from a2l.rollout.run import run_skill
 
     t0 = time.perf_counter()
     recipe = SKILLS[skill]
-    learned = learn_recipe(skill, Path(out), DEFAULT)
-    print(f"  {skill}: {DEFAULT.n_demos} scripted demonstrations -> {learned.rows} rows -> "
+    cfg = skill_config(skill)
+    learned = learn_recipe(skill, Path(out), cfg)
+    print(f"  {skill}: {cfg.n_demos} scripted demonstrations -> {learned.rows} rows -> "
           f"table over {learned.table.variables} ({time.perf_counter() - t0:.1f} s); "
           f"bundle {learned.bundle}")
     try:
@@ -135,7 +141,7 @@ def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
     except A2LError as exc:
         print(f"FAILED: cannot build the scene: {exc}")
         return 2
-    disc = skill_discretizer(DEFAULT)
+    disc = skill_discretizer(cfg)
     core = _core.load_bundle(str(learned.bundle))
     events: dict[int, str] = {}
 

@@ -34,8 +34,21 @@ __all__ = ["SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene", "registe
 _TRIAL_STREAM = 0x7472696C  # seeds trial draws apart from every other stream
 
 
+#: The sideways pushes' demonstrator and configuration (issue 27, chosen on tuning trial
+#: seeds 500-579, docs/experiments/lfd.md). Baxter's fingers open along y: pushing across y
+#: (right, left) the outer finger touches the box's face when the end-effector is about 9 cm
+#: from the box's centre (4.25 cm half-size + 4.9 cm), against 5 cm across x. The default
+#: pre-push point (8 cm) then lies inside the fingers' reach, and an approach from far off
+#: the push axis met the box's corner before it was on the axis. Sideways demonstrations
+#: come onto the axis 11 cm away along a tighter curve (merge 4 cm), and the table tells
+#: the contact zone from the pre-push zone with 6 distance bins from 4 cm (4.4 cm each).
+SIDEWAYS_DEMONSTRATOR = {"pre_push": 0.11, "merge": 0.04}
+SIDEWAYS_CONFIG = DEFAULT.with_(n_dist=6, dist_low=0.04)
+
+
 def _push_recipe(effect: str) -> SkillRecipe:
-    demonstrator = PushDemonstrator(effect)
+    sideways = effect in ("right", "left")
+    demonstrator = PushDemonstrator(effect, **(SIDEWAYS_DEMONSTRATOR if sideways else {}))
 
     def behaviours(cfg: LfDConfig, seed: int) -> list[Behaviour]:
         return [Behaviour(demonstrator.demonstrations(cfg.n_demos, seed), effect,
@@ -44,6 +57,7 @@ def _push_recipe(effect: str) -> SkillRecipe:
     return SkillRecipe(
         name=f"push_{effect}", scene="push", effect=effect, object_name="box",
         behaviours=behaviours, start=demonstrator.start,
+        config=SIDEWAYS_CONFIG if sideways else None,
         description=f"push the box {effect} (>= 5 cm), from a start within "
                     f"{demonstrator.spread_deg:.0f} deg of the side opposite the push, "
                     f"{demonstrator.r_low:.2f}-{demonstrator.r_high:.2f} m away")
