@@ -43,7 +43,6 @@ HOLD_RANGE = (1.0, 2.0)    # s
 SAME_PATH = 1e-3
 
 _PERTURB_STREAM = 0x70657274  # perturbation draws apart from the trial's start draws
-_SCENES: dict[str, Any] = {}  # one scene per worker process, keyed by scene and step
 
 
 @dataclass(frozen=True)
@@ -164,16 +163,13 @@ def skill_test(recipe: Any, by_light: dict[str, str] | None
 
 
 def _scene(skill: str, scene_name: str, cfg: LfDConfig, source: str = "perceived") -> Any:
+    """A new scene for one trial task (closed by the caller). Not one scene per worker: a
+    rollout's physics was not bitwise the same after different earlier trials in the same
+    scene (1 and 2 workers once differed by 0.2 mm on one DS run, docs/experiments/
+    perturbations.md), while a new scene makes a trial depend on its task alone."""
     from a2l.lfd.library import make_skill_scene
 
-    key = repr((scene_name, cfg.step, source))
-    if key not in _SCENES:
-        for old in _SCENES.values():
-            old.close()
-        _SCENES.clear()
-        _SCENES[key] = make_skill_scene(skill, 0, cfg, scene=scene_name,
-                                        context_source=source)
-    return _SCENES[key]
+    return make_skill_scene(skill, 0, cfg, scene=scene_name, context_source=source)
 
 
 def _truth(scene: SceneProtocol, name: str) -> np.ndarray:
@@ -272,19 +268,20 @@ def trial_task(task: dict[str, Any]) -> list[dict[str, Any]]:
 
     cfg = LfDConfig(**task["cfg"])
     recipe = SKILLS[task["skill"]]
-    scene = _scene(task["skill"], task["scene"], cfg, task.get("context_source", "perceived"))
-    t_move = movement_seconds(scene)
     by_light = light_effects(recipe, cfg)
     test = skill_test(recipe, by_light)
-    base, log = _perturbed_run(scene, task, None, test)
-    none = Perturbation("none")
-    out = [_record(task, base, none, log, base, t_move, recipe, by_light)]
-    for cond in task["conditions"]:
-        if cond == "none":
-            continue
-        plan = draw_perturbation(cond, task["seed"], base.movements, t_move)
-        run, log = _perturbed_run(scene, task, plan, test)
-        out.append(_record(task, run, plan, log, base, t_move, recipe, by_light))
+    with _scene(task["skill"], task["scene"], cfg,
+                task.get("context_source", "perceived")) as scene:
+        t_move = movement_seconds(scene)
+        base, log = _perturbed_run(scene, task, None, test)
+        none = Perturbation("none")
+        out = [_record(task, base, none, log, base, t_move, recipe, by_light)]
+        for cond in task["conditions"]:
+            if cond == "none":
+                continue
+            plan = draw_perturbation(cond, task["seed"], base.movements, t_move)
+            run, log = _perturbed_run(scene, task, plan, test)
+            out.append(_record(task, run, plan, log, base, t_move, recipe, by_light))
     if "none" not in task["conditions"]:
         out = out[1:]
     return out
