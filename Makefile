@@ -38,6 +38,10 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # Every C++ build goes through ccache when it is installed: the Python module's build and the
 # test build compile the same core sources with the same flags, so the second one reuses them.
 LAUNCHER = -DCMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true)
+# One compiler name for every gcc build ($(CXX): make's default g++ unless the environment
+# names another): ccache keys on it, and CMake alone would pick c++ for the tests, g++ for the
+# module.
+export CXX
 # Phase timing: a phase starts its clock with $(call CLOCK,name) and ends with $(call LAP,name,
 # label), which appends "label: N s" to $(BUILD)/times.log; `make test` prints the log.
 CLOCK = date +%s > $(BUILD)/.clock-$(1)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.acquisition.rollout import Rollout, erase_loops
+from a2l.acquisition.rollout import Rollout, erase_loops, play
 from a2l.cli import main
 from a2l.framework import (
     FAIL,
@@ -28,9 +28,9 @@ from a2l.framework import (
     random_waypoints,
     score_of,
 )
-from a2l.framework.scoring import miss_counts, success_of
+from a2l.framework.scoring import miss_counts, outcome_of, success_of
 from a2l.parallel import Executor
-from a2l.rollout.env import make_env
+from a2l.rollout.env import SceneEnv, make_env
 
 
 def _rollouts(outcomes: list[str]) -> list[Rollout]:
@@ -446,3 +446,40 @@ def test_discretization_command_writes_the_table(tmp_path: Path) -> None:
     rows = [line for line in report.splitlines() if line[:3].strip("| ").isdigit()]
     assert len(rows) == 12
     assert report.count("(selected)") == 1
+
+
+# --- outcomes judged by what happened ----------------------------------------------------
+
+
+class _MisreadingEnv(SceneEnv):
+    """The virtual scene seen through a camera that, after the first reading, places the
+    box 6 cm further along x than it is."""
+
+    def __init__(self, env: SceneEnv) -> None:
+        super().__init__(env.scene, "perceived")
+        self.reads = 0
+
+    def object(self) -> np.ndarray:
+        self.reads += 1
+        seen = self.true_object()
+        return seen if self.reads == 1 else seen + np.array([0.06, 0.0, 0.0])
+
+
+def test_a_rollout_is_judged_by_the_objects_true_displacement() -> None:
+    """The robot sees an effect the box did not make: the rollout stops as `moved` with the
+    seen effect, its true effect is none, and the validation outcome is a failure."""
+    cfg = FrameworkConfig(scene="virtual")
+    disc = _discretizers(cfg)
+    base = make_env("virtual", seed=0, step=cfg.step, source="ground_truth")
+    env = _MisreadingEnv(base)
+    try:
+        away = int(np.argmax(disc.movements.directions[:, 1]))  # +y: away from a box at -y
+        r = play(env, disc, 0, np.array([0.0, 0.20, 0.0]), [], lambda e, o: away, 3)
+        assert r.stop == "moved" and r.effect >= 0
+        assert r.true_effect == -1
+        np.testing.assert_allclose(env.true_object(), env.home, atol=1e-9)
+        assert outcome_of(r.true_effect, r.effect) == FAIL
+        assert outcome_of(r.effect, r.effect) == SUCCESS
+        assert outcome_of(r.effect, (r.effect + 1) % 4) == FALSE_POSITIVE
+    finally:
+        base.close()

@@ -53,6 +53,11 @@ class Rollout:
     fallbacks : int
         Validation only: the movements the skill took in a context cell without data, from
         the nearest cell with data (the C++ step's fallback, the trace's ``fallback``).
+    true_effect : int
+        The effect of the object's true displacement from the start to the end of the
+        rollout (the simulator's ground truth; -1: no effect). It equals `effect` when the
+        context comes from the ground truth; with the camera, `effect` is what the robot saw
+        and `true_effect` what happened. Validation judges by `true_effect`.
     """
 
     start: int
@@ -65,6 +70,7 @@ class Rollout:
     stop: str = ""
     executed: int = 0
     fallbacks: int = 0
+    true_effect: int = -1
 
     @property
     def moved(self) -> bool:
@@ -130,6 +136,7 @@ def play(env: SceneEnv, disc: Any, start: int, offset: np.ndarray, prefix: Seque
     env.begin(offset)
     effect = -1
     obj0 = np.zeros(3)
+    true0 = env.true_object()
 
     def moved(k: int, _eef: np.ndarray, obj: np.ndarray, _states: dict[str, str]
               ) -> str | None:
@@ -153,7 +160,8 @@ def play(env: SceneEnv, disc: Any, start: int, offset: np.ndarray, prefix: Seque
     n = len(moves) + 1
     return Rollout(start, moves, trace.eef[:n].copy(), trace.obj[:n].copy(),
                    effect=effect if trace.stop == "moved" else -1, stop=trace.stop,
-                   executed=trace.executed)
+                   executed=trace.executed,
+                   true_effect=effect_of(disc, env.true_object() - true0))
 
 
 def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:

@@ -170,6 +170,7 @@ def _rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
         "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
         "stop": [r.stop for r in rollouts], "moves": [list(r.moves) for r in rollouts],
         "fallbacks": [r.fallbacks for r in rollouts],
+        "true_effect": [r.true_effect for r in rollouts],
         "eef": [r.eef.ravel().tolist() for r in rollouts],
         "obj": [r.obj.ravel().tolist() for r in rollouts],
     })
@@ -183,7 +184,8 @@ def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
                            np.asarray(row.obj, dtype=float).reshape(-1, 3),
                            effect=int(row.effect), wanted=int(row.wanted),
                            outcome=str(row.outcome), stop=str(row.stop),
-                           fallbacks=int(getattr(row, "fallbacks", 0))))
+                           fallbacks=int(getattr(row, "fallbacks", 0)),
+                           true_effect=int(getattr(row, "true_effect", row.effect))))
     return out
 
 

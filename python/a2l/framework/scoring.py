@@ -15,10 +15,19 @@ from a2l.acquisition.rollout import Rollout
 from a2l.framework.config import FrameworkConfig, discretizers
 
 __all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "heldout_metrics",
-           "iteration_metrics", "miss_counts", "score_of", "success_of"]
+           "iteration_metrics", "miss_counts", "outcome_of", "score_of", "success_of"]
 
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
+
+
+def outcome_of(true_effect: int, wanted: int) -> str:
+    """A validation rollout's outcome, judged by what happened to the object (its true
+    effect, :attr:`a2l.acquisition.rollout.Rollout.true_effect`), not by what the robot saw:
+    `SUCCESS` for the wanted effect, `FALSE_POSITIVE` for another one, `FAIL` for none."""
+    if true_effect == wanted:
+        return SUCCESS
+    return FALSE_POSITIVE if true_effect >= 0 else FAIL
 
 
 def score_of(rollouts: Sequence[Rollout], n_effects: int, n_starts: int) -> float:

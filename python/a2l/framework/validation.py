@@ -20,7 +20,7 @@ from a2l.framework.config import (
     heldout_redraw,
     task_config,
 )
-from a2l.framework.scoring import FAIL, FALSE_POSITIVE, SUCCESS
+from a2l.framework.scoring import SUCCESS, outcome_of
 from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
 from a2l.skills.runner import CppSkillRunner
@@ -115,12 +115,12 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
     r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.step_cap + 1)
     r.wanted = wanted
     r.fallbacks = fallbacks[0]
-    if r.moved:
-        r.outcome = SUCCESS if r.effect == wanted else FALSE_POSITIVE
-    else:
-        r.outcome = FAIL
-        if status:
-            r.stop = status[0]
+    # Judged by what happened (the object's true displacement), not by what the robot saw:
+    # with the camera as the context source the two can differ; with the ground truth they
+    # are the same (the loop stops at the first true effect).
+    r.outcome = outcome_of(r.true_effect, wanted)
+    if r.outcome != SUCCESS and status:
+        r.stop = status[0]
     return r
 
 

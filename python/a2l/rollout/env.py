@@ -62,6 +62,11 @@ class SceneEnv:
         pos = obs["objects"].get(self.obj_name)
         return np.full(3, np.nan) if pos is None else np.asarray(pos, dtype=float)
 
+    def true_object(self) -> np.ndarray:
+        """The object's true position (the simulator's ground truth, whatever `source`
+        says), shape (3,): what an outcome is judged by."""
+        return np.asarray(self.scene.ground_truth()["objects"][self.obj_name], dtype=float)
+
     def close(self) -> None:
         """Release the scene."""
         self.scene.close()
