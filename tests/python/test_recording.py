@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 rr = pytest.importorskip("rerun", reason="the ros extra (rerun-sdk) is not installed")
@@ -116,3 +117,28 @@ def test_skill_run_records_and_view_refuses_bad_paths(tmp_path: Path,
             main(argv)
         assert info.value.code == 2
         assert message in capsys.readouterr().err
+
+
+def test_perturbation_trials_are_recorded_one_rollout_each(tmp_path: Path) -> None:
+    """``a2l experiment perturbations --record``: every trial (skill, condition, mode, seed)
+    is a rollout whose path is the trial's saved trajectory and whose summary says how it
+    ended."""
+    from a2l.experiments.perturbations import DEFAULT_SEED, run_perturbations
+    from a2l.rollout.recording import read_recording
+
+    run = tmp_path / "run"
+    run_perturbations(run, ["push_far"], trials=1, seed=DEFAULT_SEED,
+                      conditions=["none", "move_object"], quiet=True, plots=False,
+                      context_source="ground_truth", record=tmp_path / "trials.rrd")
+    trials = pd.read_csv(run / "trials.csv")
+    saved = np.load(run / "trajectories.npz")
+    cols = read_recording(tmp_path / "trials.rrd")
+    assert len(trials) == 4  # 2 conditions x 2 modes x 1 seed
+    for i, t in enumerate(trials.itertuples()):
+        name = f"{t.skill}/{t.condition}/{t.mode}/{t.seed}"
+        summaries = [v[0] for v in cols[f"/rollout/{i}/summary:TextLog:text"] if v]
+        assert summaries == [f"{name}: {'success' if t.success else 'failure'} ({t.stop})"]
+        eef = saved[f"{name}/eef"]
+        points = [v for v in cols[f"/rollout/{i}/world/eef:Points3D:positions"] if v]
+        assert len(points) == len(eef)
+        np.testing.assert_allclose(np.asarray(points[-1]).reshape(3), eef[-1], atol=1e-6)

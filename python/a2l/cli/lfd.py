@@ -9,7 +9,7 @@ from typing import Any
 
 from jsonargparse import Namespace
 
-from a2l.cli.args import UsageError, comma_list
+from a2l.cli.args import UsageError, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
 from a2l.lfd.config import DEFAULT, LfDConfig
@@ -151,10 +151,12 @@ def _cmd_perturbations(args: Namespace) -> int:
     # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.perturbations import run_perturbations
 
+    if args.record is not None:
+        check_record(Path(args.record))
     run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
                       args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
                       cfg=lfd_config(args), quiet=args.quiet, plots=not args.no_plots,
-                      context_source=args.context_source)
+                      context_source=args.context_source, record=args.record)
     return 0
 
 
@@ -183,6 +185,9 @@ def _perturbations_parser() -> Parser:
                    default="perceived", help="where the skills read the context: the camera "
                    "(perceived, default) or the simulator's ground truth")
     p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
+    p.add_argument("--record", default=None, metavar="FILE.rrd",
+                   help="write a Rerun recording of every trial, one rollout each "
+                   "(a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     add_config_fields(p, LfDConfig, nested_key="lfd")
     return p

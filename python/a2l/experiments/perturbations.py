@@ -89,6 +89,21 @@ def _learn(job: tuple[str, str, dict[str, Any]]) -> dict[str, Any]:
             "seconds": time.perf_counter() - t0}
 
 
+def _record(path: str | os.PathLike[str], rows: Sequence[dict[str, Any]],
+            trajectories: dict[str, np.ndarray]) -> None:
+    """Write the trials' paths as a Rerun recording at `path` (one rollout per trial)."""
+    from a2l.rollout.recording import RerunRecorder, record_trajectories
+
+    paths, notes = {}, {}
+    for r in rows:
+        name = f"{r['skill']}/{r['condition']}/{r['mode']}/{r['seed']}"
+        paths[name] = (trajectories[f"{name}/eef"], trajectories[f"{name}/obj"])
+        notes[name] = f"{name}: {'success' if r['success'] else 'failure'} ({r['stop']})"
+    rec = RerunRecorder(path, "a2l perturbations")
+    record_trajectories(rec, paths, notes)
+    rec.close()
+
+
 def skill_cfg(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
     """The configuration skill `name` is learned and run with: `cfg`, else the recipe's
     own (``SkillRecipe.config``), else :data:`a2l.lfd.config.DEFAULT`."""
@@ -130,7 +145,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
                       cfg: LfDConfig | None = None, bundles: dict[str, str] | None = None,
                       quiet: bool = False, plots: bool = True,
                       command: str | None = None,
-                      context_source: str = "perceived") -> dict[str, Any]:
+                      context_source: str = "perceived",
+                      record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
     """Learn the skills, run every trial under every condition and write the run directory.
 
     Parameters
@@ -158,6 +174,9 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         The command line recorded in the report.
     context_source : {"perceived", "ground_truth"}
         Where the skills read the context: the camera (default) or the simulator's truth.
+    record : path, optional
+        A Rerun recording (``.rrd``) of every trial, one rollout each, named
+        ``skill/condition/mode/seed`` with how it ended (``a2l view FILE``).
 
     Returns
     -------
@@ -229,6 +248,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
                "skills": summarise(frame), "learning": learning, "wall_s": wall,
                "workers": workers}
     write_json(run_dir / "metrics.json", metrics)
+    if record is not None:
+        _record(record, rows, trajectories)
     text = write_report(run_dir, metrics, config, frame, trajectories, plots=plots)
     if not quiet:
         print(text)

@@ -38,7 +38,7 @@ from a2l import _core
 from a2l.errors import A2LValueError
 
 __all__ = ["RerunRecorder", "context_variables", "read_recording", "record_rollouts",
-           "record_run", "scene_frame", "step_bins"]
+           "record_run", "record_trajectories", "scene_frame", "step_bins"]
 
 #: Half extents of an object whose size the recording does not know (m).
 DEFAULT_HALF = (0.035, 0.0425, 0.04)
@@ -232,6 +232,39 @@ def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any
         wanted = effects[ro.wanted] if 0 <= ro.wanted < len(effects) else "-"
         recorder.note(f"start {ro.start}, wanted {wanted}: {ro.outcome or '-'} ({ro.stop})")
     return len(rollouts)
+
+
+def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tuple[ArrayLike,
+                        ArrayLike]], notes: Mapping[str, str] | None = None,
+                        object_name: str = "object") -> int:
+    """Log finished trials known only by their paths, one rollout each, in the mapping's
+    order (e.g. ``a2l experiment perturbations --record``).
+
+    Parameters
+    ----------
+    recorder : RerunRecorder
+    trajectories : mapping of str to (eef, obj)
+        Per trial, the end-effector and object positions before each step and after the
+        last, each of shape (T + 1, 3) (NaN where the object was not seen).
+    notes : mapping of str to str, optional
+        Per trial, a line about it (its name, how it ended); default its name.
+    object_name : str
+
+    Returns
+    -------
+    int
+        The number of rollouts logged.
+    """
+    for i, (name, (eef, obj)) in enumerate(trajectories.items()):
+        recorder.rollout(i)
+        e = np.asarray(eef, dtype=float).reshape(-1, 3)
+        o = np.asarray(obj, dtype=float).reshape(-1, 3)
+        for k in range(len(e)):
+            recorder.step(k, e[k], o[k], status="ok" if k + 1 < len(e) else "end",
+                          target=e[k + 1] if k + 1 < len(e) else None,
+                          object_name=object_name)
+        recorder.note((notes or {}).get(name, name))
+    return len(trajectories)
 
 
 def read_recording(path: str | os.PathLike[str], index: str = "step") -> dict[str, list]:
