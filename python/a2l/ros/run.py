@@ -54,7 +54,7 @@ def run_skill(params: dict[str, Any], args: Sequence[str] = (), record: str | No
             if not spin_until(node, lambda: node.result is not None):
                 node.stop(130, "interrupted", "SIGINT")
             end = time.monotonic() + linger
-            spin_until(node, lambda: time.monotonic() > end)
+            spin_until(node, lambda: time.monotonic() > end, interruptible=False)
             return node.result
         finally:
             if recorder is not None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import fields
@@ -13,6 +14,12 @@ from typing import Any
 from a2l.errors import A2LValueError
 
 __all__ = ["declare_config", "overrides", "ros_args", "ros_session", "spin_until"]
+
+#: Set by SIGINT/SIGTERM inside :func:`ros_session`; :func:`spin_until` stops on it. A flag,
+#: not an exception: an exception raised by the handler lands in whatever runs at that
+#: instant, e.g. inside rclpy's C++ message conversion, where pybind11 turns it into a
+#: ``RuntimeError`` that ends the process with the wrong exit code.
+_STOP = threading.Event()
 
 
 def ros_args(remap: Sequence[str] = (), namespace: str | None = None) -> list[str]:
@@ -38,16 +45,17 @@ def ros_args(remap: Sequence[str] = (), namespace: str | None = None) -> list[st
 def ros_session(args: Sequence[str] = ()) -> Iterator[None]:
     """rclpy initialised with `args` (discovery stays on this machine unless the environment
     says otherwise: ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``), shut down on exit. SIGINT
-    and SIGTERM raise :class:`KeyboardInterrupt` in the spinning thread."""
+    and SIGTERM set a stop flag that :func:`spin_until` obeys."""
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
     def interrupt(signum: int, frame: Any) -> None:
-        raise KeyboardInterrupt
+        _STOP.set()
 
     # SIGINT too: a process started in the background by a shell inherits it ignored
+    _STOP.clear()
     old = {s: signal.signal(s, interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
     rclpy.init(args=list(args) or None, signal_handler_options=SignalHandlerOptions.NO)
     try:
@@ -74,15 +82,19 @@ def declare_config(node: Any, cls: type) -> Any:
     return cls(**{f.name: node.get_parameter(f.name).value for f in fields(cls)})
 
 
-def spin_until(node: Any, done: Callable[[], bool], period: float = 0.02) -> bool:
+def spin_until(node: Any, done: Callable[[], bool], period: float = 0.02,
+               interruptible: bool = True) -> bool:
     """Spin `node` until ``done()``; False if interrupted (SIGINT, SIGTERM, or rclpy shut
-    down from outside)."""
+    down from outside). With ``interruptible=False`` a signal already received does not
+    stop it (a short linger after the stop, so the final messages go out)."""
     import rclpy
     from rclpy.executors import ExternalShutdownException
 
     try:
         while rclpy.ok() and not done():
+            if interruptible and _STOP.is_set():
+                return False
             rclpy.spin_once(node, timeout_sec=period)
     except (KeyboardInterrupt, ExternalShutdownException):
         return False
-    return rclpy.ok()
+    return rclpy.ok() and not (interruptible and _STOP.is_set())
