@@ -203,6 +203,21 @@ def test_goal_in_collision_and_no_path_are_reported(world) -> None:
     assert wall.plan(q_start, q_goal).ok
 
 
+def test_every_option_reaches_the_planner(world) -> None:
+    """ArmTransit.plan passes every field of its options (a negative shortcut budget is
+    refused by the C++ planner, so it must have arrived there)."""
+    scene, transit = world
+    q0 = _ik(scene, (0.7, -0.5, scene.config.table_z + 0.15))
+    for field in ("shortcut_rounds", "shortcut_patience"):
+        saved = getattr(transit.options, field)
+        setattr(transit.options, field, -1)
+        try:
+            r = transit.plan(q0, q0)
+        finally:
+            setattr(transit.options, field, saved)
+        assert r.status == "invalid_argument" and "shortcut" in r.message
+
+
 def test_time_parameterize_limits() -> None:
     wp = np.array([[0.0, 0.0], [1.0, -0.5], [1.0, 0.5], [1.0, 0.5]])
     v, a = np.array([1.0, 0.5]), np.array([2.0, 1.0])

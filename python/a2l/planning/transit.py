@@ -164,7 +164,7 @@ class ArmTransit:
             self.set_robot_joints({})
         opts = _core.TransitOptions()
         for k in ("velocity_scale", "acceleration", "resolution", "sample_period", "shorten",
-                  "default_velocity"):
+                  "shortcut_rounds", "shortcut_patience", "default_velocity"):
             setattr(opts, k, getattr(self.options, k))
         opts.time_limit = self.options.time_limit if time_limit is None else float(time_limit)
         opts.seed = int(seed)
