@@ -61,7 +61,9 @@ def test_bad_input_is_refused_with_the_valid_names(tmp_path: Path, bundle: Path,
             (["learn", "--demos", str(bundle), "--out", str(tmp_path / "x.a2lb"),
               "--effect", "sideways"], "unknown effect 'sideways'; valid: left, right, close, far"),
             (["show", str(tmp_path)], "is not a file"),
-            (["run", str(bundle), "--effect", "up"], "the bundle's: left, right, close, far")):
+            (["run", str(bundle), "--effect", "up"], "the bundle's: left, right, close, far"),
+            (["run", str(bundle), "--effect", "right", "--gripper-yaw", "90"],
+             "--gripper-yaw: the virtual scene has no gripper to turn")):
         with pytest.raises(SystemExit) as info:
             main(["skill", *argv])
         assert info.value.code == 2

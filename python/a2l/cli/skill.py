@@ -164,8 +164,13 @@ def _cmd_run(ns: Namespace) -> int:
     if ns.record is not None:
         check_record(Path(ns.record))
     frames: list[dict[str, Any]] = []
+    extra = {}
+    if ns.gripper_yaw:
+        if ns.scene == "virtual":
+            raise UsageError("--gripper-yaw", "the virtual scene has no gripper to turn")
+        extra["gripper_yaw"] = ns.gripper_yaw
     with make_scene(ns.scene, seed=ns.seed, step=summary["movements"]["step"],
-                    context_source="ground_truth") as scene:
+                    context_source="ground_truth", **extra) as scene:
         if ns.record is not None:
             frames.append(scene_frame(scene))
         run = run_skill(scene, ns.bundle, ns.effect, mode=ns.mode, max_steps=ns.max_steps,
@@ -232,6 +237,10 @@ def _run_parser() -> Parser:
     p.add_argument("--seed", type=NonNegativeInt, default=0, help="scene seed (default 0)")
     p.add_argument("--max-steps", type=PositiveInt | None, default=None, metavar="N",
                    help="most steps (default: the bundle's step cap)")
+    p.add_argument("--gripper-yaw", type=float, default=0.0, metavar="DEG",
+                   help="turn of the gripper about the vertical on Baxter (degrees; default 0: "
+                   "fingers closing along y; the sideways pushes push_right/push_left are "
+                   "learned with 90)")
     p.add_argument("--record", default=None, metavar="FILE.rrd",
                    help="write a Rerun recording of the run (a2l view FILE.rrd): links, "
                    "objects, end-effector path, camera, context bins, movements, effect")

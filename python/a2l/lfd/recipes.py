@@ -53,6 +53,10 @@ class SkillRecipe:
     context_edges : bool
         Learn with every context variable a fixed parent of the movement
         (:func:`a2l.lfd.skill.learn_skill`).
+    scene_config : dict
+        Scene config fields the skill is demonstrated and run with (e.g. the gripper's
+        turn, ``{"gripper_yaw": 90.0}``), applied by
+        :func:`a2l.lfd.library.make_skill_scene` to every scene whose config has them.
     """
 
     name: str
@@ -70,6 +74,7 @@ class SkillRecipe:
     extra: dict[str, Any] = field(default_factory=dict)
     config: LfDConfig | None = None
     context_edges: bool = False
+    scene_config: dict[str, Any] = field(default_factory=dict)
 
 
 #: Skill name -> recipe.

@@ -49,6 +49,13 @@ class SceneConfig:
         URDF's effort limits (50 Nm at the shoulder). The real Baxter holds its arms
         against gravity with springs and a gravity-compensating controller; with the bare
         limits the stretched arm sags under its own weight.
+    gripper_yaw : float
+        Turn of the downward-pointing gripper about the vertical (degrees, in
+        [-180, 180]): 0 closes the fingers along the world y axis, 90 along x. Every
+        movement, reset and transit asks the IK for this orientation. The sideways pushes
+        turn it by 90 degrees (:data:`a2l.lfd.library.SIDEWAYS_SCENE`): pushing across y
+        with the fingers along y, the outer finger reaches 4.9 cm beyond the gripper's
+        centre and met the box's corner on approaches from off the push axis.
     position_gain : float
         Position gain of PyBullet's joint position motors (its default, 0.1, leaves the
         end-effector about 2 mm short under gravity; 0.3 brings it within 0.1 mm).
@@ -107,6 +114,7 @@ class SceneConfig:
     reach_tolerance: float = 0.01
     motor_force_scale: float = 4.0
     position_gain: float = 0.3
+    gripper_yaw: float = 0.0
     workspace_min: tuple[float, float, float] = (0.35, -0.75, 0.01)
     workspace_max: tuple[float, float, float] = (0.95, 0.45, 0.45)
     table_z: float = -0.20
@@ -147,6 +155,11 @@ class SceneConfig:
                      "effect_threshold", "effect_ratio", "lift_threshold"):
             positive_field(self, name)
         positive_field(self, "object_jitter", allow_zero=True)
+        if (isinstance(self.gripper_yaw, bool) or not isinstance(self.gripper_yaw, (int, float))
+                or not -180 <= self.gripper_yaw <= 180):
+            raise field_error("gripper_yaw", f"must be a number of degrees in [-180, 180], got "
+                              f"{self.gripper_yaw!r}")
+        self.gripper_yaw = float(self.gripper_yaw)
         if self.time_step > 0.05:
             raise field_error("time_step", f"must be <= 0.05 s, got {self.time_step}")
         if self.camera_fov >= 170:

@@ -16,7 +16,7 @@ from a2l.sim._pybullet import p
 from a2l.sim.bullet.build import FINGER_OPEN
 from a2l.sim.movement import MoveResult
 
-__all__ = ["GRIPPER_DOWN", "MotionMixin"]
+__all__ = ["GRIPPER_DOWN", "MotionMixin", "gripper_down"]
 
 #: Shortest settling at the end of a movement (s): 5 physics steps at 240 Hz.
 _SETTLE_MIN_S = 5.0 / 240.0
@@ -24,6 +24,15 @@ _SETTLE_MIN_S = 5.0 / 240.0
 #: Orientation of the gripper frame when it points down: z to the floor, fingers closing
 #: along the world y axis.
 GRIPPER_DOWN: NDArray[np.float64] = np.diag([-1.0, 1.0, -1.0])
+
+
+def gripper_down(yaw_deg: float = 0.0) -> NDArray[np.float64]:
+    """Rotation (3, 3) of the gripper pointing down, turned by `yaw_deg` degrees about the
+    vertical from :data:`GRIPPER_DOWN` (90: the fingers close along the world x axis)."""
+    a = math.radians(float(yaw_deg))
+    c, s = math.cos(a), math.sin(a)
+    turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return GRIPPER_DOWN @ turn
 
 
 class MotionMixin:
@@ -89,9 +98,10 @@ class MotionMixin:
 
     def gripper_down_pose(self, xyz: ArrayLike) -> NDArray[np.float64]:
         """Homogeneous pose (4, 4) of the end-effector at `xyz` (3,) with the gripper pointing
-        down (:data:`GRIPPER_DOWN`): the target every movement and transit asks the IK for."""
+        down, turned by the config's ``gripper_yaw`` (:func:`gripper_down`): the target every
+        movement and transit asks the IK for."""
         t = np.eye(4)
-        t[:3, :3] = GRIPPER_DOWN
+        t[:3, :3] = gripper_down(getattr(self.config, "gripper_yaw", 0.0))
         t[:3, 3] = np.asarray(xyz, dtype=float)
         return t
 
