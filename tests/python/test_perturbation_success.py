@@ -2,12 +2,13 @@
 configuration, each condition's success count held to a one-sided binomial bound.
 
 Each skill is learned with its own configuration and run as the context skill (the compiled
-table through the C++ step, the context from the ground truth as in the runs the rates come
-from) from ``TRIALS[skill]`` evaluation trial seeds of the perturbations block (``SEED`` ...:
-no setting was chosen on them), unperturbed and under every perturbation
-(:func:`a2l.experiments.perturbations.trial_task`). The bound of a condition is the smallest
-success count a skill at the claimed rate (:func:`_rate`) reaches with probability
->= 1 - ALPHA: a skill as good as claimed fails a bound with probability < ALPHA = 1 %.
+table through the C++ step, the context from the ground truth: cheaper than the camera, and
+the reported runs gave the same rates with either) from ``TRIALS[skill]`` evaluation trial
+seeds of the perturbations block (``SEED`` ...: no setting was chosen on them), unperturbed
+and under every perturbation (:func:`a2l.experiments.perturbations.trial_task`). The bound
+of a condition is the smallest success count a skill at the claimed rate (:func:`_rate`)
+reaches with probability >= 1 - ALPHA: a skill as good as claimed fails a bound with
+probability < ALPHA = 1 %.
 """
 
 from __future__ import annotations
@@ -23,23 +24,19 @@ from a2l.experiments.perturbations import CONDITIONS, skill_cfg, trial_task
 from a2l.lfd.library import SKILLS, learn_recipe
 
 #: First trial seed: evaluation seeds of the perturbations block (docs/seeds.md), apart
-#: from the reported runs' (5000 ..., 5100 ...).
+#: from the reported runs' (5000 ..., 5100 ..., 5200 ...).
 SEED = 6500
 #: Trials per skill: the sideways pushes (issue 27's) and the press.
 TRIALS = {"push_right": 24, "push_left": 24, "press": 12}
 #: Probability that a skill at its claimed rate fails a condition's bound.
 ALPHA = 0.01
-#: The sideways pushes' measured rates, table, ground truth (docs/experiments/
-#: perturbations.md: seeds 5100-5149, 45/50 unperturbed, 39-40/50 with the box moved, 46/50
-#: held, 45/50 toggled): below issue 27's targets (95 %, 90 %), so the claim, not the target.
-SIDEWAYS = {"none": 0.90, "move_object": 0.78, "hold": 0.90, "toggle_light": 0.90}
 
 
 def _rate(skill: str, condition: str) -> float:
-    """The success rate claimed for `skill` under `condition`: the sideways pushes' measured
-    rates, the issue's target (:func:`a2l.experiments.perturbation_report.target`) else."""
-    if skill in ("push_right", "push_left"):
-        return SIDEWAYS[condition]
+    """The success rate claimed for `skill` under `condition`: the issue's target
+    (:func:`a2l.experiments.perturbation_report.target`), which the sideways pushes reach
+    since their gripper is turned (docs/experiments/perturbations.md: seeds 5200-5249, 98-100 %
+    with the camera and with the ground truth)."""
     return target(skill, condition)
 
 
@@ -52,7 +49,7 @@ def _bound(n: int, p: float, alpha: float = ALPHA) -> int:
 
 
 def test_bound_is_the_binomial_quantile() -> None:
-    assert _bound(24, 0.90) == 18 and _bound(24, 0.78) == 14 and _bound(12, 0.95) == 9
+    assert _bound(24, 0.90) == 18 and _bound(24, 0.95) == 20 and _bound(12, 0.95) == 9
     assert binom.cdf(_bound(24, 0.90) - 1, 24, 0.90) <= ALPHA < binom.cdf(_bound(24, 0.90),
                                                                            24, 0.90)
 
