@@ -159,6 +159,14 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
     if (Result r = compile_fallback(discretizer, table, fallback); !r.ok()) return r;
   }
   out.fallback_ = std::move(fallback);
+  out.fallback_reach_ = -1.0;
+  for (int i = 0; i < discretizer.n_variables(); ++i) {
+    const Variable& v = discretizer.variable(i);
+    if (v.kind == VariableKind::distance) {
+      out.fallback_reach_ = v.high;
+      break;
+    }
+  }
   out.name_ = std::move(name);
   out.discretizer_ = std::move(discretizer);
   out.table_ = std::move(table);
@@ -237,6 +245,12 @@ void top_two(const double* p, int n, int& first, int& second) noexcept {
   }
 }
 
+// Whether movement `m` keeps the end-effector within `limit` of the object, from `r` =
+// eef - object (a fallback step's restriction, Skill::fallback_reach).
+bool within_reach(const Skill& skill, const Eigen::Vector3d& r, double limit, int m) noexcept {
+  return (r + skill.movements().displacement(m)).norm() <= limit + 1e-12;
+}
+
 }  // namespace
 
 Status step(const Skill& skill, SkillState& state, const Context& context,
@@ -268,8 +282,20 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
 
   const bool smooth = state.smoothing == Smoothing::on ||
                       (state.smoothing == Smoothing::from_skill && skill.settings().smoothing);
+  // A fallback step may not carry the end-effector past max(|r|, reach) (Skill::fallback_reach).
+  const Eigen::Vector3d r = context.eef - context.object;
+  const double reach = skill.fallback_reach();
+  const bool limited = rec.fallback && reach >= 0.0;
+  const double limit = std::max(r.norm(), reach);
   int chosen = am;
-  double prob = table.posterior_row(row)[am];
+  if (limited && !within_reach(skill, r, limit, am)) {
+    const double* p = table.posterior_row(row);
+    for (int m = 0; m < skill.n_moves(); ++m) {
+      if (!within_reach(skill, r, limit, m)) continue;
+      if (chosen == am || p[m] > p[chosen]) chosen = m;
+    }
+  }
+  double prob = table.posterior_row(row)[chosen];
   if (smooth) {
     const int nm = skill.n_moves();
     double* avg = state.average_.data();
@@ -300,6 +326,13 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
       }
     }
     for (int m = 0; m < nm; ++m) avg[m] /= informative;
+    if (limited) {  // the movements past the reach drop out, unless every one is past it
+      int allowed = 0;
+      for (int m = 0; m < nm; ++m) allowed += within_reach(skill, r, limit, m) ? 1 : 0;
+      for (int m = 0; allowed > 0 && m < nm; ++m) {
+        if (!within_reach(skill, r, limit, m)) avg[m] = -1.0;
+      }
+    }
     int first = 0, second = -1;
     top_two(avg, nm, first, second);
     chosen = first;

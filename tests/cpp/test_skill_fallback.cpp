@@ -57,6 +57,21 @@ a2l::Context context_of(const std::vector<int>& b) {
   return c;
 }
 
+// The movement a fallback step without smoothing takes from row `f` at context `c`: the most
+// probable (lowest index on a tie) of those that end no farther from the object than
+// max(|r|, reach), or the row's argmax if none does.
+int expected_fallback_move(const a2l::Skill& skill, std::size_t f, const a2l::Context& c) {
+  const Eigen::Vector3d r = c.eef - c.object;
+  const double limit = std::max(r.norm(), skill.fallback_reach());
+  const double* p = skill.table().posterior_row(f);
+  int best = -1;
+  for (int m = 0; m < skill.n_moves(); ++m) {
+    if ((r + skill.movements().displacement(m)).norm() > limit + 1e-12) continue;
+    if (best < 0 || p[m] > p[best]) best = m;
+  }
+  return best < 0 ? skill.table().argmax(f) : best;
+}
+
 TEST(Fallback, EveryUniformRowGetsTheNearestInformativeRowOfItsEffectAndStates) {
   const BundleParts p = sample_parts(9, 0.6);
   const a2l::Skill skill = load(with_fallback(p));
@@ -111,10 +126,10 @@ TEST(Fallback, AnUnseenCellGetsTheFallbackMovementAndTheTraceMarksIt) {
       continue;
     }
     // The cell has no data: without the fallback the step stops, with it the step takes
-    // the fallback row's movement, and the trace says so.
+    // the fallback row's movement (the most probable one within reach), and the trace says so.
     EXPECT_EQ(ps, Status::unknown_context);
     const auto f = static_cast<std::size_t>(skill.fallback_row(r));
-    EXPECT_EQ(out.movement, skill.table().argmax(f));
+    EXPECT_EQ(out.movement, expected_fallback_move(skill, f, c));
     EXPECT_EQ(out.probability, skill.table().posterior_row(f)[out.movement]);
     EXPECT_TRUE(out.record.fallback);
     const a2l::TraceRecord& last = state.trace(state.trace_size() - 1);
@@ -124,6 +139,50 @@ TEST(Fallback, AnUnseenCellGetsTheFallbackMovementAndTheTraceMarksIt) {
     ++checked;
   }
   EXPECT_GT(checked, 100);
+}
+
+TEST(Fallback, AFallbackStepNeverCarriesTheEndEffectorPastTheDistanceRange) {
+  // Beyond the last (saturated) distance bin the cell no longer changes as the end-effector
+  // moves outward: an outward fallback movement would repeat until the arm's reach ends.
+  const BundleParts p = sample_parts(9, 0.6);
+  const a2l::Skill skill = load(with_fallback(p));
+  EXPECT_DOUBLE_EQ(skill.fallback_reach(), 0.20);  // the distance variable's upper end
+  a2l::SkillState state(skill);
+  int outward_argmax = 0, checked = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    if (p.argmax[r] >= 0) continue;
+    auto b = bins_of(r, p.shape);
+    if (b[1] != 2) continue;  // the saturated bin, here 0.1 m past its upper end
+    for (const double d : {0.20, 0.30}) {
+      a2l::Context c = context_of(b);
+      c.eef = c.object + (c.eef - c.object).normalized() * d;
+      const auto f = static_cast<std::size_t>(skill.fallback_row(r));
+      const Eigen::Vector3d rel = c.eef - c.object;
+      outward_argmax +=
+          (rel + skill.movements().displacement(skill.table().argmax(f))).norm() > d ? 1 : 0;
+      state.reset();
+      a2l::StepOutput out;
+      ASSERT_EQ(a2l::step(skill, state, c, out), Status::ok);
+      ASSERT_TRUE(out.record.fallback);
+      EXPECT_LE((rel + out.displacement).norm(), d + 1e-12) << "row " << r << " at " << d;
+      EXPECT_EQ(out.movement, expected_fallback_move(skill, f, c));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 40);
+  EXPECT_GT(outward_argmax, 10) << "the fallback rows' own movements point outward often";
+  // A cell with data is never restricted: its movement is its row's argmax wherever it is.
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    auto b = bins_of(r, p.shape);
+    if (p.argmax[r] < 0 || b[1] != 2) continue;
+    a2l::Context c = context_of(b);
+    c.eef = c.object + (c.eef - c.object).normalized() * 0.30;
+    state.reset();
+    a2l::StepOutput out;
+    ASSERT_EQ(a2l::step(skill, state, c, out), Status::ok);
+    EXPECT_FALSE(out.record.fallback);
+    EXPECT_EQ(out.movement, p.argmax[r]);
+  }
 }
 
 TEST(Fallback, NoInformativeCellOfTheEffectIsStillAnUnknownContext) {
@@ -157,6 +216,15 @@ TEST(Fallback, SmoothingAppliesToTheFallbackRow) {
     ASSERT_EQ(a2l::step(skill, state, context_of(bins_of(r, p.shape)), out), Status::ok);
     EXPECT_TRUE(out.record.fallback);
     ++fallbacks;
+    // With smoothing too, a fallback step beyond the distance range never goes farther out.
+    auto b = bins_of(r, p.shape);
+    if (b[1] != 2) continue;
+    a2l::Context c = context_of(b);
+    c.eef = c.object + (c.eef - c.object).normalized() * 0.30;
+    state.reset();
+    ASSERT_EQ(a2l::step(skill, state, c, out), Status::ok);
+    EXPECT_TRUE(out.record.fallback);
+    EXPECT_LE((c.eef - c.object + out.displacement).norm(), 0.30 + 1e-12) << "row " << r;
   }
   EXPECT_GT(fallbacks, 100);
 }

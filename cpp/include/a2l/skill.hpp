@@ -33,8 +33,10 @@ struct RobotInfo {
 
 //! What step() does in a context cell the table has no information for (a uniform row).
 enum class Fallback : int {
-  none = 0,     //!< stop with `unknown_context`
-  nearest = 1,  //!< take the nearest informative cell's movement (Skill::fallback_row)
+  none = 0,  //!< stop with `unknown_context`
+  //! take the nearest informative cell's movement (Skill::fallback_row), never one that
+  //! carries the end-effector past the distance range (Skill::fallback_reach)
+  nearest = 1,
 };
 
 //! The manifest name of a fallback rule ("none", "nearest"). Never allocates.
@@ -103,6 +105,10 @@ class Skill {
     return fallback_.empty() ? (table_.argmax(row) < 0 ? -1 : static_cast<std::int32_t>(row))
                              : fallback_[row];
   }
+  //! How far a fallback step may carry the end-effector from the object (m): the upper end
+  //! of the skill's first `distance` variable, or a negative value when it has none (no
+  //! limit). A fallback movement may not end farther than max(current distance, this).
+  double fallback_reach() const noexcept { return fallback_reach_; }
 
  private:
   std::string name_;
@@ -113,6 +119,7 @@ class Skill {
   RobotInfo robot_;
   DSPhaseSet ds_phases_;
   std::vector<std::int32_t> fallback_;  // per row, with Fallback::nearest (fallback_row())
+  double fallback_reach_ = -1.0;        // fallback_reach()
 };
 
 //! One step of a skill as the trace records it (docs/method.md: context bins, movement,
@@ -223,7 +230,12 @@ class SkillState {
 //!   range, or a uniform table row = argmax -1 without a fallback row): `unknown_context`.
 //! A uniform row with a fallback row (Skill::fallback_row, the skill's `nearest` fallback)
 //! is answered from that row, status `ok`, `record.fallback` set: a defined answer compiled
-//! at load time, never a guess at step time.
+//! at load time, never a guess at step time. A fallback step takes the most probable
+//! movement that does not end farther from the object than max(current distance,
+//! Skill::fallback_reach()) (the last distance bin saturates: beyond it the cell no longer
+//! changes, and an outward fallback movement would repeat until the arm's reach ends); the
+//! movement with the largest probability among those, after smoothing; if none is allowed,
+//! the unrestricted choice.
 //! With smoothing (docs/method.md), the posterior is averaged over the current point and
 //! its 6 neighbours (eef +- step/2 along x, y, z), uniform (uninformative) neighbours left
 //! out; the top movement is taken if it is alone, has p > 0.95, or the second is below 0.75
