@@ -134,6 +134,18 @@ def test_validate_distance_range(low: float, high: float) -> None:
         FrameworkConfig(dist_low=low, dist_high=high).validate()
 
 
+def test_fallback_defaults_by_scene_and_an_explicit_rule_wins() -> None:
+    """Baxter falls back to the nearest cell with data, the virtual scene stops (issue 27:
+    measured in ``docs/experiments/push.md``); a rule given explicitly is kept, and a
+    config read back from its dict keeps the resolved rule."""
+    assert FrameworkConfig(scene="baxter").fallback == "nearest"
+    assert FrameworkConfig(scene="virtual").fallback == "none"
+    assert FrameworkConfig(scene="baxter", fallback="none").fallback == "none"
+    assert FrameworkConfig(scene="virtual", fallback="nearest").fallback == "nearest"
+    cfg = FrameworkConfig(scene="baxter")
+    assert FrameworkConfig.from_dict({**asdict(cfg), "scene": "virtual"}).fallback == "nearest"
+
+
 def test_default_config_is_valid_and_round_trips() -> None:
     cfg = FrameworkConfig(seed=7, n_effects=8, scene="baxter", scene_config={"gui": False})
     cfg.validate()
