@@ -102,13 +102,15 @@ REGISTRY: dict[str, ExperimentSeeds] = {e.experiment: e for e in (
                     "starts from seeds 0-29", "the tuning split of the shapes: seed 0"),
     ExperimentSeeds("lfd-skills", "each trial's set-up (object and arm start)", (1000, 4999),
                     "the LfD defaults come from the parametrization study (trial seeds "
-                    "500-539)", _LFD_STREAMS),
+                    "500-539); the sideways pushes' turned gripper from trial seeds 500-579",
+                    _LFD_STREAMS),
     ExperimentSeeds("parametrization", "each trial's set-up (object and arm start)",
                     (1000, 4999), "a tuning study: it runs on seeds 500-539 by default, and "
                     "its choice became the LfD defaults", _LFD_STREAMS),
     ExperimentSeeds("perturbations", "each trial's set-up and its perturbation", (5000, 6999),
                     "the perturbation sizes and windows were set without trial seeds of this "
-                    "block", _LFD_STREAMS),
+                    "block; the sideways pushes' turned gripper on lfd trial seeds 500-579",
+                    _LFD_STREAMS),
     ExperimentSeeds("tasks", "each trial's set-up and its fault", (7000, 7999),
                     "the planning and transit settings were set without trial seeds of this "
                     "block", _LFD_STREAMS),
