@@ -2,7 +2,8 @@
 
 Before the planner worker, every call started a child process (``python -m
 a2l.planning._child``: the a2l package, the planner and, for Fast Downward, unified-planning
-imported per call); that child is kept verbatim as ``planner_per_call.py`` and timed here
+imported per call); that child is kept as ``planner_per_call.py`` (its pyperplan search the
+worker's own function, so the rows differ only in the process per call) and timed here
 as the baseline row, in the same run as the worker (:data:`a2l.planning.planners.WORKER`).
 """
 

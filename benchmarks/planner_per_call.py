@@ -1,5 +1,8 @@
 """The planner child process that a2l.planning ran once per call before the planner worker
-(verbatim, the baseline of `bench_task_planning.py`): runs one planner, prints JSON.
+(the baseline of `bench_task_planning.py`): runs one planner, prints JSON. Its pyperplan
+search is the worker's own (:func:`a2l.planning._worker.pyperplan_search`), so the two differ
+only in the process started per call; its Fast Downward call is the old one through
+unified-planning, verbatim.
 
 It ran as ``python -m a2l.planning._child '{"planner": ..., "domain": ..., "problem": ...}'``
 (importing the a2l package first); the benchmark runs it the same way through ``runpy``. It
@@ -12,31 +15,7 @@ import json
 import sys
 from typing import Any
 
-
-def _pyperplan(domain: str, problem: str, search: str, heuristic: str) -> tuple[str, Any]:
-    from pyperplan import planner as pp
-
-    searches = pp.SEARCHES
-    heuristics = pp.HEURISTICS
-    if not isinstance(heuristics, dict):  # older releases: a list of classes
-        heuristics = {h.__name__[:-len("Heuristic")].lower(): h for h in heuristics}
-    if search not in searches:
-        return "error", f"unknown pyperplan search {search!r}; choose from {sorted(searches)}"
-    if heuristic not in heuristics:
-        return "error", (f"unknown pyperplan heuristic {heuristic!r}; choose from "
-                         f"{sorted(heuristics)}")
-    blind_search = search in ("bfs", "ids", "sat")
-    plan = pp.search_plan(domain, problem, searches[search],
-                          None if blind_search else heuristics[heuristic])
-    if plan is None:
-        if search in ("ehs", "ids", "sat"):  # incomplete or bounded: no proof
-            return "unsolvable", f"pyperplan's {search} search found no plan (not a proof)"
-        return "unsolvable", f"pyperplan's {search} search exhausted the state space"
-    steps = []
-    for op in plan:
-        tokens = op.name.strip("()").split()
-        steps.append((tokens[0], tuple(tokens[1:])))
-    return "solved", steps
+from a2l.planning._worker import pyperplan_search
 
 
 def _fast_downward(domain: str, problem: str, time_limit: float) -> tuple[str, Any]:
@@ -63,8 +42,8 @@ def main(argv: list[str] | None = None) -> int:
     args = json.loads((argv if argv is not None else sys.argv[1:])[0])
     try:
         if args["planner"] == "pyperplan":
-            status, payload = _pyperplan(args["domain"], args["problem"], args["search"],
-                                         args["heuristic"])
+            status, payload = pyperplan_search(args["domain"], args["problem"],
+                                               args["search"], args["heuristic"])
         else:
             status, payload = _fast_downward(args["domain"], args["problem"],
                                              args["time_limit"])

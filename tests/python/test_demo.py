@@ -58,6 +58,17 @@ def test_cli_runs_the_whole_demo(tmp_path, capfd: pytest.CaptureFixture[str]) ->
     assert "OK: the planned task reached its goal" in text
     assert (out / "task" / "plans" / "light-off-place-right-7000-fault"
             / "plan1-plan-pyperplan.txt").is_file()
+    # demo.json holds what was printed, and its table (`a2l results`' demo entry) says it
+    from a2l.experiments.demo_report import summary_table
+
+    d = json.loads((out / "demo.json").read_text())
+    assert [p["rc"] for p in d["parts"].values()] == [0] * 5
+    assert d["parts"]["runtime"]["success"] == int(run.group(1))
+    assert d["parts"]["experiment"]["scores"] == [m["final_score"]]
+    assert d["parts"]["task"]["replans"] == 1 and d["parts"]["task"]["faults"] == ["light_on"]
+    table = summary_table(d)
+    assert f"{run.group(1)} of 32 episodes" in table and "5 of 5 parts passed" in table
+    assert f"box pushed {d['parts']['world']['moved_cm']:.1f} cm" in text
 
 
 def test_demo_gui_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch,

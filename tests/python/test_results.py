@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from a2l.results.blocks import block, fill_blocks, pages_with_blocks, read_blocks, stale_blocks
-from a2l.results.catalog import ENTRIES, PROFILES, entries
+from a2l.results.catalog import CONTEXTS, ENTRIES, PROFILES, by_context, entries
 from a2l.results.provenance import git_state
 from a2l.results.run import copy_blocks, run_results, sources
 from a2l.seeds import is_tuning
@@ -89,10 +89,14 @@ def test_blocks_are_read_filled_and_checked() -> None:
 def test_every_run_is_a_command_on_evaluation_seeds(profile: str) -> None:
     from a2l.cli import parse
 
+    assert [e.name for e in ENTRIES if not e.evaluation] == ["demo"]
     for entry in ENTRIES:
         assert entry.runs[profile], entry.name
         for run in entry.runs[profile]:
             path, ns, _ = parse([*run.args, "--out", "x", "--workers", "2"])
+            if not entry.evaluation:  # the demo: `make demo`'s own command and seed
+                assert path[0] == "demo" and ns.seed == 0, run
+                continue
             assert path[0] == "experiment", run
             seeds = []
             for flag in ("seed", "first_seed"):
@@ -105,6 +109,26 @@ def test_every_run_is_a_command_on_evaluation_seeds(profile: str) -> None:
             assert not any(is_tuning(s) for s in seeds), (entry.name, run.key, seeds)
     with pytest.raises(KeyError, match="unknown results table"):
         entries(["push-virtual", "nonsense"])
+
+
+def test_tables_per_context_are_joined_side_by_side() -> None:
+    cam = "| skill | success |\n|---|---|\n| push | 8/10 |\n| grasp | 10/10 |\n"
+    gt = "| skill | success |\n|---|---|\n| push | 9/10 |\n| grasp | 10/10 |\n"
+    rows = by_context([cam, gt]).splitlines()
+    assert rows[0] == "| context | skill | success |" and rows[1] == "|---|---|---|"
+    assert rows[2:] == [f"| {CONTEXTS[0]} | push | 8/10 |", f"| {CONTEXTS[0]} | grasp | 10/10 |",
+                        f"| {CONTEXTS[1]} | push | 9/10 |", f"| {CONTEXTS[1]} | grasp | 10/10 |"]
+    with pytest.raises(ValueError, match="different headers"):
+        by_context([cam, gt.replace("success", "rate")])
+    with pytest.raises(ValueError, match="one per context"):
+        by_context([cam])
+    # every side-by-side entry runs its experiment once per context, the second with the truth
+    for entry in ENTRIES:
+        for runs in entry.runs.values():
+            gts = [r for r in runs if "ground_truth" in r.args]
+            if gts:
+                assert len(runs) == 2 and runs[1] is gts[0] and runs[0].args + (
+                    "--context_source", "ground_truth") == runs[1].args, entry.name
 
 
 def _git(root: Path, *args: str) -> None:

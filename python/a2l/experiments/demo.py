@@ -17,6 +17,10 @@
    area, reached by a PDDL plan (pyperplan) of learned skills (grasp, press, through the C++
    step) joined by OMPL transits on Baxter; the light is switched back on behind the robot's
    back and the demo shows the replanning; it prints every plan and the plan files' directory.
+
+Each part also writes what it printed as numbers into the run directory's ``demo.json``
+(:data:`SUMMARY_FILE`; read by :func:`a2l.experiments.demo_report.summary_table`, the
+``demo`` table of ``a2l results``).
 """
 
 from __future__ import annotations
@@ -27,16 +31,21 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-__all__ = ["lfd_push", "planned_task", "push_box", "run_demo"]
+__all__ = ["SUMMARY_FILE", "lfd_push", "planned_task", "push_box", "run_demo"]
+
+#: The demo's numbers, in its run directory.
+SUMMARY_FILE = "demo.json"
 
 #: The box must move at least this far (m) for the demo to succeed.
 MIN_DISPLACEMENT = 0.01
 
 
-def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
+def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6,
+             summary: dict[str, Any] | None = None) -> int:
     """Part 1 of the demo: Baxter pushes the box forward; print what happened.
 
     Parameters
@@ -47,6 +56,9 @@ def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
         Open the PyBullet GUI and run in real time.
     max_moves : int
         Most forward movements to try.
+    summary : dict, optional
+        Receives ``moved_cm`` (ground truth), ``seen_cm`` (the camera; None when it did not
+        see the box) and ``moves``.
 
     Returns
     -------
@@ -72,6 +84,7 @@ def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
               "moving by the C++ inverse kinematics")
         print(f"  box at ({box0[0]:.3f}, {box0[1]:.3f}, {box0[2]:.3f}) m; end-effector starts "
               f"at ({start[0]:.3f}, {start[1]:.3f}, {start[2]:.3f}) m")
+        i = 0
         for i in range(1, max_moves + 1):
             result = scene.execute((1, 0, 0))
             eef = result.reached
@@ -86,6 +99,7 @@ def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
         box1 = np.asarray(scene.ground_truth()["objects"]["box"])
         seen1 = scene.perceive()["objects"].get("box")
         moved = float(np.linalg.norm((box1 - box0)[:2]))
+        seen: float | None = None
         print(f"  box moved {moved * 100:.1f} cm (ground truth), to "
               f"({box1[0]:.3f}, {box1[1]:.3f}, {box1[2]:.3f}) m; "
               f"effect over the episode: {scene.observe_effect('episode', 'ground_truth')}")
@@ -93,6 +107,9 @@ def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
             seen = float(np.linalg.norm((np.asarray(seen1) - np.asarray(seen0))[:2]))
             print(f"  the camera saw it move {seen * 100:.1f} cm")
     print(f"  ({time.perf_counter() - t0:.1f} s)")
+    if summary is not None:
+        summary.update(moved_cm=moved * 100, seen_cm=None if seen is None else seen * 100,
+                       moves=i)
     if moved < MIN_DISPLACEMENT:
         print(f"FAILED: the box moved {moved * 1000:.1f} mm, less than "
               f"{MIN_DISPLACEMENT * 1000:.0f} mm")
@@ -102,14 +119,15 @@ def push_box(seed: int = 0, gui: bool = False, max_moves: int = 6) -> int:
 
 
 def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
-             skill: str = "push_far") -> int:
+             skill: str = "push_far", summary: dict[str, Any] | None = None) -> int:
     """Part 4 of the demo: a demonstrated push skill under perturbations, on Baxter.
 
     The skill is learned from its scripted demonstrations (:mod:`a2l.lfd.library`) and run
     through the C++ step in the ``press`` scene (the push box, a button and a lamp), from the
     held-out trial `seed`. After the 2nd movement the box is moved 4 cm sideways; after the
     3rd the light is switched on. Each step prints the context bins the skill saw and the
-    movement it chose.
+    movement it chose. `summary` receives ``skill``, ``effect``, ``movements``, ``stop``,
+    ``success`` and the box's displacement ``produced_cm`` (x, y).
 
     Returns
     -------
@@ -181,6 +199,10 @@ def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
     print(f"  box pushed {run.produced[0] * 100:+.1f} cm along x, {run.produced[1] * 100:+.1f} "
           f"cm along y by the skill; {run.stop} after {run.movements} movements "
           f"({time.perf_counter() - t0:.1f} s)")
+    if summary is not None:
+        summary.update(skill=skill, effect=recipe.effect, movements=run.movements,
+                       stop=run.stop, success=bool(run.success),
+                       produced_cm=[float(run.produced[0]) * 100, float(run.produced[1]) * 100])
     if not run.success:
         print(f"FAILED: the skill did not push the box 5 cm {recipe.effect}")
         return 1
@@ -189,12 +211,15 @@ def lfd_push(out: str | Path, seed: int = 1000, gui: bool = False,
 
 
 def planned_task(out: str | Path, seed: int = 7000, gui: bool = False,
-                 task: str = "light-off-place-right", fault: bool = True) -> int:
+                 task: str = "light-off-place-right", fault: bool = True,
+                 summary: dict[str, Any] | None = None) -> int:
     """Part 5 of the demo: a task planned with the learned skills, replanned after a fault.
 
     The grasp and press skills are learned (:func:`a2l.experiments.tasks.learn_task_skills`)
     and task `task` of :data:`a2l.experiments.tasks.TASKS` is played from trial `seed`
-    (:func:`a2l.experiments.tasks.play_task`), with its fault when `fault`.
+    (:func:`a2l.experiments.tasks.play_task`), with its fault when `fault`. `summary`
+    receives ``task``, ``success``, ``replans``, ``skills`` (steps carried out), ``faults``
+    (the faults injected), ``plan_ms`` and ``transit_ms`` (medians).
 
     Returns
     -------
@@ -241,6 +266,11 @@ def planned_task(out: str | Path, seed: int = 7000, gui: bool = False,
     print(f"  {res.report()}; OMPL transits {len(res.transit_ms)} (median "
           f"{np.median(res.transit_ms) if res.transit_ms else 0:.0f} ms planning); "
           f"plan files in {played.plan_dir}/ ({time.perf_counter() - t0:.1f} s)")
+    if summary is not None:
+        summary.update(task=task, success=bool(res.success), replans=len(res.plans) - 1,
+                       skills=len(res.steps), faults=list(played.fired),
+                       plan_ms=float(np.median(res.plan_ms)) if res.plan_ms else None,
+                       transit_ms=float(np.median(res.transit_ms)) if res.transit_ms else None)
     if not res.success:
         print("FAILED: the planned task did not reach its goal")
         return 1
@@ -248,8 +278,9 @@ def planned_task(out: str | Path, seed: int = 7000, gui: bool = False,
     return 0
 
 
-def _a2l_run(bundle: Path, seed: int) -> int:
-    """Run ``a2l-run`` on `bundle` (virtual scene, through Baxter's arm) and echo it."""
+def _a2l_run(bundle: Path, seed: int, summary_path: Path | None = None) -> int:
+    """Run ``a2l-run`` on `bundle` (virtual scene, through Baxter's arm) and echo it; its
+    results as JSON to `summary_path` when given."""
     exe = shutil.which("a2l-run") or str(Path(sys.executable).with_name("a2l-run"))
     if not Path(exe).is_file():
         print("FAILED: the a2l-run executable is not installed (make setup)")
@@ -258,6 +289,8 @@ def _a2l_run(bundle: Path, seed: int) -> int:
 
     cmd = [exe, str(bundle), "--scene", "virtual", "--episodes", "8", "--seed", str(seed),
            "--urdf", str(baxter_urdf()), "--trace", str(bundle.with_suffix(".trace.csv"))]
+    if summary_path is not None:
+        cmd += ["--summary", str(summary_path)]
     print("$ " + " ".join(["a2l-run", *cmd[1:]]), flush=True)
     return subprocess.run(cmd, check=False).returncode
 
@@ -273,7 +306,9 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     gui : bool
         Open the PyBullet GUI for part 1.
     out : path, optional
-        Run directory of the experiment (default ``runs/demo-<timestamp>``).
+        Run directory (default ``runs/demo-<timestamp>``): the experiment's files, and
+        :data:`SUMMARY_FILE` with every part's numbers and wall time, rewritten as each
+        part ends (a failed part is recorded with its exit code).
     iterations : int
         Iterations of the push experiment.
     starts : int
@@ -281,37 +316,74 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     workers : int, optional
         Worker processes for the rollouts (default: up to 2, one per core).
     """
+    from a2l.rundir import make_run_dir, read_json, write_json
+
     workers = workers or max(1, min(2, os.cpu_count() or 1))
+    run_dir = Path(make_run_dir("demo", out))
     t0 = time.perf_counter()
+    summary: dict[str, Any] = {"seed": seed, "iterations": iterations, "starts": starts,
+                               "workers": workers, "parts": {}}
+
+    def part(name: str, fn: Any) -> int:
+        rec: dict[str, Any] = {}
+        t = time.perf_counter()
+        rc = int(fn(rec))
+        rec.update(rc=rc, wall_s=time.perf_counter() - t)
+        summary["parts"][name] = rec
+        summary["wall_s"] = time.perf_counter() - t0
+        write_json(run_dir / SUMMARY_FILE, summary)
+        return rc
+
     print("== 1/5  the world: Baxter pushes a box (PyBullet, C++ IK) ==")
-    rc = push_box(seed=seed, gui=gui)
+    rc = part("world", lambda rec: push_box(seed=seed, gui=gui, summary=rec))
     if rc != 0:
         return rc
     print(f"\n== 2/5  A2L push experiment on the Baxter scene ({starts} starts, 4 effects, "
           f"{iterations} iterations) ==", flush=True)
-    from a2l.experiments.push import run_push_experiment
-    from a2l.framework import FrameworkConfig
-    from a2l.rundir import make_run_dir
+    bundle = run_dir / "skills" / "push.a2lb"
 
-    # held-out starts in proportion to the training ones (the default 32 with 8 starts)
-    cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
-                          max_iterations=iterations, seed=seed, heldout_starts=4 * starts)
-    run_dir = make_run_dir("demo", out)
-    result = run_push_experiment(cfg, out=run_dir, workers=workers)
-    bundle = Path(result["run_dir"]) / result["bundle"]
+    def experiment(rec: dict[str, Any]) -> int:
+        from a2l.experiments.push import run_push_experiment
+        from a2l.framework import FrameworkConfig
+
+        # held-out starts in proportion to the training ones (the default 32 with 8 starts)
+        cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
+                              max_iterations=iterations, seed=seed,
+                              heldout_starts=4 * starts)
+        result = run_push_experiment(cfg, out=run_dir, workers=workers)
+        nonlocal bundle
+        bundle = Path(result["run_dir"]) / result["bundle"]
+        rec.update(scores=[it["score"] for it in result["iterations"]],
+                   success=result.get("final_success"),
+                   heldout_success=result.get("heldout_success"),
+                   heldout_score=result.get("heldout_score"), bundle=str(bundle))
+        return 0
+
+    part("experiment", experiment)
     print(f"\n== 3/5  a2l-run: the exported skill in the C++ runtime ({bundle.name}) ==",
           flush=True)
-    rc = _a2l_run(bundle, seed)
+
+    def runtime(rec: dict[str, Any]) -> int:
+        path = run_dir / "a2l-run.json"
+        rc = _a2l_run(bundle, seed, path)
+        if rc == 0:
+            res = read_json(path)
+            rec.update(success=res["success"], episodes=res["episodes"],
+                       step_p50_us=res["step_time"]["p50_us"],
+                       tick_p50_us=res["tick_time"]["p50_us"])
+        return rc
+
+    rc = part("runtime", runtime)
     if rc != 0:
         return rc
     print("\n== 4/5  learning from demonstration: a demonstrated push under perturbations "
           "(Baxter, PyBullet) ==", flush=True)
-    rc = lfd_push(Path(run_dir) / "lfd", gui=gui)
+    rc = part("lfd", lambda rec: lfd_push(run_dir / "lfd", gui=gui, summary=rec))
     if rc != 0:
         return rc
     print("\n== 5/5  a planned task: PDDL plan of learned skills, OMPL transits, replanning "
           "(Baxter, PyBullet) ==", flush=True)
-    rc = planned_task(Path(run_dir) / "task", gui=gui)
+    rc = part("task", lambda rec: planned_task(run_dir / "task", gui=gui, summary=rec))
     print(f"\ndemo finished in {time.perf_counter() - t0:.0f} s; results in {run_dir}/ "
-          "(report.md, metrics.json, plots, skills/)")
+          f"(report.md, metrics.json, {SUMMARY_FILE}, plots, skills/)")
     return rc

@@ -60,7 +60,15 @@ def _lama_first() -> list[str]:
     return list(ALIASES["lama-first"])
 
 
-def _pyperplan(domain: str, problem: str, search: str, heuristic: str) -> tuple[str, Any]:
+def pyperplan_search(domain: str, problem: str, search: str, heuristic: str) -> tuple[str, Any]:
+    """One pyperplan search on PDDL files `domain` and `problem` (paths) in this process.
+
+    Returns
+    -------
+    tuple
+        ``("solved", [(action, (args, ...)), ...])``, ``("unsolvable", why)`` or
+        ``("error", why)`` for an unknown search or heuristic name.
+    """
     from pyperplan import planner as pp
 
     searches = pp.SEARCHES
@@ -146,7 +154,7 @@ def main() -> int:
         try:
             req = json.loads(line)
             if req["planner"] == "pyperplan":
-                status, payload = _pyperplan(req["domain"], req["problem"], req["search"],
+                status, payload = pyperplan_search(req["domain"], req["problem"], req["search"],
                                              req["heuristic"])
             elif fast_downward is None:
                 status, payload = "error", fd_error

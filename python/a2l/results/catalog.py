@@ -16,7 +16,7 @@ from typing import Any
 
 from a2l.rundir import read_json
 
-__all__ = ["ENTRIES", "PROFILES", "Entry", "Run", "entries"]
+__all__ = ["CONTEXTS", "ENTRIES", "PROFILES", "Entry", "Run", "by_context", "entries"]
 
 #: The profiles: ``quick`` (fewer seeds and trials) and ``full``.
 PROFILES = ("quick", "full")
@@ -62,6 +62,12 @@ class Entry:
         ``table(metrics)``: the Markdown table of the runs' ``metrics.json`` (in run order).
     figures : tuple of str
         Figures to copy from the first run directory (paths inside it), when they exist.
+    metrics : str
+        The file of each run directory the table reads (``metrics.json``; the demo writes
+        its own numbers to ``demo.json``).
+    evaluation : bool
+        The table reports results, on evaluation seeds only (every entry but the demo, which
+        shows what ``make demo`` prints on its own seed and says that this is a tuning seed).
     """
 
     name: str
@@ -69,10 +75,18 @@ class Entry:
     runs: dict[str, list[Run]]
     table: Callable[[list[dict[str, Any]]], str]
     figures: tuple[str, ...] = field(default=())
+    metrics: str = "metrics.json"
+    evaluation: bool = True
 
     def tabulate(self, run_dirs: Sequence[Path]) -> str:
         """The table of the finished runs in `run_dirs`."""
-        return self.table([read_json(Path(d) / "metrics.json") for d in run_dirs])
+        return self.table([read_json(Path(d) / self.metrics) for d in run_dirs])
+
+
+def _demo(ms: list[dict[str, Any]]) -> str:
+    from a2l.experiments.demo_report import summary_table
+
+    return summary_table(ms[0])
 
 
 def _push_virtual(ms: list[dict[str, Any]]) -> str:
@@ -99,22 +113,54 @@ def _lasa(ms: list[dict[str, Any]]) -> str:
     return headline_table(ms[0])
 
 
+#: The context sources of the side-by-side tables, in run order: the camera (the default)
+#: and the simulator's ground truth.
+CONTEXTS = ("camera", "ground truth")
+
+
+def by_context(tables: Sequence[str]) -> str:
+    """One Markdown table of the same table made per context source (:data:`CONTEXTS`, in
+    order): a leading ``context`` column names the source of each row.
+
+    Raises
+    ------
+    ValueError
+        The tables' headers differ, or there are not as many as :data:`CONTEXTS`.
+    """
+    if len(tables) != len(CONTEXTS):
+        raise ValueError(f"expected {len(CONTEXTS)} tables (one per context), got "
+                         f"{len(tables)}")
+    split = [t.strip().splitlines() for t in tables]
+    if any(rows[:2] != split[0][:2] for rows in split):
+        raise ValueError("the per-context tables have different headers")
+    out = ["| context " + split[0][0], "|---" + split[0][1]]
+    for name, rows in zip(CONTEXTS, split, strict=True):
+        out += [f"| {name} {row}" for row in rows[2:]]
+    return "\n".join(out)
+
+
 def _lfd(ms: list[dict[str, Any]]) -> str:
     from a2l.experiments.lfd_skills import results_table
 
-    return results_table(ms[0]["skills"])
+    return by_context([results_table(m["skills"]) for m in ms])
 
 
 def _perturbations(ms: list[dict[str, Any]]) -> str:
     from a2l.experiments.perturbation_report import condition_table
 
-    return condition_table(ms[0]["skills"])
+    return by_context([condition_table(m["skills"]) for m in ms])
 
 
 def _tasks(ms: list[dict[str, Any]]) -> str:
     from a2l.experiments.tasks_report import results_table
 
-    return results_table(ms[0]["tasks"])
+    return by_context([results_table(m["tasks"]) for m in ms])
+
+
+def _both(key: str, *args: str) -> list[Run]:
+    """`args` run with the camera (the default) and with the ground truth (:data:`CONTEXTS`'
+    order)."""
+    return [Run(key, args), Run(f"{key}-gt", (*args, "--context_source", "ground_truth"))]
 
 
 def _push(key: str, seed: int, effects: int, *extra: str) -> Run:
@@ -124,6 +170,11 @@ def _push(key: str, seed: int, effects: int, *extra: str) -> Run:
 
 #: Every table, in the order of the README.
 ENTRIES: tuple[Entry, ...] = (
+    # what `make demo` runs after its set-up, on the demo's own seed (a tuning seed: the
+    # demo shows the pipeline; the tables below are the evaluations)
+    Entry("demo", "The main job: a2l demo (what make demo prints after its set-up)",
+          {p: [Run("demo", ("demo", "--seed", "0"))] for p in PROFILES},
+          _demo, ("trajectories.png",), metrics="demo.json", evaluation=False),
     Entry("push-virtual", "The push experiment in the virtual scene: iterations to score 100 "
           "per seed (a2l experiment sweep)",
           {"quick": [Run("sweep", ("experiment", "sweep", "--scene", "virtual", "--n_effects",
@@ -139,7 +190,7 @@ ENTRIES: tuple[Entry, ...] = (
     Entry("babbling", "Exploration: NovEB against random motor and random goal babbling "
           "(a2l experiment babbling-compare)",
           {"quick": [Run("compare", ("experiment", "babbling-compare", "--scene", "push",
-                                     "--evaluations", "100", "--seeds", "1", "--first-seed",
+                                     "--evaluations", "400", "--seeds", "2", "--first-seed",
                                      "1000", "--quiet"))],
            "full": [Run("compare", ("experiment", "babbling-compare", "--scene", "push",
                                     "--evaluations", "2000", "--seeds", "5", "--first-seed",
@@ -152,24 +203,24 @@ ENTRIES: tuple[Entry, ...] = (
           _lasa, ("lasa.png",)),
     Entry("lfd-skills", "Skills learned from demonstrations, on held-out trial seeds "
           "(a2l experiment lfd-skills)",
-          {"quick": [Run("lfd", ("experiment", "lfd-skills", "--skills", LFD_SKILLS,
-                                 "--trials", "10", "--seed", "1000", "--quiet"))],
-           "full": [Run("lfd", ("experiment", "lfd-skills", "--skills", LFD_SKILLS,
-                                "--trials", "40", "--seed", "1000", "--quiet"))]},
+          {"quick": _both("lfd", "experiment", "lfd-skills", "--skills", LFD_SKILLS,
+                          "--trials", "10", "--seed", "1000", "--quiet"),
+           "full": _both("lfd", "experiment", "lfd-skills", "--skills", LFD_SKILLS,
+                         "--trials", "40", "--seed", "1000", "--quiet")},
           _lfd),
     Entry("perturbations", "Demonstrated skills under perturbations: success of the "
           "context skill / of the DS alone (a2l experiment perturbations)",
-          {"quick": [Run("perturb", ("experiment", "perturbations", "--trials", "8",
-                                     "--seed", "5000", "--quiet"))],
-           "full": [Run("perturb", ("experiment", "perturbations", "--trials", "50",
-                                    "--seed", "5000", "--quiet"))]},
+          {"quick": _both("perturb", "experiment", "perturbations", "--trials", "8",
+                          "--seed", "5000", "--quiet"),
+           "full": _both("perturb", "experiment", "perturbations", "--trials", "50",
+                         "--seed", "5000", "--quiet")},
           _perturbations, ("plots/push_left_none.png",)),
     Entry("tasks", "Planned tasks with the learned skills, with and without a fault "
           "(a2l experiment tasks)",
-          {"quick": [Run("tasks", ("experiment", "tasks", "--trials", "4", "--seed", "7000",
-                                   "--quiet"))],
-           "full": [Run("tasks", ("experiment", "tasks", "--trials", "30", "--seed", "7000",
-                                  "--quiet"))]},
+          {"quick": _both("tasks", "experiment", "tasks", "--trials", "4", "--seed", "7000",
+                          "--quiet"),
+           "full": _both("tasks", "experiment", "tasks", "--trials", "30", "--seed", "7000",
+                         "--quiet")},
           _tasks, ("tasks.png",)),
 )
 
