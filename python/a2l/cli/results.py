@@ -10,6 +10,7 @@ from jsonargparse.typing import PositiveInt
 
 from a2l.cli.args import UsageError, comma_list
 from a2l.cli.parser import Parser
+from a2l.results.catalog import ENTRIES
 
 
 def _cmd_results(args: Namespace) -> int:
@@ -54,8 +55,8 @@ def add_results_parser(sub: Any, commands: dict[tuple[str, ...], Any]) -> None:
     p.add_argument("--out", metavar="DIR", default=None,
                    help="where the runs go (default runs/results-<profile>)")
     p.add_argument("--only", metavar="A,B,...", default=None,
-                   help="only these tables (default all): push-virtual, push-baxter, "
-                   "babbling, lasa, lfd-skills, perturbations, tasks")
+                   help="only these tables (default all): "
+                   + ", ".join(e.name for e in ENTRIES))
     p.add_argument("--workers", type=PositiveInt, default=2, metavar="N",
                    help="worker processes of each experiment (default 2)")
     p.add_argument("--root", metavar="DIR", default=".",
