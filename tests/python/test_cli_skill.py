@@ -48,7 +48,9 @@ def test_run_prints_the_outcome_and_the_trace(bundle: Path, mode: str,
     code = main(["skill", "run", str(bundle), "--effect", "right", "--mode", mode,
                  "--scene", "virtual", "--seed", "1", "--max-steps", "20"])
     text = capsys.readouterr().out
-    first = text.splitlines()[0]
+    # a skill of the library's name starts where the experiments start its trials
+    assert text.startswith("start: the end-effector ") and "skill 'push_right', seed 1" in text
+    first = text.splitlines()[1]
     assert code == (0 if first.startswith("success") else 1)
     assert "stop " in first and "movement(s)" in first and "\ntrace: " in text
 
@@ -73,3 +75,28 @@ def test_bad_input_is_refused_with_the_valid_names(tmp_path: Path, bundle: Path,
         main(["skill", "show", str(tmp_path / "junk.a2lb")])
     assert "is not a valid bundle" in capsys.readouterr().err
     assert not (tmp_path / "x.a2lb").exists()
+
+
+def test_a_bundle_keeps_the_scene_settings_it_was_learned_with(
+        tmp_path: Path, bundle: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The sideways push's recipe turns the gripper 90 degrees: its bundle says so, `show`
+    prints it, and `run` turns the gripper unless told otherwise."""
+    from a2l.lfd.library import learn_recipe
+
+    learned = learn_recipe("push_right", tmp_path)
+    capsys.readouterr()
+    assert main(["skill", "show", "--json", str(learned.bundle)]) == 0
+    assert json.loads(capsys.readouterr().out)["scene"] == {"gripper_yaw": 90.0}
+    assert main(["skill", "show", "--json", str(bundle)]) == 0  # learned from a file: none
+    assert json.loads(capsys.readouterr().out)["scene"] == {}
+    assert main(["skill", "show", str(learned.bundle)]) == 0
+    assert "scene settings it was learned with: gripper_yaw 90" in capsys.readouterr().out
+    code = main(["skill", "run", str(learned.bundle), "--effect", "right", "--scene", "push",
+                 "--seed", "1000"])
+    text = capsys.readouterr().out
+    assert text.startswith("gripper turned 90 degrees, as the skill was learned")
+    assert "a trial start of skill 'push_right', seed 1000" in text
+    assert code == 0, text  # measured: the push succeeds from this held-out seed
+    main(["skill", "run", str(learned.bundle), "--effect", "right", "--scene", "push",
+          "--seed", "1000", "--gripper-yaw", "0"])
+    assert "gripper turned" not in capsys.readouterr().out

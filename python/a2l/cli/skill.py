@@ -74,6 +74,7 @@ def bundle_summary(path: Path) -> dict[str, Any]:
         "ds_phases": [{"name": p.name, "when": dict(p.when), "end_action": p.end_action,
                        "tolerance": p.tolerance} for p in phases],
         "robot": spec.robot,
+        "scene": dict((spec.extra.get("lfd") or {}).get("scene") or {}),
     }
 
 
@@ -98,6 +99,9 @@ def _print_summary(s: dict[str, Any]) -> None:
     print("  DS phases: " + ("; ".join(
         f"{p['name']} when {p['when'] or 'always'} -> {p['end_action'] or '-'}"
         for p in s["ds_phases"]) or "none"))
+    print("  scene settings it was learned with: " + (", ".join(
+        f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in s["scene"].items())
+        or "none"))
     robot = s["robot"]
     print("  robot: " + ("none" if robot is None else
                          f"{robot['name']} ({robot['base_link']} -> {robot['tip_link']}, "
@@ -148,6 +152,9 @@ def _cmd_learn(ns: Namespace) -> int:
 
 def _cmd_run(ns: Namespace) -> int:
     # imported here: parsing and --help do not load this command's stack
+    import numpy as np
+
+    from a2l.lfd.library import SKILLS, reset_for_trial
     from a2l.rollout.run import run_skill
     from a2l.sim import make_scene
 
@@ -165,12 +172,25 @@ def _cmd_run(ns: Namespace) -> int:
         check_record(Path(ns.record))
     frames: list[dict[str, Any]] = []
     extra = {}
-    if ns.gripper_yaw:
-        if ns.scene == "virtual":
+    if ns.gripper_yaw is not None:
+        if ns.scene == "virtual" and ns.gripper_yaw:
             raise UsageError("--gripper-yaw", "the virtual scene has no gripper to turn")
-        extra["gripper_yaw"] = ns.gripper_yaw
+        if ns.scene != "virtual":
+            extra["gripper_yaw"] = ns.gripper_yaw
+    elif ns.scene != "virtual" and "gripper_yaw" in summary["scene"]:
+        extra["gripper_yaw"] = float(summary["scene"]["gripper_yaw"])
+        print(f"gripper turned {extra['gripper_yaw']:g} degrees, as the skill was learned "
+              "(--gripper-yaw overrides)")
     with make_scene(ns.scene, seed=ns.seed, step=summary["movements"]["step"],
                     context_source="ground_truth", **extra) as scene:
+        recipe = SKILLS.get(summary["name"])
+        if recipe is not None and recipe.object_name in scene.object_names:
+            # a skill of the library (by its name): the start the experiments draw for a
+            # trial of it, from --seed
+            start = reset_for_trial(scene, summary["name"], ns.seed)["start"]
+            print(f"start: the end-effector {np.linalg.norm(start) * 100:.1f} cm from the "
+                  f"{recipe.object_name} (a trial start of skill {summary['name']!r}, seed "
+                  f"{ns.seed})")
         if ns.record is not None:
             frames.append(scene_frame(scene))
         run = run_skill(scene, ns.bundle, ns.effect, mode=ns.mode, max_steps=ns.max_steps,
@@ -237,10 +257,10 @@ def _run_parser() -> Parser:
     p.add_argument("--seed", type=NonNegativeInt, default=0, help="scene seed (default 0)")
     p.add_argument("--max-steps", type=PositiveInt | None, default=None, metavar="N",
                    help="most steps (default: the bundle's step cap)")
-    p.add_argument("--gripper-yaw", type=float, default=0.0, metavar="DEG",
-                   help="turn of the gripper about the vertical on Baxter (degrees; default 0: "
-                   "fingers closing along y; the sideways pushes push_right/push_left are "
-                   "learned with 90)")
+    p.add_argument("--gripper-yaw", type=float | None, default=None, metavar="DEG",
+                   help="turn of the gripper about the vertical on Baxter (degrees; default: "
+                   "the bundle's setting, which the sideways pushes push_right/push_left "
+                   "learn as 90, else 0: fingers closing along y)")
     p.add_argument("--record", default=None, metavar="FILE.rrd",
                    help="write a Rerun recording of the run (a2l view FILE.rrd): links, "
                    "objects, end-effector path, camera, context bins, movements, effect")

@@ -158,4 +158,5 @@ def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig | No
     disc = recipe.discretizer(cfg) if recipe.discretizer else None
     return learn_skill(name, recipe.behaviours(cfg, seed), Path(out_dir) / f"{name}.a2lb",
                        cfg, high_level=recipe.high_level, planar=recipe.planar,
-                       discretizer=disc, context_edges=recipe.context_edges)
+                       discretizer=disc, context_edges=recipe.context_edges,
+                       scene=recipe.scene_config)

@@ -99,7 +99,8 @@ def fit_fields(demos: Sequence[Demonstration], cfg: LfDConfig = DEFAULT) -> list
 def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathLike[str],
                 cfg: LfDConfig = DEFAULT, high_level: Sequence[Any] = (),
                 planar: bool = True, n_effects: int = 4,
-                discretizer: Any | None = None, context_edges: bool = False) -> LearnedSkill:
+                discretizer: Any | None = None, context_edges: bool = False,
+                scene: dict[str, Any] | None = None) -> LearnedSkill:
     """Learn a skill from demonstrated behaviours and save its bundle (atomically).
 
     Parameters
@@ -124,6 +125,10 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
     context_edges : bool
         Fix every evidence variable as a parent of the movement (not only the effect):
         hill-climbing keeps the other edges it finds.
+    scene : dict, optional
+        The scene settings the skill was demonstrated and is meant to run with (e.g. the
+        sideways pushes' ``{"gripper_yaw": 90.0}``), kept in the bundle's ``extra`` as
+        ``lfd.scene``; ``a2l skill run`` applies them unless told otherwise.
 
     Returns
     -------
@@ -178,6 +183,7 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         step_cap=cfg.step_cap, smoothing=cfg.smoothing,
         extra=lambda rows: {"lfd": {
             "config": cfg.to_json(),
+            "scene": dict(scene or {}),
             "behaviours": [{"effect": b.effect, "states": dict(b.states),
                             "n_demonstrations": len(b.demos)} for b in behaviours],
             "rows": rows}},
