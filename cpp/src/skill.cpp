@@ -160,10 +160,12 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
   }
   out.fallback_ = std::move(fallback);
   out.fallback_reach_ = -1.0;
+  out.fallback_near_ = -1.0;
   for (int i = 0; i < discretizer.n_variables(); ++i) {
     const Variable& v = discretizer.variable(i);
     if (v.kind == VariableKind::distance) {
       out.fallback_reach_ = v.high;
+      out.fallback_near_ = v.low + (v.high - v.low) / v.n_bins;
       break;
     }
   }
@@ -245,10 +247,12 @@ void top_two(const double* p, int n, int& first, int& second) noexcept {
   }
 }
 
-// Whether movement `m` keeps the end-effector within `limit` of the object, from `r` =
-// eef - object (a fallback step's restriction, Skill::fallback_reach).
-bool within_reach(const Skill& skill, const Eigen::Vector3d& r, double limit, int m) noexcept {
-  return (r + skill.movements().displacement(m)).norm() <= limit + 1e-12;
+// Whether movement `m` ends between `near` and `limit` from the object, from `r` = eef -
+// object (a fallback step's restriction, Skill::fallback_reach and Skill::fallback_near).
+bool within_reach(const Skill& skill, const Eigen::Vector3d& r, double near, double limit,
+                  int m) noexcept {
+  const double d = (r + skill.movements().displacement(m)).norm();
+  return d <= limit + 1e-12 && d >= near - 1e-12;
 }
 
 }  // namespace
@@ -282,16 +286,18 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
 
   const bool smooth = state.smoothing == Smoothing::on ||
                       (state.smoothing == Smoothing::from_skill && skill.settings().smoothing);
-  // A fallback step may not carry the end-effector past max(|r|, reach) (Skill::fallback_reach).
+  // A fallback step ends between min(|r|, near) and max(|r|, reach) from the object
+  // (Skill::fallback_near, Skill::fallback_reach).
   const Eigen::Vector3d r = context.eef - context.object;
   const double reach = skill.fallback_reach();
   const bool limited = rec.fallback && reach >= 0.0;
   const double limit = std::max(r.norm(), reach);
+  const double near = std::min(r.norm(), skill.fallback_near());
   int chosen = am;
-  if (limited && !within_reach(skill, r, limit, am)) {
+  if (limited && !within_reach(skill, r, near, limit, am)) {
     const double* p = table.posterior_row(row);
     for (int m = 0; m < skill.n_moves(); ++m) {
-      if (!within_reach(skill, r, limit, m)) continue;
+      if (!within_reach(skill, r, near, limit, m)) continue;
       if (chosen == am || p[m] > p[chosen]) chosen = m;
     }
   }
@@ -328,9 +334,9 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
     for (int m = 0; m < nm; ++m) avg[m] /= informative;
     if (limited) {  // the movements past the reach drop out, unless every one is past it
       int allowed = 0;
-      for (int m = 0; m < nm; ++m) allowed += within_reach(skill, r, limit, m) ? 1 : 0;
+      for (int m = 0; m < nm; ++m) allowed += within_reach(skill, r, near, limit, m) ? 1 : 0;
       for (int m = 0; allowed > 0 && m < nm; ++m) {
-        if (!within_reach(skill, r, limit, m)) avg[m] = -1.0;
+        if (!within_reach(skill, r, near, limit, m)) avg[m] = -1.0;
       }
     }
     int first = 0, second = -1;

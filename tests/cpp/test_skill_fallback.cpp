@@ -58,15 +58,17 @@ a2l::Context context_of(const std::vector<int>& b) {
 }
 
 // The movement a fallback step without smoothing takes from row `f` at context `c`: the most
-// probable (lowest index on a tie) of those that end no farther from the object than
-// max(|r|, reach), or the row's argmax if none does.
+// probable (lowest index on a tie) of those that end between min(|r|, near) and max(|r|,
+// reach) from the object, or the row's argmax if none does.
 int expected_fallback_move(const a2l::Skill& skill, std::size_t f, const a2l::Context& c) {
   const Eigen::Vector3d r = c.eef - c.object;
   const double limit = std::max(r.norm(), skill.fallback_reach());
+  const double near = std::min(r.norm(), skill.fallback_near());
   const double* p = skill.table().posterior_row(f);
   int best = -1;
   for (int m = 0; m < skill.n_moves(); ++m) {
-    if ((r + skill.movements().displacement(m)).norm() > limit + 1e-12) continue;
+    const double d = (r + skill.movements().displacement(m)).norm();
+    if (d > limit + 1e-12 || d < near - 1e-12) continue;
     if (best < 0 || p[m] > p[best]) best = m;
   }
   return best < 0 ? skill.table().argmax(f) : best;
@@ -141,7 +143,7 @@ TEST(Fallback, AnUnseenCellGetsTheFallbackMovementAndTheTraceMarksIt) {
   EXPECT_GT(checked, 100);
 }
 
-TEST(Fallback, AFallbackStepNeverCarriesTheEndEffectorPastTheDistanceRange) {
+TEST(Fallback, AFallbackStepKeepsTheEndEffectorOutOfTheFirstBinAndWithinTheRange) {
   // Beyond the last (saturated) distance bin the cell no longer changes as the end-effector
   // moves outward: an outward fallback movement would repeat until the arm's reach ends.
   const BundleParts p = sample_parts(9, 0.6);
@@ -171,6 +173,36 @@ TEST(Fallback, AFallbackStepNeverCarriesTheEndEffectorPastTheDistanceRange) {
   }
   EXPECT_GT(checked, 40);
   EXPECT_GT(outward_argmax, 10) << "the fallback rows' own movements point outward often";
+  // Nor nearer than min(its distance, the first bin's upper edge, 0.10 m): a movement
+  // borrowed from another cell does not push the object.
+  EXPECT_DOUBLE_EQ(skill.fallback_near(), 0.10);
+  int inward_argmax = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    if (p.argmax[r] >= 0) continue;
+    const auto b = bins_of(r, p.shape);
+    if (b[1] == 2) continue;
+    for (const double d : {0.07, 0.12}) {
+      a2l::Context c = context_of(b);
+      c.eef = c.object + (c.eef - c.object).normalized() * d;
+      int bins[a2l::kMaxVariables];
+      ASSERT_EQ(skill.discretizer().discretize(c, bins), Status::ok);
+      const std::size_t cell = skill.table().row_index(bins);
+      if (p.argmax[cell] >= 0) continue;  // moved into a cell with data
+      const auto f = static_cast<std::size_t>(skill.fallback_row(cell));
+      const Eigen::Vector3d rel = c.eef - c.object;
+      inward_argmax +=
+          (rel + skill.movements().displacement(skill.table().argmax(f))).norm() < std::min(d, 0.10)
+              ? 1
+              : 0;
+      state.reset();
+      a2l::StepOutput out;
+      ASSERT_EQ(a2l::step(skill, state, c, out), Status::ok);
+      ASSERT_TRUE(out.record.fallback);
+      EXPECT_GE((rel + out.displacement).norm(), std::min(d, 0.10) - 1e-12) << "row " << r;
+      EXPECT_EQ(out.movement, expected_fallback_move(skill, f, c));
+    }
+  }
+  EXPECT_GT(inward_argmax, 10) << "the fallback rows' own movements point inward often";
   // A cell with data is never restricted: its movement is its row's argmax wherever it is.
   for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
     auto b = bins_of(r, p.shape);

@@ -242,7 +242,18 @@ def test_runtime_fallback_answers_a_cell_without_data_and_the_trace_marks_it(
         if list(ctx_bins) != [int(b) for b in bins]:
             continue  # the planar context cannot reach this inclination/distance cell
         assert out.ok and out.fallback
-        assert out.movement == table.argmax(f)
+        # the fallback row's most probable movement that ends between min(d, the first
+        # distance bin's edge) and max(d, the range's upper end) from the object
+        dv = skill.variables[names.index("distance")]
+        near, reach = dv.low + (dv.high - dv.low) / dv.n_bins, dv.high
+        dirs = np.asarray(spec.directions, dtype=float)
+        ends = np.linalg.norm(eef - obj + spec.step * dirs / np.linalg.norm(
+            dirs, axis=1, keepdims=True), axis=1)
+        allowed = (ends <= max(d, reach) + 1e-12) & (ends >= min(d, near) - 1e-12)
+        post = np.asarray(table.posterior()).reshape(-1, len(dirs))[f]
+        want = int(np.argmax(np.where(allowed, post, -1.0))) if allowed.any() else \
+            table.argmax(f)
+        assert out.movement == want
         assert runner.trace()[-1]["fallback"] is True
         state = _core.SkillState(plain)
         ctx = plain.context(eef, obj, effect, {"light": light})

@@ -35,7 +35,8 @@ struct RobotInfo {
 enum class Fallback : int {
   none = 0,  //!< stop with `unknown_context`
   //! take the nearest informative cell's movement (Skill::fallback_row), never one that
-  //! carries the end-effector past the distance range (Skill::fallback_reach)
+  //! carries the end-effector past the distance range (Skill::fallback_reach) or into its
+  //! first bin (Skill::fallback_near)
   nearest = 1,
 };
 
@@ -109,6 +110,11 @@ class Skill {
   //! of the skill's first `distance` variable, or a negative value when it has none (no
   //! limit). A fallback movement may not end farther than max(current distance, this).
   double fallback_reach() const noexcept { return fallback_reach_; }
+  //! How close a fallback step may carry the end-effector to the object (m): the upper edge
+  //! of the first bin of the skill's first `distance` variable (negative without one). A
+  //! fallback movement may not end nearer than min(current distance, this): contact with
+  //! the object is left to cells with data.
+  double fallback_near() const noexcept { return fallback_near_; }
 
  private:
   std::string name_;
@@ -120,6 +126,7 @@ class Skill {
   DSPhaseSet ds_phases_;
   std::vector<std::int32_t> fallback_;  // per row, with Fallback::nearest (fallback_row())
   double fallback_reach_ = -1.0;        // fallback_reach()
+  double fallback_near_ = -1.0;         // fallback_near()
 };
 
 //! One step of a skill as the trace records it (docs/method.md: context bins, movement,
@@ -231,11 +238,12 @@ class SkillState {
 //! A uniform row with a fallback row (Skill::fallback_row, the skill's `nearest` fallback)
 //! is answered from that row, status `ok`, `record.fallback` set: a defined answer compiled
 //! at load time, never a guess at step time. A fallback step takes the most probable
-//! movement that does not end farther from the object than max(current distance,
-//! Skill::fallback_reach()) (the last distance bin saturates: beyond it the cell no longer
-//! changes, and an outward fallback movement would repeat until the arm's reach ends); the
-//! movement with the largest probability among those, after smoothing; if none is allowed,
-//! the unrestricted choice.
+//! movement (after smoothing) that ends neither farther from the object than max(current
+//! distance, Skill::fallback_reach()) (the last distance bin saturates: beyond it the cell no
+//! longer changes, and an outward fallback movement would repeat until the arm's reach ends)
+//! nor nearer than min(current distance, Skill::fallback_near()) (a movement borrowed from
+//! another cell pushed the object with the wrong effect); if none is allowed, the
+//! unrestricted choice.
 //! With smoothing (docs/method.md), the posterior is averaged over the current point and
 //! its 6 neighbours (eef +- step/2 along x, y, z), uniform (uninformative) neighbours left
 //! out; the top movement is taken if it is alone, has p > 0.95, or the second is below 0.75
