@@ -7,10 +7,13 @@ The method, fixed before any result was seen:
   of the robot stays at the scene's pose.
 - Pairs: gripper-down configurations 3-25 cm above a point within 12 cm of an object (IK from
   randomised seeds), collision-free for a2l (2 cm padding) and for the common checker. The
-  first ``N_ORDINARY`` pairs as they come ("ordinary"); then ``N_HARD`` pairs whose straight
-  joint-space line collides under the common checker ("hard").
+  first ``N_ORDINARY`` pairs as they come ("ordinary"); then up to ``N_HARD`` pairs whose
+  straight joint-space line collides under the common checker ("hard"), among at most
+  ``HARD_DRAWS`` pairs drawn for them (shortened after the first full runs: such lines are
+  rare, ~0.1-0.3 % of pairs, and drawing 20 did not end in an hour on the shared machine).
 - Each planner: 2 s time limit, its defaults otherwise, one process for all its calls, the
-  planner built once (set-up not timed). Time: wall time of the planning call.
+  planner built once (set-up not timed). Time: wall time of the planning call; also its CPU
+  time (the calling thread's), which load on a shared machine inflates far less.
 - Common checker: PyBullet (not the code of any planner), Baxter's URDF with its meshes as
   PyBullet's convex hulls, the boxes unpadded; every returned path interpolated every
   0.005 rad (largest joint step) and each state tested for penetration (contact distance < 0)
@@ -29,12 +32,14 @@ import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 SEED = 0
 N_ORDINARY = 60
 N_HARD = 20
+HARD_DRAWS = 1500  # pairs drawn at most to find the N_HARD hard ones
 TIME_LIMIT = 2.0
 DENSE_STEP = 0.005  # rad: largest joint step between checked states of a returned path
 HERE = Path(__file__).resolve().parent
@@ -46,6 +51,7 @@ class Outcome:
 
     ok: bool
     time_ms: float
+    cpu_ms: float = float("nan")  # CPU time of the calling thread
     length: float = float("nan")  # rad, joint-space polyline
     colliding: bool = False  # the dense check found a penetrating state
     status: str = ""
@@ -187,14 +193,66 @@ def make_problem() -> Problem:
                         and not checker.collides(q)):
                     return np.asarray(q, dtype=float)
 
-        while len(pb.ordinary) < N_ORDINARY:
-            pb.ordinary.append((config(), config()))
-        while len(pb.hard) < N_HARD:
-            a, b = config(), config()
-            if checker.path_collides(np.stack([a, b])):
-                pb.hard.append((a, b))
+        cache = _pairs_cache(pb)
+        if not _load_pairs(pb, cache, transit, checker):
+            while len(pb.ordinary) < N_ORDINARY:
+                pb.ordinary.append((config(), config()))
+            for _ in range(HARD_DRAWS):
+                a, b = config(), config()
+                if checker.path_collides(np.stack([a, b])):
+                    pb.hard.append((a, b))
+                if len(pb.hard) == N_HARD:
+                    break
+            _save_pairs(pb, cache)
         checker.close()
     return pb
+
+
+def _pairs_cache(pb: Problem) -> Path:
+    """The file the pairs of `pb`'s scene are kept in (drawing them takes minutes): named by a
+    hash of what they are drawn from (seed, counts, URDF, joints, boxes, the source of
+    make_problem and of the common checker)."""
+    import hashlib
+    import inspect
+
+    h = hashlib.sha256(Path(pb.urdf).read_bytes())
+    h.update((inspect.getsource(make_problem) + inspect.getsource(DenseChecker)).encode())
+    h.update(json.dumps([SEED, N_ORDINARY, N_HARD, HARD_DRAWS, pb.arm_joints, pb.other_joints,
+                         pb.boxes, pb.neutral.tolist()], sort_keys=True).encode())
+    return HERE.parent / "build" / "bench-cache" / f"transit-pairs-{h.hexdigest()[:16]}.npz"
+
+
+def _load_pairs(pb: Problem, path: Path, transit: Any, checker: DenseChecker) -> bool:
+    """Fill `pb`'s pairs from `path` if it holds pairs that still meet the method (every
+    configuration free for a2l and for the common checker, every hard pair's straight line
+    colliding); False if not (then they are drawn again)."""
+    if not path.is_file():
+        return False
+    with np.load(path) as f:
+        ordinary, hard = f["ordinary"], f["hard"]
+    if ordinary.shape != (N_ORDINARY, 2, len(pb.arm_joints)) or len(hard) > N_HARD:
+        return False
+    configs = np.concatenate([ordinary, hard]).reshape(-1, len(pb.arm_joints))
+    if any(transit.in_collision(q) or checker.collides(q) for q in configs):
+        return False
+    if not all(checker.path_collides(pair) for pair in hard):
+        return False
+    pb.ordinary = [(a, b) for a, b in ordinary]
+    pb.hard = [(a, b) for a, b in hard]
+    return True
+
+
+def _save_pairs(pb: Problem, path: Path) -> None:
+    import io
+
+    from a2l.atomic import atomic_write_bytes
+
+    buf = io.BytesIO()
+    n = len(pb.arm_joints)
+    np.savez(buf, ordinary=np.array(pb.ordinary).reshape(-1, 2, n),
+             hard=np.array(pb.hard).reshape(-1, 2, n))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_bytes(path, buf.getvalue())
 
 
 def run_a2l(pb: Problem, pairwise: bool = True,
@@ -211,10 +269,10 @@ def run_a2l(pb: Problem, pairwise: bool = True,
     transit.set_obstacles([(n, c, h) for n, c, h in pb.boxes])
     out = []
     for i, (a, b) in enumerate(pb.pairs):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.thread_time()
         r = transit.plan(a, b, seed=SEED + i)
-        ms = (time.perf_counter() - t) * 1000
-        out.append((r.waypoints if r.ok else None, Outcome(r.ok, ms, status=r.status)))
+        ms, cpu = (time.perf_counter() - t) * 1000, (time.thread_time() - c) * 1000
+        out.append((r.waypoints if r.ok else None, Outcome(r.ok, ms, cpu, status=r.status)))
     return out
 
 
@@ -236,14 +294,14 @@ def run_pybullet_planning(pb: Problem) -> list[tuple[np.ndarray | None, Outcome]
     for a, b in pb.pairs:
         for j, v in zip(joints, a, strict=True):
             p.resetJointState(robot, j, float(v), physicsClientId=checker.cid)
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.thread_time()
         path = pp.plan_joint_motion(robot, joints, list(b), obstacles=checker.boxes,
                                     self_collisions=True, disabled_collisions=disabled,
                                     max_time=TIME_LIMIT)
-        ms = (time.perf_counter() - t) * 1000
+        ms, cpu = (time.perf_counter() - t) * 1000, (time.thread_time() - c) * 1000
         ok = path is not None
         out.append((np.asarray(path) if ok else None,
-                    Outcome(ok, ms, status="ok" if ok else "no_path")))
+                    Outcome(ok, ms, cpu, status="ok" if ok else "no_path")))
     checker.close()
     pp.set_client(0)
     return out
@@ -285,7 +343,8 @@ def run_mplib(pb: Problem) -> tuple[list[tuple[np.ndarray | None, Outcome]], str
                        cwd=tmp, stdout=subprocess.DEVNULL)
         res = json.loads(dst.read_text())
     out = [(np.asarray(r["waypoints"]) if r["ok"] else None,
-            Outcome(r["ok"], r["time_s"] * 1000, status=r["status"]))
+            Outcome(r["ok"], r["time_s"] * 1000, r.get("cpu_s", float("nan")) * 1000,
+                    status=r["status"]))
            for r in res["results"]]
     return out, res["version"]
 
@@ -311,8 +370,9 @@ def _row(name: str, outs: list[Outcome], ref: dict[str, float] | None) -> str:
     length = float(np.median([o.length for o in ok])) if ok else float("nan")
     coll = sum(o.colliding for o in ok)
     ratio = (f"{med / ref['med']:.2f} / {p95 / ref['p95']:.2f}" if ref else "1 / 1")
+    cpu = np.array([o.cpu_ms for o in outs])
     return (f"| {name} | {len(ok)}/{len(outs)} | {med:.1f} | {p95:.1f} | {ratio} | "
-            f"{length:.2f} | {coll} |")
+            f"{np.median(cpu):.1f} / {np.percentile(cpu, 95):.1f} | {length:.2f} | {coll} |")
 
 
 def table(pb: Problem, runs: dict[str, list[tuple[np.ndarray | None, Outcome]]],
@@ -323,9 +383,12 @@ def table(pb: Problem, runs: dict[str, list[tuple[np.ndarray | None, Outcome]]],
               f"{len(pb.hard)} hard pairs (straight line collides)":
                   slice(len(pb.ordinary), len(pb.pairs))}
     lines = ["| pairs | planner | success | median ms | p95 ms | median / p95 vs "
-             f"{reference} | path length rad (median) | paths colliding (dense check) |",
-             "|---|---|---|---|---|---|---|---|"]
+             f"{reference} | CPU ms median / p95 | path length rad (median) | "
+             "paths colliding (dense check) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for gname, sl in groups.items():
+        if sl.stop == sl.start:
+            continue
         ref_t = np.array([o.time_ms for _, o in runs[reference][sl]])
         ref = {"med": float(np.median(ref_t)), "p95": float(np.percentile(ref_t, 95))}
         for name, results in runs.items():
@@ -341,7 +404,7 @@ def run_all(baselines: dict[str, dict[str, object]] | None = None) -> str:
     change)."""
     import importlib.metadata as md
 
-    t0 = time.perf_counter()
+    t0, load0 = time.perf_counter(), os.getloadavg()[0]
     pb = make_problem()
     runs: dict[str, list[tuple[np.ndarray | None, Outcome]]] = {}
     runs["a2l"] = run_a2l(pb)
@@ -361,25 +424,32 @@ def run_all(baselines: dict[str, dict[str, object]] | None = None) -> str:
     return (
         "Baxter's right arm in the `task` scene (table, block, button and cap, lamp, box, "
         "floor as boxes), gripper-down start/goal pairs 3-25 cm above points within 12 cm "
-        f"of the objects, seed {SEED}: {len(pb.ordinary)} pairs as drawn and {len(pb.hard)} "
-        "whose straight joint-space line collides. Each planner: 2 s limit, its own "
-        "defaults, built once; time = wall time of the planning call (a2l: `ArmTransit.plan`, "
+        f"of the objects, seed {SEED}: {len(pb.ordinary)} pairs as drawn and the "
+        f"{len(pb.hard)} pairs whose straight joint-space line collides found among "
+        f"{HARD_DRAWS} more pairs drawn (at most {N_HARD} were sought). Each planner: 2 s "
+        "limit, its own defaults, built once; time = wall time of the planning call, and "
+        "the CPU time of the calling thread (a2l: `ArmTransit.plan`, "
         "time parameterisation included; mplib: the OMPL call `Planner.plan_qpos` makes, "
         "simplification included, TOPP not; pybullet-planning: `plan_joint_motion`, BiRRT + "
         "smoothing). Every returned path is then checked by one common checker (PyBullet, "
         f"boxes unpadded, a state every {DENSE_STEP} rad, penetration = collision; "
         "parent/child links and pairs in contact at the neutral pose ignored). Versions: "
-        f"{', '.join(versions)}. Load average at the start: {load:.1f} (2 cores shared); "
+        f"{', '.join(versions)}. Load average at the start: {load0:.1f}, at the end: "
+        f"{load:.1f} (2 cores shared; wall times are inflated by it, CPU times much less); "
         f"the whole comparison took {time.perf_counter() - t0:.0f} s.\n\n"
         + table(pb, runs, "a2l")
         + (f"\n\nFailure statuses: {fails_txt}." if fails_txt else "")
     )
 
 
-#: The a2l settings before the transit was made faster (issue 26), kept as a baseline row:
-#: Bullet's world pass for every check, 20 rounds of 10 shortcut attempts without stopping.
-BEFORE = {"a2l before (world pass, 200 shortcuts)":
-          {"pairwise": False, "shortcut_rounds": 20, "shortcut_patience": 0}}
+#: The a2l settings before the transit was made faster (issue 26), kept as baseline rows:
+#: Bullet's world pass for every check, 20 rounds of 10 shortcut attempts without stopping,
+#: every motion checked at 0.01 rad; then pairwise checks with shortcutting that stops
+#: (81b1535), still at one resolution.
+BEFORE = {"a2l before (world pass, 200 shortcuts, one resolution)":
+          {"pairwise": False, "shortcut_rounds": 20, "shortcut_patience": 0,
+           "coarse_resolution": 0.0},
+          "a2l pairwise, one resolution (81b1535)": {"coarse_resolution": 0.0}}
 
 if __name__ == "__main__":
     print(run_all(BEFORE))

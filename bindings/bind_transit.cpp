@@ -60,6 +60,7 @@ void bind_transit(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("time_limit", &TransitOptions::time_limit)
       .def_readwrite("resolution", &TransitOptions::resolution)
+      .def_readwrite("coarse_resolution", &TransitOptions::coarse_resolution)
       .def_readwrite("shorten", &TransitOptions::shorten)
       .def_readwrite("shortcut_rounds", &TransitOptions::shortcut_rounds)
       .def_readwrite("shortcut_patience", &TransitOptions::shortcut_patience)

@@ -72,8 +72,10 @@ struct CollisionModel::Impl {
   size_t last_hit = 0;                      // index in pairs of the last colliding pair
   bool pairwise = true;                     // detect(): pair by pair, not Bullet's world pass
   long long checks = 0;
-  std::vector<KDL::Frame> frames;           // per node, scratch
-  std::vector<btVector3> aabb_lo, aabb_hi;  // per object, scratch of detect_pairwise()
+  std::vector<KDL::Frame> frames;           // per node: its pose at the last check
+  std::vector<int> moving_nodes;            // indices of the moving nodes, parents first
+  std::vector<btVector3> aabb_lo, aabb_hi;  // per object: bounding boxes in detect_pairwise()
+  bool static_moved = true;  // a static object moved (or came) since its box was computed
 
   Impl() {
     world.getPairCache()->setOverlapFilterCallback(&filter);
@@ -94,6 +96,7 @@ struct CollisionModel::Impl {
         check[i][j] = links ? !allowed[i][j] : 1;
       }
     filter.check = &check;
+    static_moved = true;  // objects may have come or gone
     pairs.clear();
     // pairs with an obstacle first: near the table they collide most often
     for (int pass = 0; pass < 2; ++pass)
@@ -106,17 +109,31 @@ struct CollisionModel::Impl {
     last_hit = 0;
   }
 
-  // Poses of every node in the base link's frame for arm configuration q.
+  // Poses of every node in the base link's frame for arm configuration q (and the other joints
+  // at fixed_q); also lists the moving nodes for forward_moving().
   void forward(const Eigen::Ref<const Eigen::VectorXd>& q) {
     frames.resize(nodes.size());
+    moving_nodes.clear();
     for (size_t i = 0; i < nodes.size(); ++i) {
       const detail::LinkNode& n = nodes[i];
       const double qi = n.arm_index >= 0 ? q[n.arm_index] : fixed_q[i];
       const KDL::Frame local = n.segment.pose(qi);
       frames[i] = n.parent < 0 ? local : frames[n.parent] * local;
+      if (n.moving) moving_nodes.push_back(static_cast<int>(i));
     }
     const KDL::Frame base_inv = frames[base_node].Inverse();
     for (auto& f : frames) f = base_inv * f;
+  }
+
+  // Poses of the moving nodes only (the others keep those of the last forward(), which the
+  // other joints' positions do not change in between): a moving node's parent comes first
+  // and is either moving (updated just before) or static.
+  void forward_moving(const Eigen::Ref<const Eigen::VectorXd>& q) {
+    for (const int i : moving_nodes) {
+      const detail::LinkNode& n = nodes[i];
+      const double qi = n.arm_index >= 0 ? q[n.arm_index] : fixed_q[i];
+      frames[i] = frames[n.parent] * n.segment.pose(qi);
+    }
   }
 
   void place(bool moving_only) {
@@ -126,13 +143,14 @@ struct CollisionModel::Impl {
       o->setWorldTransform(detail::to_bt(frames[&n - nodes.data()]) * n.offset);
       if (!n.moving) world.updateSingleAabb(o);  // static objects are not updated per check
     }
+    if (!moving_only) static_moved = true;
   }
 
   // Calls `hit(a, b)` for every tested pair in contact at q; stops if it returns true.
   void detect(const Eigen::Ref<const Eigen::VectorXd>& q,
               const std::function<bool(int, int)>& hit) {
     ++checks;
-    forward(q);
+    forward_moving(q);
     place(true);
     if (pairwise)
       detect_pairwise(hit);
@@ -155,11 +173,14 @@ struct CollisionModel::Impl {
   // pair that collided last time first. Stateless: no contact cache between calls.
   void detect_pairwise(const std::function<bool(int, int)>& hit) {
     const size_t n = objects.size();
+    const bool all = aabb_lo.size() != n || static_moved;  // static boxes: once per change
     aabb_lo.resize(n);
     aabb_hi.resize(n);
     for (size_t i = 0; i < n; ++i)
-      objects[i]->getCollisionShape()->getAabb(objects[i]->getWorldTransform(), aabb_lo[i],
-                                               aabb_hi[i]);
+      if (all || object_moving[i])
+        objects[i]->getCollisionShape()->getAabb(objects[i]->getWorldTransform(), aabb_lo[i],
+                                                 aabb_hi[i]);
+    static_moved = false;
     const size_t m = pairs.size(), first = last_hit;
     for (size_t k = 0; k < m; ++k) {
       const size_t idx = (first + k) % m;

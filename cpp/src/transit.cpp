@@ -212,11 +212,12 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
     return finish(TransitStatus::invalid_argument, "q_start or q_goal contains NaN or inf");
   if (!(o.time_limit > 0) || !(o.resolution > 0) || !(o.velocity_scale > 0) ||
       o.velocity_scale > 1 || !(o.acceleration > 0) || !(o.sample_period > 0) ||
-      !(o.default_velocity > 0) || o.shortcut_rounds < 0 || o.shortcut_patience < 0)
+      !(o.default_velocity > 0) || o.shortcut_rounds < 0 || o.shortcut_patience < 0 ||
+      !(o.coarse_resolution >= 0) || !std::isfinite(o.coarse_resolution))
     return finish(TransitStatus::invalid_argument,
                   "options: time_limit, resolution, acceleration, sample_period and "
-                  "default_velocity must be > 0, velocity_scale in (0, 1], shortcut_rounds "
-                  "and shortcut_patience >= 0");
+                  "default_velocity must be > 0, velocity_scale in (0, 1], shortcut_rounds, "
+                  "shortcut_patience and coarse_resolution >= 0");
   if (!kin.within_limits(q_start, 1e-9))
     return finish(TransitStatus::start_out_of_limits, "the start violates the joint limits");
   if (!kin.within_limits(q_goal, 1e-9))
@@ -237,54 +238,83 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
   const std::uint32_t seed = o.seed;
   space->setStateSamplerAllocator(
       [seed](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s, seed); });
-  auto si = std::make_shared<ob::SpaceInformation>(space);
   Eigen::VectorXd q(n);
-  si->setStateValidityChecker([&](const ob::State* s) {
-    const auto* rv = s->as<ob::RealVectorStateSpace::StateType>();
-    for (int i = 0; i < n; ++i) q[i] = rv->values[i];
-    return si->satisfiesBounds(s) && !model.in_collision(q);
-  });
-  si->setStateValidityCheckingResolution(o.resolution / space->getMaximumExtent());
-  si->setup();
-  ob::ScopedState<ob::RealVectorStateSpace> start(space), goal(space);
-  for (int i = 0; i < n; ++i) start[i] = q_start[i], goal[i] = q_goal[i];
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  pdef->setStartAndGoalStates(start, goal);
-  auto planner = std::make_shared<og::RRTConnect>(si);
-  planner->setProblemDefinition(pdef);
-  planner->setup();
-  // the search gets 90 % of the time limit, shortening what is left (it stops at the limit)
-  const ob::PlannerStatus st =
-      planner->solve(ob::timedPlannerTerminationCondition(0.9 * o.time_limit));
-  if (st != ob::PlannerStatus::EXACT_SOLUTION) {
+  // one space, two motion-check resolutions: `coarse` for the search and the shortening,
+  // `fine` (options.resolution) for the path returned
+  auto make_si = [&](double resolution) {
+    auto si = std::make_shared<ob::SpaceInformation>(space);
+    ob::SpaceInformation* raw_si = si.get();
+    si->setStateValidityChecker([&model, &q, n, raw_si](const ob::State* s) {
+      const auto* rv = s->as<ob::RealVectorStateSpace::StateType>();
+      for (int i = 0; i < n; ++i) q[i] = rv->values[i];
+      return raw_si->satisfiesBounds(s) && !model.in_collision(q);
+    });
+    si->setStateValidityCheckingResolution(resolution / space->getMaximumExtent());
+    si->setup();
+    return si;
+  };
+  const ob::SpaceInformationPtr fine = make_si(o.resolution);
+  const bool two_pass = o.coarse_resolution > o.resolution;
+  const ob::SpaceInformationPtr coarse = two_pass ? make_si(o.coarse_resolution) : fine;
+  const auto left = [&] {
+    return o.time_limit - std::chrono::duration<double>(clock::now() - t0).count();
+  };
+  // every edge of `p` checked at the fine resolution (its vertices were checked by the search)
+  const auto fine_ok = [&](const og::PathGeometric& p) {
+    for (size_t k = 0; k + 1 < p.getStateCount(); ++k)
+      if (!fine->checkMotion(p.getState(k), p.getState(k + 1))) return false;
+    return true;
+  };
+  // search (until 90 % of the time left) and shorten at `si`'s resolution; false: no path
+  auto search = [&](const ob::SpaceInformationPtr& si, og::PathGeometric& raw,
+                    og::PathGeometric& path, ob::PlannerStatus& st) {
+    ob::ScopedState<ob::RealVectorStateSpace> start(space), goal(space);
+    for (int i = 0; i < n; ++i) start[i] = q_start[i], goal[i] = q_goal[i];
+    auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+    pdef->setStartAndGoalStates(start, goal);
+    auto planner = std::make_shared<og::RRTConnect>(si);
+    planner->setProblemDefinition(pdef);
+    planner->setup();
+    st = planner->solve(ob::timedPlannerTerminationCondition(0.9 * left()));
+    if (st != ob::PlannerStatus::EXACT_SOLUTION) return false;
+    raw = *pdef->getSolutionPath()->as<og::PathGeometric>();
+    path = raw;
+    if (o.shorten) {
+      // bounded work, in slices that stop at the time limit (no smoothing, which would add
+      // vertices where the trajectory stops): drop needless vertices, up to shortcut_rounds x
+      // 10 shortcut attempts (fewer once shortcut_patience rounds in a row changed nothing),
+      // drop again
+      og::PathSimplifier simplifier(si);
+      if (left() > 0) simplifier.reduceVertices(path);
+      int stalled = 0;
+      for (int k = 0; k < o.shortcut_rounds && left() > 0; ++k) {
+        stalled = simplifier.shortcutPath(path, 10) ? 0 : stalled + 1;
+        if (o.shortcut_patience > 0 && stalled >= o.shortcut_patience) break;
+      }
+      if (left() > 0) simplifier.reduceVertices(path);
+    }
+    return true;
+  };
+  og::PathGeometric raw(fine), path(fine);
+  ob::PlannerStatus st;
+  bool found = search(coarse, raw, path, st);
+  // the shortened path's new edges are checked at other points than the planner's, and a
+  // coarse search's edges only coarsely: keep the first of the shortened path and the
+  // planner's own path whose every edge passes the fine check, else search again finely
+  if (found && (two_pass || o.shorten) && !fine_ok(path)) {
+    const bool raw_ok = !two_pass || (o.shorten && fine_ok(raw));
+    path = raw;
+    if (!raw_ok) {
+      found = search(fine, raw, path, st);
+      if (found && o.shorten && !fine_ok(path)) path = raw;
+    }
+  }
+  if (!found) {
     std::ostringstream ss;
     ss << "no collision-free path found within the time limit of " << o.time_limit << " s ("
        << st.asString() << ")";
     return finish(TransitStatus::no_path, ss.str());
   }
-  const og::PathGeometric raw = *pdef->getSolutionPath()->as<og::PathGeometric>();
-  og::PathGeometric path = raw;
-  if (o.shorten) {
-    // bounded work, in slices that stop at the time limit (no smoothing, which would add
-    // vertices where the trajectory stops): drop needless vertices, up to shortcut_rounds x 10
-    // shortcut attempts (fewer once shortcut_patience rounds in a row changed nothing), drop
-    // again
-    const auto left = [&] {
-      return o.time_limit - std::chrono::duration<double>(clock::now() - t0).count();
-    };
-    og::PathSimplifier simplifier(si);
-    if (left() > 0) simplifier.reduceVertices(path);
-    int stalled = 0;
-    for (int k = 0; k < o.shortcut_rounds && left() > 0; ++k) {
-      stalled = simplifier.shortcutPath(path, 10) ? 0 : stalled + 1;
-      if (o.shortcut_patience > 0 && stalled >= o.shortcut_patience) break;
-    }
-    if (left() > 0) simplifier.reduceVertices(path);
-  }
-  // the shortened path's new edges are checked at other points than the planner's: if the
-  // check of the whole path finds a collision there, keep the planner's path (every edge of
-  // which the planner checked)
-  if (o.shorten && !path.check()) path = raw;
   res.waypoints.resize(path.getStateCount(), n);
   for (size_t k = 0; k < path.getStateCount(); ++k) {
     const auto* rv = path.getState(k)->as<ob::RealVectorStateSpace::StateType>();

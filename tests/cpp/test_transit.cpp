@@ -151,6 +151,37 @@ TEST(TransitPlanner, PathAroundObstacleIsCollisionFreeAndWithinLimits) {
   }
 }
 
+TEST(TransitPlanner, CoarseSearchIsCheckedFinely) {
+  // a thin post between start and goal, and a coarse resolution that steps over it (1.5 rad
+  // between checks): the path returned still passes the fine check, here 1 mrad between
+  // configurations with the post unpadded
+  a2l::TransitPlanner planner(load());
+  const a2l::CollisionBox post = box("post", {0.8, 0, 0.05}, {0.005, 0.005, 0.2});
+  ASSERT_TRUE(planner.model().set_obstacles({post}, 0.01).ok());
+  const Eigen::Vector2d q0(-0.6, 0.0), q1(0.6, 0.0);
+  ASSERT_TRUE(planner.model().in_collision(Eigen::Vector2d(0.0, 0.0)));  // the straight line hits
+  for (const double coarse : {0.0, 1.5}) {
+    a2l::TransitOptions o;
+    o.time_limit = 2.0;
+    o.coarse_resolution = coarse;
+    o.seed = 3;
+    const a2l::TransitResult r = planner.plan(q0, q1, o);
+    ASSERT_EQ(r.status, a2l::TransitStatus::ok) << r.message;
+    ASSERT_TRUE(planner.model().set_obstacles({post}, 0.0).ok());
+    for (Eigen::Index k = 0; k + 1 < r.waypoints.rows(); ++k) {
+      const Eigen::VectorXd a = r.waypoints.row(k), b = r.waypoints.row(k + 1);
+      const int n = 1 + static_cast<int>((b - a).cwiseAbs().maxCoeff() / 1e-3);
+      for (int i = 0; i <= n; ++i)
+        ASSERT_FALSE(planner.model().in_collision(a + (b - a) * (double(i) / n)))
+            << "coarse " << coarse << " edge " << k;
+    }
+    ASSERT_TRUE(planner.model().set_obstacles({post}, 0.01).ok());
+  }
+  a2l::TransitOptions bad;
+  bad.coarse_resolution = -1.0;
+  EXPECT_EQ(planner.plan(q0, q1, bad).status, a2l::TransitStatus::invalid_argument);
+}
+
 TEST(TransitPlanner, ImpossibleRequestsHaveAClearStatus) {
   a2l::TransitPlanner planner(load());
   a2l::TransitOptions o;

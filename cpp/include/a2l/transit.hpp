@@ -41,6 +41,10 @@ bool transit_available() noexcept;
 struct TransitOptions {
   double time_limit = 1.0;   //!< s: the search stops at 90 % of it, the shortening at it
   double resolution = 0.01;  //!< rad: longest joint-space step between collision checks
+  //! rad: the search and the shortening check motions this coarsely (a path found is then
+  //! checked at `resolution`, and searched again at `resolution` if that check fails);
+  //! 0 or <= resolution: everything at `resolution`
+  double coarse_resolution = 0.05;
   bool shorten = true;       //!< shortcut and reduce the path (OMPL's PathSimplifier)
   int shortcut_rounds = 20;  //!< at most this many rounds of 10 shortcut attempts (>= 0)
   //! stop shortcutting after this many rounds in a row that shortened nothing (0: never)

@@ -163,8 +163,9 @@ class ArmTransit:
         if not self._neutral_allowed:
             self.set_robot_joints({})
         opts = _core.TransitOptions()
-        for k in ("velocity_scale", "acceleration", "resolution", "sample_period", "shorten",
-                  "shortcut_rounds", "shortcut_patience", "default_velocity"):
+        for k in ("velocity_scale", "acceleration", "resolution", "coarse_resolution",
+                  "sample_period", "shorten", "shortcut_rounds", "shortcut_patience",
+                  "default_velocity"):
             setattr(opts, k, getattr(self.options, k))
         opts.time_limit = self.options.time_limit if time_limit is None else float(time_limit)
         opts.seed = int(seed)
