@@ -228,20 +228,21 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
     return finish(TransitStatus::goal_in_collision, "the goal collides: " + pairs_text(p));
 
   seed_ompl_once(o.seed);
-  auto space = std::make_shared<ob::RealVectorStateSpace>(n);
   ob::RealVectorBounds bounds(n);
   for (int i = 0; i < n; ++i) {
     bounds.setLow(i, std::isfinite(kin.lower()[i]) ? kin.lower()[i] : -M_PI);
     bounds.setHigh(i, std::isfinite(kin.upper()[i]) ? kin.upper()[i] : M_PI);
   }
-  space->setBounds(bounds);
   const std::uint32_t seed = o.seed;
-  space->setStateSamplerAllocator(
-      [seed](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s, seed); });
   Eigen::VectorXd q(n);
-  // one space, two motion-check resolutions: `coarse` for the search and the shortening,
-  // `fine` (options.resolution) for the path returned
+  // two motion-check resolutions: `coarse` for the search and the shortening, `fine`
+  // (options.resolution) for the path returned; each its own state space, as OMPL keeps the
+  // resolution in the space (its states are alike: either space checks the other's paths)
   auto make_si = [&](double resolution) {
+    auto space = std::make_shared<ob::RealVectorStateSpace>(n);
+    space->setBounds(bounds);
+    space->setStateSamplerAllocator(
+        [seed](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s, seed); });
     auto si = std::make_shared<ob::SpaceInformation>(space);
     ob::SpaceInformation* raw_si = si.get();
     si->setStateValidityChecker([&model, &q, n, raw_si](const ob::State* s) {
@@ -249,7 +250,8 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
       for (int i = 0; i < n; ++i) q[i] = rv->values[i];
       return raw_si->satisfiesBounds(s) && !model.in_collision(q);
     });
-    si->setStateValidityCheckingResolution(resolution / space->getMaximumExtent());
+    // (OMPL takes a fraction of the space's extent, below 1)
+    si->setStateValidityCheckingResolution(std::min(0.5, resolution / space->getMaximumExtent()));
     si->setup();
     return si;
   };
@@ -268,7 +270,7 @@ TransitResult TransitPlanner::plan(const Eigen::Ref<const Eigen::VectorXd>& q_st
   // search (until 90 % of the time left) and shorten at `si`'s resolution; false: no path
   auto search = [&](const ob::SpaceInformationPtr& si, og::PathGeometric& raw,
                     og::PathGeometric& path, ob::PlannerStatus& st) {
-    ob::ScopedState<ob::RealVectorStateSpace> start(space), goal(space);
+    ob::ScopedState<ob::RealVectorStateSpace> start(si), goal(si);
     for (int i = 0; i < n; ++i) start[i] = q_start[i], goal[i] = q_goal[i];
     auto pdef = std::make_shared<ob::ProblemDefinition>(si);
     pdef->setStartAndGoalStates(start, goal);
