@@ -40,8 +40,9 @@ BAXTER = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 4, "max_iter
 #: last seed does, the other process idle meanwhile: the more seeds, the smaller that share.
 SCALING_SEEDS = tuple(range(8))
 
-#: Blocks of the interleaved order per scene (each block: 1, 2, 2, 1 workers).
-REPEATS = 2
+#: Blocks of the interleaved order per scene (each block: 1, 2, 2, 1 workers); the
+#: environment's ``A2L_BENCH_FRAMEWORK_REPEATS`` sets another count (the section says which).
+REPEATS = int(os.environ.get("A2L_BENCH_FRAMEWORK_REPEATS", "2"))
 
 #: The order of the worker counts within a block.
 ORDER = (1, 2, 2, 1)
