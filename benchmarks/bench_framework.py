@@ -263,7 +263,8 @@ def run() -> str:
         "skill learning overlaps the other's rollouts; the sweep ends with its last seed). "
         "Local worker processes started with `spawn`, their start inside the timed run.",
         "",
-        f"Measured fairly: per scene, {REPEATS} blocks of the interleaved order "
+        f"Measured fairly: per scene, {REPEATS} block{'s' if REPEATS != 1 else ''} of the "
+        "interleaved order "
         f"{', '.join(map(str, ORDER))} workers, after one warm-up run with 1 and one with 2 "
         f"workers (virtual, not counted: {warm[0]:.1f} s and {warm[1]:.1f} s); every timed "
         "run bare (the same code path, no instrumentation). A block's ratio is its two "
