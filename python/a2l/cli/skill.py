@@ -156,7 +156,7 @@ def _cmd_run(ns: Namespace) -> int:
 
     from a2l.lfd.library import SKILLS, reset_for_trial
     from a2l.rollout.run import run_skill
-    from a2l.sim import make_scene
+    from a2l.sim import make_scene, settings_for
 
     summary = bundle_summary(Path(ns.bundle))
     if summary["kind"] != "skill":
@@ -171,14 +171,14 @@ def _cmd_run(ns: Namespace) -> int:
     if ns.record is not None:
         check_record(Path(ns.record))
     frames: list[dict[str, Any]] = []
-    extra = {}
+    # the scene settings the skill was learned with, those this scene has
+    extra = settings_for(ns.scene, summary["scene"])
     if ns.gripper_yaw is not None:
-        if ns.scene == "virtual" and ns.gripper_yaw:
-            raise UsageError("--gripper-yaw", "the virtual scene has no gripper to turn")
-        if ns.scene != "virtual":
-            extra["gripper_yaw"] = ns.gripper_yaw
-    elif ns.scene != "virtual" and "gripper_yaw" in summary["scene"]:
-        extra["gripper_yaw"] = float(summary["scene"]["gripper_yaw"])
+        turn = settings_for(ns.scene, {"gripper_yaw": ns.gripper_yaw})
+        if not turn and ns.gripper_yaw:
+            raise UsageError("--gripper-yaw", f"the {ns.scene} scene has no gripper to turn")
+        extra.update(turn)
+    elif "gripper_yaw" in extra:
         print(f"gripper turned {extra['gripper_yaw']:g} degrees, as the skill was learned "
               "(--gripper-yaw overrides)")
     with make_scene(ns.scene, seed=ns.seed, step=summary["movements"]["step"],

@@ -15,7 +15,6 @@ to new starts, not to another task.
 from __future__ import annotations
 
 import os
-from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +26,7 @@ from a2l.lfd.demonstrators import PushDemonstrator
 from a2l.lfd.recipes import SKILLS, SkillRecipe, get_recipe, register_skill
 from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
 from a2l.rollout.protocol import SceneProtocol
-from a2l.sim import config_class, make_scene
+from a2l.sim import make_scene, settings_for
 
 __all__ = ["SIDEWAYS_SCENE", "SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene",
            "register_skill", "reset_for_trial", "skill_config"]
@@ -109,10 +108,8 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     config.setdefault("object_jitter", 0.0)
     config.setdefault("step", cfg.step)
     scene_name = scene or recipe.scene
-    known = {f.name for f in fields(config_class(scene_name))}
-    for key, value in recipe.scene_config.items():
-        if key in known:
-            config.setdefault(key, value)
+    for key, value in settings_for(scene_name, recipe.scene_config).items():
+        config.setdefault(key, value)
     return make_scene(scene_name, seed=seed, **config)
 
 

@@ -28,6 +28,7 @@ from a2l.sim.config import (
     VirtualConfig,
     config_class,
     make_config,
+    settings_for,
 )
 from a2l.sim.context import Context, ObjectContext, low_level_state
 from a2l.sim.movement import MoveResult
@@ -49,6 +50,7 @@ __all__ = [
     "low_level_state",
     "make_config",
     "make_scene",
+    "settings_for",
 ]
 
 #: Names of the scenes :func:`make_scene` builds.

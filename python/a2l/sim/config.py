@@ -25,6 +25,7 @@ __all__ = [
     "VirtualConfig",
     "config_class",
     "make_config",
+    "settings_for",
 ]
 
 
@@ -51,6 +52,13 @@ def config_class(scene: str) -> type:
         raise A2LValueError(f"unknown scene '{scene}'; choose one of "
                             f"{sorted([*_CONFIGS, 'task'])}")
     return _CONFIGS[scene]
+
+
+def settings_for(scene: str, settings: dict[str, Any]) -> dict[str, Any]:
+    """The items of `settings` that `scene`'s config has (e.g. a skill's ``gripper_yaw``
+    applies to the Baxter scenes, and the virtual scene has no gripper to turn)."""
+    known = {f.name for f in fields(config_class(scene))}
+    return {k: v for k, v in settings.items() if k in known}
 
 
 def make_config(scene: str, **values: Any) -> Any:
