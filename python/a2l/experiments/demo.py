@@ -340,8 +340,6 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
         return rc
     print(f"\n== 2/5  A2L push experiment on the Baxter scene ({starts} starts, 4 effects, "
           f"{iterations} iterations) ==", flush=True)
-    bundle = run_dir / "skills" / "push.a2lb"
-
     def experiment(rec: dict[str, Any]) -> int:
         from a2l.experiments.push import run_push_experiment
         from a2l.framework import FrameworkConfig
@@ -351,15 +349,15 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
                               max_iterations=iterations, seed=seed,
                               heldout_starts=4 * starts)
         result = run_push_experiment(cfg, out=run_dir, workers=workers)
-        nonlocal bundle
-        bundle = Path(result["run_dir"]) / result["bundle"]
         rec.update(scores=[it["score"] for it in result["iterations"]],
                    success=result.get("final_success"),
                    heldout_success=result.get("heldout_success"),
-                   heldout_score=result.get("heldout_score"), bundle=str(bundle))
+                   heldout_score=result.get("heldout_score"),
+                   bundle=str(Path(result["run_dir"]) / result["bundle"]))
         return 0
 
     part("experiment", experiment)
+    bundle = Path(summary["parts"]["experiment"]["bundle"])
     print(f"\n== 3/5  a2l-run: the exported skill in the C++ runtime ({bundle.name}) ==",
           flush=True)
 
