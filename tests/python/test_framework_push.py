@@ -58,6 +58,8 @@ def test_config_holds_everything_to_rerun(run: Path) -> None:
 
 
 def test_metrics_iterations(metrics: dict[str, Any]) -> None:
+    # the source the context was read from (the results tables group runs by it)
+    assert metrics["context_source"] == "perceived"
     its = metrics["iterations"]
     assert [it["iteration"] for it in its] == list(range(len(its)))
     for it in its:

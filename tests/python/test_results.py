@@ -122,13 +122,32 @@ def test_tables_per_context_are_joined_side_by_side() -> None:
         by_context([cam, gt.replace("success", "rate")])
     with pytest.raises(ValueError, match="one per context"):
         by_context([cam])
-    # every side-by-side entry runs its experiment once per context, the second with the truth
+    # every side-by-side entry runs each of its commands once per context: the camera run,
+    # then the same command with the truth
     for entry in ENTRIES:
         for runs in entry.runs.values():
-            gts = [r for r in runs if "ground_truth" in r.args]
-            if gts:
-                assert len(runs) == 2 and runs[1] is gts[0] and runs[0].args + (
-                    "--context_source", "ground_truth") == runs[1].args, entry.name
+            if any("ground_truth" in r.args for r in runs):
+                assert len(runs) % 2 == 0, entry.name
+                for cam_run, gt_run in zip(runs[::2], runs[1::2], strict=True):
+                    assert cam_run.args + ("--context_source", "ground_truth") == gt_run.args
+                    assert gt_run.key == f"{cam_run.key}-gt", entry.name
+
+
+def test_the_push_table_puts_camera_and_truth_runs_side_by_side() -> None:
+    """The Baxter push table groups its runs by the source their metrics name (runs that
+    name none read the camera, the default)."""
+    def run(seed: int, source: str | None) -> dict[str, object]:
+        it = {"accepted": True, "success_rate": {"left": 1.0}, "heldout_success_rate":
+              {"left": 0.5}, "robot_movements_total": 10}
+        return {"scene": "baxter", "n_effects": 4, "seed": seed, "iterations": [it],
+                "final_score": 100.0, "heldout_score": 75.0,
+                **({"context_source": source} if source else {})}
+
+    (entry,) = entries(["push-baxter"])
+    rows = entry.table([run(1000, "ground_truth"), run(1001, None), run(1002, "perceived")])
+    body = rows.splitlines()[2:]
+    assert [r.split(" | ")[0] for r in body] == [f"| {CONTEXTS[0]}"] * 2 + [f"| {CONTEXTS[1]}"]
+    assert [r.split(" | ")[3] for r in body] == ["1001", "1002", "1000"]
 
 
 def _git(root: Path, *args: str) -> None:

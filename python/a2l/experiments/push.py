@@ -20,6 +20,7 @@ from typing import Any
 from a2l.atomic import atomic_write_text
 from a2l.experiments.push_report import (
     context_label,
+    context_source,
     plot_policy,
     plot_scores,
     plot_trajectories,
@@ -141,7 +142,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     history = with_heldout(result["iterations"], result["heldout"], result["movements"])
     metrics = {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
-        "seed": cfg.seed, "iterations": history,
+        "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
         "heldout_success": result["heldout_success"],
         "heldout_success_rate": result["heldout_success_rate"],
         "final_success": next(m.get("success") for m in reversed(history) if m["accepted"]),

@@ -12,6 +12,7 @@ from a2l.framework import FrameworkConfig
 
 __all__ = [
     "context_label",
+    "context_source",
     "headline_table",
     "plot_policy",
     "plot_scores",
@@ -250,10 +251,16 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     plt.close(fig)
 
 
+def context_source(cfg: FrameworkConfig) -> str:
+    """Where the run's rollouts read the object from: ``"perceived"`` (the camera) or
+    ``"ground_truth"`` (a ``source`` in the scene settings overrides ``context_source``)."""
+    return str(dict(cfg.scene_config).get("source") or dict(cfg.scene_config).get(
+        "context_source") or cfg.context_source)
+
+
 def context_label(cfg: FrameworkConfig) -> str:
     """Where the run's rollouts read the object from, as the report names it."""
-    src = dict(cfg.scene_config).get("source") or dict(cfg.scene_config).get(
-        "context_source") or cfg.context_source
+    src = context_source(cfg)
     if cfg.scene == "virtual":
         return f"{src} (the virtual scene has no camera: its true state)"
     return "camera (perceived)" if src == "perceived" else "ground truth (the simulator's)"
