@@ -175,7 +175,8 @@ test: test-clock test-layers test-cpp test-guarded test-python fuzz
 # --- benchmarks -------------------------------------------------------------
 # the extras `bench` (into $(VENV)) and `bench-mplib` (into an environment of its own, see
 # pyproject.toml) hold the transit benchmark's peers
-EXTRA = $(PY) -c 'import sys, tomllib; print(" ".join(tomllib.load(open("pyproject.toml", "rb"))["project"]["optional-dependencies"][sys.argv[1]]))'
+# (tomllib from Python 3.11; on 3.10 the TOML reader pip itself vendors)
+EXTRA = $(PY) -c 'import sys; exec("try: import tomllib\nexcept ImportError: from pip._vendor import tomli as tomllib"); print(" ".join(tomllib.load(open("pyproject.toml", "rb"))["project"]["optional-dependencies"][sys.argv[1]]))'
 MPLIB_VENV := $(BUILD)/venv-mplib
 bench: setup $(BUILD)/cpp/build.ninja
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp -j $(JOBS)
