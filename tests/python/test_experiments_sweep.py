@@ -11,6 +11,7 @@ import pytest
 from a2l.cli import main
 from a2l.cli.args import parse_overrides, parse_seeds
 from a2l.experiments.sweep import (
+    headline_table,
     iterations_to_full_score,
     summarize_sweep,
 )
@@ -51,6 +52,12 @@ def test_iterations_to_full_score_and_summary() -> None:
     assert summarize_sweep(rows) == {"runs": 5, "reached": 4, "within": 3,
                                      "reached_within": 2, "min": 2, "max": 8,
                                      "median": 3.5, "mean": 4.25}
+    # the published one-row table leads with the held-out success rate's mean and lowest
+    for r, h in zip(rows, [1.0, 0.96875, None, 0.9375, 1.0], strict=True):
+        r["heldout_success"] = h
+    head, _, row = headline_table({"rows": rows, "summary": summarize_sweep(rows)}).split("\n")
+    assert head.startswith("| seeds | held-out success rate (mean, lowest) |")
+    assert row == "| 0–4 (5) | 97.7 % (lowest 93.8 %) | 4 of 5 | 2 of 5 | 3.5 (2–8) |"
 
 
 def test_sweep_writes_the_table_and_resumes(tmp_path: Path,

@@ -71,16 +71,21 @@ def summarize_sweep(rows: Sequence[dict[str, Any]], within: int = 3) -> dict[str
 
 
 def headline_table(metrics: dict[str, Any]) -> str:
-    """One-row Markdown table of a sweep's ``metrics.json``: seeds, how many reach 100 (and
-    within how many iterations) and the iterations to 100 (median, range; iteration 0
-    counted)."""
+    """One-row Markdown table of a sweep's ``metrics.json``: seeds, the final skills' success
+    rate from held-out starts (a false positive is a failure: mean and lowest over the
+    seeds), how many seeds reach 100 (and within how many iterations) and the iterations to
+    100 (median, range; iteration 0 counted)."""
     s, rows = metrics["summary"], metrics["rows"]
     seeds = [r["seed"] for r in rows]
     its = "—" if s["median"] is None else f"{s['median']:g} ({s['min']}–{s['max']})"
+    held = [r["heldout_success"] for r in rows if r.get("heldout_success") is not None]
+    rate = (f"{np.mean(held):.1%} (lowest {min(held):.1%})".replace("%", " %") if held
+            else "—")
     return "\n".join([
-        "| seeds | reach 100 | within " + str(s["within"]) + " iterations | iterations to 100 "
-        "(median, range) |", "|---|---|---|---|",
-        f"| {seeds[0]}–{seeds[-1]} ({s['runs']}) | {s['reached']} of {s['runs']} | "
+        "| seeds | held-out success rate (mean, lowest) | reach 100 | within "
+        + str(s["within"]) + " iterations | iterations to 100 (median, range) |",
+        "|---|---|---|---|---|",
+        f"| {seeds[0]}–{seeds[-1]} ({s['runs']}) | {rate} | {s['reached']} of {s['runs']} | "
         f"{s['reached_within']} of {s['runs']} | {its} |"])
 
 
