@@ -17,6 +17,10 @@ __all__ = ["FINGER_OPEN", "FLOOR_Z", "PARK", "BuildMixin", "SceneObject"]
 
 FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
 FINGER_OPEN = 0.020833
+#: PyBullet's collision filter group of static bodies (``btBroadphaseProxy::StaticFilter``):
+#: a body without mass on a fixed base (the floor, the table) is in it, and its mask leaves it
+#: out, so that two static bodies are never tested against each other.
+STATIC_GROUP = 2
 PARK = np.array([3.5, 2.0])  # where removed objects rest on the floor: behind the camera
 
 
@@ -128,6 +132,35 @@ class BuildMixin:
         for arm in ("l", "r"):
             self._targets[self._joint_index[f"{arm}_gripper_l_finger_joint"]] = FINGER_OPEN
             self._targets[self._joint_index[f"{arm}_gripper_r_finger_joint"]] = -FINGER_OPEN
+        self._filter_still_links()
+
+    def _filter_still_links(self) -> None:
+        """Leave the robot's still links out of the collision tests with the static bodies.
+
+        Every link but the acting arm's (the pedestal, the torso, the head, the other arm
+        held at its neutral pose) stays where it is, a third of a metre or more from the
+        table top and the floor: it joins the static bodies' filter group
+        (:data:`STATIC_GROUP`), so PyBullet no longer tests it against the floor and the
+        table at every physics step (the floor plane overlaps every link's bounding box: 45
+        pairs, a tenth of a step's time). Those pairs never made a contact the solver could
+        act on (a fixed link against a static body), so every movement is the same to the
+        bit. The still links still collide with the objects that move.
+        """
+        c, r = self._client, self._robot
+        parent = {j: p.getJointInfo(r, j, physicsClientId=c)[16]
+                  for j in range(p.getNumJoints(r, physicsClientId=c))}
+
+        def acting(link: int) -> bool:
+            while link >= 0:
+                if link in self._arm:
+                    return True
+                link = parent[link]
+            return False
+
+        for link in (-1, *parent):
+            if not acting(link):
+                p.setCollisionFilterGroupMask(r, link, STATIC_GROUP, -1 ^ STATIC_GROUP,
+                                              physicsClientId=c)
 
     def _build_objects(self) -> None:
         """Create the scene's objects (subclasses)."""
