@@ -8,6 +8,7 @@ resumable from its newest checkpoint.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict
@@ -34,11 +35,31 @@ from a2l.framework.waypoints import EffectDirected, directed_outcome_task
 from a2l.parallel import Executor
 from a2l.rundir import latest_checkpoint, save_checkpoint
 
-__all__ = ["MOVEMENT_PHASES", "acquire", "extend", "generate_skill", "run_framework"]
+__all__ = ["MOVEMENT_PHASES", "acquire", "extend", "generate_skill",
+           "import_learning_ahead", "run_framework"]
 
 #: The phases of an iteration that move the robot, as ``metrics.json`` names them
 #: (``robot_movements``).
 MOVEMENT_PHASES = ("acquire", "extend", "validate", "validate_heldout")
+
+
+def _import_learning() -> None:
+    import a2l.skills.pipeline  # noqa: F401 - loads pgmpy
+
+
+def import_learning_ahead(executor: Executor) -> threading.Thread | None:
+    """Import the skill-learning pipeline :func:`generate_skill` needs
+    (:mod:`a2l.skills.pipeline`, pgmpy: seconds) in a background thread when the rollouts
+    run elsewhere (worker processes, Dask): the main process only waits for them during the
+    first acquisition, and the first skill then finds the module loaded. In this process
+    (one worker) the import would only slow the rollouts down: it stays where it is, at the
+    first skill. Returns the thread (None when none was started)."""
+    if executor.in_process:
+        return None
+    thread = threading.Thread(target=_import_learning, name="a2l-import-learning",
+                              daemon=True)
+    thread.start()
+    return thread
 
 
 def _seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
@@ -148,7 +169,8 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
         first), or a dataset with no usable row.
     """
     # imported here: the pipeline loads pgmpy (seconds), which `a2l experiment push --help`
-    # and the configuration checks do not need
+    # and the configuration checks do not need (with workers, run_framework has it imported
+    # in the background meanwhile: import_learning_ahead)
     from a2l.skills.pipeline import learn_bundle
 
     disc = discretizers(cfg)
@@ -263,6 +285,8 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         dataset, best_val, history, best_score, stuck, start_it = None, [], [], -1.0, {}, 0
         heldout, best_held = [], []
         movement_log = []
+    if start_it < cfg.max_iterations and best_score < 100.0:
+        import_learning_ahead(executor)
     for it in range(start_it, cfg.max_iterations):
         if best_score >= 100.0:
             break
