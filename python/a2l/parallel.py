@@ -150,6 +150,8 @@ class Pending(Generic[R]):
         self._client = client  # Dask's, when the futures are Dask's
         self._results: list[R] | None = None
         self._cancelled = False
+        #: In this process: the tasks given up (:meth:`drop`), not run.
+        self._skip = [False] * len(items)
 
     def result(self, on_done: Callable[[int], None] | None = None) -> list[R]:
         """Wait for the results (run the tasks, in this process).
@@ -168,10 +170,10 @@ class Pending(Generic[R]):
             raise RuntimeError("the results of a cancelled submission were asked for")
         if self._results is not None:
             return self._results
-        out: list[R] = []
+        out: list[Any] = []
         if self._sizes is None:  # in this process
             for i, t in enumerate(self._items):
-                out.append(self._fn(t))
+                out.append(None if self._skip[i] else self._fn(t))
                 if on_done:
                     on_done(i + 1)
         elif self._client is not None:
@@ -186,12 +188,40 @@ class Pending(Generic[R]):
             for chunk in self._client.gather(self._futures):
                 out.extend(chunk)
         else:
-            for f in self._futures:
-                out.extend(f.result())
+            for f, size in zip(self._futures, self._sizes, strict=True):
+                out.extend([None] * size if f.cancelled() else f.result())
                 if on_done:
                     on_done(len(out))
         self._results = out
         return out
+
+    def drop(self, unwanted: Sequence[bool]) -> int:
+        """Give up the tasks flagged in `unwanted` (one flag per task, in order) where it
+        saves work: on local worker processes, a batch not started yet whose every task is
+        unwanted does not run; in this process, an unwanted task is not run. :meth:`result`
+        gives None in place of the results not computed (an unwanted task's result may
+        still come: its batch had started, or held a wanted task). On Dask nothing is
+        given up.
+
+        Returns
+        -------
+        int
+            The tasks given up.
+        """
+        flags = [bool(u) for u in unwanted]
+        if len(flags) != len(self._items):
+            raise ValueError(f"drop: {len(flags)} flags for {len(self._items)} tasks")
+        if self._results is not None or self._cancelled or self._client is not None:
+            return 0
+        if self._sizes is None:
+            self._skip = [a or b for a, b in zip(self._skip, flags, strict=True)]
+            return sum(self._skip)
+        given_up, i = 0, 0
+        for f, size in zip(self._futures, self._sizes, strict=True):
+            if all(flags[i:i + size]) and not f.cancelled() and f.cancel():
+                given_up += size
+            i += size
+        return given_up
 
     def cancel(self) -> None:
         """Drop the results: batches not started yet do not run (those running finish)."""

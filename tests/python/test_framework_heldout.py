@@ -305,3 +305,27 @@ def test_the_framework_reads_the_context_from_the_camera_by_default() -> None:
     assert old.source == "ground_truth"
     with pytest.raises(ConfigError, match="context_source"):
         FrameworkConfig(context_source="camera").validate()
+
+
+def test_rounds_given_up_on_workers_change_nothing() -> None:
+    """On worker processes the parts of the rounds in flight that belong to strategies done
+    meanwhile are given up (:meth:`a2l.parallel.Pending.drop`): every strategy ends as
+    driven one round at a time."""
+    cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, seed=2)
+    pairs = [(4, 2), (0, 1), (6, 3), (2, 0)]
+
+    def strategies() -> list[EffectDirected]:
+        return [EffectDirected(cfg, s, e, lambda i, j=j: _seed(cfg, 1, 2 + j, i),
+                               want=4, cap=60) for j, (s, e) in enumerate(pairs)]
+
+    alone = strategies()
+    for s in alone:
+        drive(s, lambda tasks: [directed_task(t) for t in tasks], batch=4)
+    together = strategies()
+    with Executor(workers=2) as ex:
+        drive_ahead(together, lambda got: ex.submit(
+            directed_outcome_task, [(c, s.effect) for s, c in got], batches=2 * len(got)),
+            batch=4, ahead=2)
+    for a, t in zip(alone, together, strict=True):
+        assert a.tried == t.tried
+        assert [r.moves for r in a.found] == [r.moves for r in t.found]

@@ -40,3 +40,23 @@ def test_two_workers_give_the_in_process_results_in_order() -> None:
 def test_a_task_error_reaches_the_caller() -> None:
     with Executor(workers=2) as ex, pytest.raises(ValueError, match="math domain error"):
         ex.map(math.sqrt, [1.0, -1.0, 4.0])
+
+
+def test_tasks_given_up_do_not_run_where_not_started() -> None:
+    tasks = list(range(-40, 0))
+    unwanted = [i >= 10 for i in range(len(tasks))]
+    with Executor(workers=2) as ex:
+        pending = ex.submit(abs, tasks, batches=len(tasks))
+        # the workers are still starting: at most a few batches are running or queued
+        given_up = pending.drop(unwanted)
+        out = pending.result()
+        assert pending.drop(unwanted) == 0  # the results are in: nothing left to give up
+    assert out[:10] == [abs(t) for t in tasks[:10]]  # the wanted ones, all computed
+    assert all(o is None or o == abs(t) for o, t in zip(out[10:], tasks[10:], strict=True))
+    assert given_up == sum(o is None for o in out) >= 20
+    # in this process the tasks given up are not run
+    pending = Executor(workers=1).submit(abs, tasks)
+    assert pending.drop(unwanted) == 30
+    assert pending.result() == [abs(t) for t in tasks[:10]] + [None] * 30
+    with pytest.raises(ValueError, match="flags"):
+        Executor(workers=1).submit(abs, tasks).drop([True])

@@ -106,8 +106,11 @@ def drive_ahead(strategies: Sequence[Any], submit: Callable[[list[tuple[Any, Any
     at once; rounds are told in order, each strategy its own part, unless it is done by
     then (the part is dropped). With ``ahead = 0`` this is :func:`drive` for several
     strategies at once; with more, the next rounds run while a round's outcomes come back,
-    at the cost of evaluating up to `ahead` batches per strategy that are dropped. Either
-    way every strategy is asked and told exactly what :func:`drive` would ask and tell it.
+    at the cost of evaluating up to `ahead` batches per strategy that are dropped (less:
+    when a strategy is done, its part of the rounds in flight is given up where it has not
+    started, if the submission has a ``drop(flags)`` method, as
+    :meth:`a2l.parallel.Pending.drop`). Either way every strategy is asked and told exactly
+    what :func:`drive` would ask and tell it.
 
     Parameters
     ----------
@@ -115,7 +118,8 @@ def drive_ahead(strategies: Sequence[Any], submit: Callable[[list[tuple[Any, Any
         Each with ``asks_ahead = True`` (see the module's docstring).
     submit : callable
         ``submit([(strategy, candidate), ...])`` -> an object whose ``result()`` returns
-        the outcomes in that order (e.g. :meth:`a2l.parallel.Executor.submit`).
+        the outcomes in that order (e.g. :meth:`a2l.parallel.Executor.submit`; the outcome
+        of a candidate given up may be None).
     batch : int
         Candidates asked of each strategy per round.
     ahead : int
@@ -161,6 +165,11 @@ def drive_ahead(strategies: Sequence[Any], submit: Callable[[list[tuple[Any, Any
             if not s.done:
                 s.tell(asked, outcomes[k:k + len(asked)])
             k += len(asked)
+        # what the rounds in flight asked of strategies done by now will be dropped: give
+        # it up where it has not run yet (a2l.parallel.Pending.drop)
+        for later_asks, later in inflight:
+            if hasattr(later, "drop"):
+                later.drop([s.done for s, asked in later_asks for _ in asked])
         if on_round:
             on_round()
     for s in strategies:

@@ -96,6 +96,19 @@ def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
 AHEAD = 1
 
 
+#: Effect-directed tries asked of each stuck pair per round.
+DIRECTED_BATCH = 32
+
+
+def _pair_batches(executor: Executor, pairs: Sequence[tuple[Any, Any]]) -> int:
+    """Batches of a round of effect-directed tries on workers: two per stuck pair in it (at
+    least the executor's default), so that the part of a round in flight that belongs to a
+    pair done meanwhile fills batches of its own, which are given up if not started
+    (:meth:`a2l.parallel.Pending.drop`). Where a task runs changes none of its results."""
+    strategies = len({id(s) for s, _ in pairs})
+    return max(2 * strategies, Executor.BATCHES_PER_SLOT * executor.workers)
+
+
 def _ahead(executor: Executor) -> int:
     """Rounds to submit in advance: none in this process (nothing would run meanwhile, and
     a round asked ahead may be dropped), :data:`AHEAD` on workers."""
@@ -143,8 +156,9 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
                                        want=cfg.directed_per_pair * grow,
                                        cap=cfg.directed_try_cap * grow))
     drive_ahead(directed, lambda pairs: executor.submit(
-        directed_outcome_task, [(c, s.effect) for s, c in pairs]),
-        batch=32, ahead=_ahead(executor))
+        directed_outcome_task, [(c, s.effect) for s, c in pairs],
+        batches=_pair_batches(executor, pairs)),
+        batch=DIRECTED_BATCH, ahead=_ahead(executor))
     for d in directed:
         out.extend(d.found)
         movements += d.movements
