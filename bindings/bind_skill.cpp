@@ -77,7 +77,7 @@ A skill loaded from a bundle (immutable). Load with ``a2l._core.load_bundle(path
       .def_property_readonly(
           "fallback",
           [](const Skill& s) { return std::string(fallback_name(s.settings().fallback)); },
-          "The answer for a cell with no information: 'none' (stop) or 'nearest'.")
+          "The answer for a cell with no information: 'none' (stop), 'nearest' or 'approach'.")
       .def(
           "fallback_row",
           [](const Skill& s, std::size_t row) {
@@ -230,8 +230,8 @@ StepOutput
     ``status`` is ``Status.ok`` with ``movement``, ``probability`` and ``displacement``
     (3,), or why the run stops: ``effect_produced``, ``step_cap``, ``unknown_context``
     (non-finite position, index out of range, uniform row without a fallback: never a
-    guess). A uniform row with the skill's ``nearest`` fallback is answered from its
-    nearest informative cell (``record.fallback`` True).
+    guess). A uniform row with the skill's ``nearest`` or ``approach`` fallback is
+    answered from its nearest informative cell (``record.fallback`` True).
 )doc");
 
   m.attr("BUNDLE_SCHEMA_VERSION") = kBundleSchemaVersion;

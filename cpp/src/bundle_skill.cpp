@@ -156,7 +156,7 @@ bool bundle_detail::parse_execution(const json& m, SkillSettings& s, Errors& e) 
     std::string name;
     if (!get_string(*x, "execution.", "fallback", name, e)) return false;
     if (!parse_fallback(name, s.fallback)) {
-      return e.parse("execution.fallback: '" + name + "' is not 'none' or 'nearest'");
+      return e.parse("execution.fallback: '" + name + "' is not 'none', 'nearest' or 'approach'");
     }
   }
   return true;

@@ -103,10 +103,53 @@ Result compile_fallback(const Discretizer& disc, const PolicyTable& table,
   return Result::success();
 }
 
+// The centre of every fallback row's cell (Skill::fallback_target) into `out` (2 per row),
+// or `out` empty unless the discretizer's geometric variables are one distance and one
+// orientation (a cell is then a sector of a ring around the object).
+void compile_targets(const Discretizer& disc, const PolicyTable& table,
+                     const std::vector<std::int32_t>& fallback, std::vector<double>& out) {
+  out.clear();
+  int id = -1, io = -1, others = 0;
+  for (int i = 0; i < disc.n_variables(); ++i) {
+    const VariableKind k = disc.variable(i).kind;
+    if (k == VariableKind::distance && id < 0) {
+      id = i;
+    } else if (k == VariableKind::orientation && io < 0) {
+      io = i;
+    } else if (is_geometric(k)) {
+      ++others;
+    }
+  }
+  if (id < 0 || io < 0 || others > 0) return;
+  const Variable& vd = disc.variable(id);
+  const Variable& vo = disc.variable(io);
+  const double wd = (vd.high - vd.low) / vd.n_bins;
+  const double wo = 2.0 * std::acos(-1.0) / vo.n_bins;
+  const std::size_t rows = table.n_rows();
+  out.assign(2 * rows, 0.0);
+  std::vector<int> b(static_cast<std::size_t>(table.n_axes()));
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (fallback[r] < 0) continue;
+    bins_of(table, static_cast<std::size_t>(fallback[r]), b.data());
+    const double d = vd.low + (b[static_cast<std::size_t>(id)] + 0.5) * wd;
+    const double a = -std::acos(-1.0) + b[static_cast<std::size_t>(io)] * wo;  // bin centre
+    out[2 * r] = d * std::cos(a);
+    out[2 * r + 1] = d * std::sin(a);
+  }
+}
+
 }  // namespace
 
 const char* fallback_name(Fallback f) noexcept {
-  return f == Fallback::nearest ? "nearest" : "none";
+  switch (f) {
+    case Fallback::nearest:
+      return "nearest";
+    case Fallback::approach:
+      return "approach";
+    case Fallback::none:
+      break;
+  }
+  return "none";
 }
 
 bool parse_fallback(const std::string& name, Fallback& out) noexcept {
@@ -116,6 +159,10 @@ bool parse_fallback(const std::string& name, Fallback& out) noexcept {
   }
   if (name == "nearest") {
     out = Fallback::nearest;
+    return true;
+  }
+  if (name == "approach") {
+    out = Fallback::approach;
     return true;
   }
   return false;
@@ -155,10 +202,15 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
   }
   if (Result r = check_ds_phases(ds_phases); !r.ok()) return r;
   std::vector<std::int32_t> fallback;
-  if (settings.fallback == Fallback::nearest) {
+  if (settings.fallback != Fallback::none) {
     if (Result r = compile_fallback(discretizer, table, fallback); !r.ok()) return r;
   }
+  std::vector<double> targets;
+  if (settings.fallback == Fallback::approach) {
+    compile_targets(discretizer, table, fallback, targets);
+  }
   out.fallback_ = std::move(fallback);
+  out.targets_ = std::move(targets);
   out.fallback_reach_ = -1.0;
   out.fallback_near_ = -1.0;
   for (int i = 0; i < discretizer.n_variables(); ++i) {
@@ -247,6 +299,14 @@ void top_two(const double* p, int n, int& first, int& second) noexcept {
   }
 }
 
+// Whether movement `m` undoes movement `last` (their displacements cancel; an action,
+// with no displacement, undoes nothing).
+bool undoes(const Skill& skill, int m, int last) noexcept {
+  if (last < 0) return false;
+  const Eigen::Vector3d& back = skill.movements().displacement(last);
+  return back.norm() > 0.0 && (skill.movements().displacement(m) + back).norm() < 1e-9;
+}
+
 // Whether movement `m` ends between `near` and `limit` from the object, from `r` = eef -
 // object (a fallback step's restriction, Skill::fallback_reach and Skill::fallback_near).
 bool within_reach(const Skill& skill, const Eigen::Vector3d& r, double near, double limit,
@@ -301,8 +361,34 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
       if (chosen == am || p[m] > p[chosen]) chosen = m;
     }
   }
+  double tx = 0.0, ty = 0.0;
+  const bool approach = rec.fallback && skill.fallback_target(cell, tx, ty);
+  // The run's previous movement. With `approach` no step undoes it unless nothing else is
+  // allowed: the step is a function of the context, so a movement undone brings the
+  // end-effector back to the context it left, and the run repeats the pair until the cap.
+  const bool no_undo = skill.settings().fallback == Fallback::approach;
+  const int last = no_undo && state.steps_ > 0 && state.trace_size_ > 0
+                       ? state.trace(state.trace_size_ - 1).movement
+                       : -1;
+  if (approach) {  // head for the fallback cell: the allowed movement ending nearest it
+    int best = -1;
+    double best_d = 0.0;
+    for (int pass = 0; pass < 3 && best < 0; ++pass) {  // 1: undoing allowed; 2: any
+      for (int m = 0; m < skill.n_moves(); ++m) {
+        if (pass < 2 && limited && !within_reach(skill, r, near, limit, m)) continue;
+        if (pass == 0 && undoes(skill, m, last)) continue;
+        const Eigen::Vector3d e = r + skill.movements().displacement(m);
+        const double d2 = (e.x() - tx) * (e.x() - tx) + (e.y() - ty) * (e.y() - ty);
+        if (best < 0 || d2 < best_d) {
+          best = m;
+          best_d = d2;
+        }
+      }
+    }
+    chosen = best;
+  }
   double prob = table.posterior_row(row)[chosen];
-  if (smooth) {
+  if (smooth && !approach) {
     const int nm = skill.n_moves();
     double* avg = state.average_.data();
     int* votes = state.votes_.data();
@@ -347,6 +433,19 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
       chosen = second;
     }
     prob = avg[chosen];
+  }
+  if (!approach && undoes(skill, chosen, last)) {  // the next best that does not undo it
+    const double* score = smooth ? state.average_.data() : table.posterior_row(row);
+    int alt = -1;
+    for (int m = 0; m < skill.n_moves(); ++m) {
+      if (m == chosen || undoes(skill, m, last)) continue;
+      if (limited && !within_reach(skill, r, near, limit, m)) continue;
+      if (alt < 0 || score[m] > score[alt]) alt = m;
+    }
+    if (alt >= 0) {
+      chosen = alt;
+      prob = score[alt];
+    }
   }
 
   ++state.steps_;

@@ -261,6 +261,171 @@ TEST(Fallback, SmoothingAppliesToTheFallbackRow) {
   EXPECT_GT(fallbacks, 100);
 }
 
+// sample_parts without its inclination variable: distance and orientation are the only
+// geometric variables, as in the push skills (effect, distance(3), orientation(8), light).
+BundleParts planar_parts(std::uint64_t seed, double uniform_share) {
+  BundleParts p = sample_parts(seed, uniform_share);
+  auto& vars = p.manifest["variables"];
+  vars.erase(3);
+  const std::vector<std::int64_t> full = p.shape;
+  p.shape = {4, 3, 8, 2};
+  std::vector<double> post;
+  std::vector<std::int32_t> am;
+  for (std::size_t r = 0; r < p.argmax.size(); ++r) {
+    if (bins_of(r, full)[3] != 1) continue;  // keep one inclination bin's rows
+    am.push_back(p.argmax[r]);
+    post.insert(post.end(), p.posterior.begin() + static_cast<std::ptrdiff_t>(r * 8),
+                p.posterior.begin() + static_cast<std::ptrdiff_t>(r * 8 + 8));
+  }
+  p.argmax = am;
+  p.posterior = post;
+  return p;
+}
+
+// The planar centre of cell `b` of planar_parts (eef - object), and a context there.
+Eigen::Vector2d planar_centre(const std::vector<int>& b) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double d = 0.075 + 0.05 * b[1];
+  const double yaw = -kPi + 2 * kPi / 8 * b[2];
+  return {d * std::cos(yaw), d * std::sin(yaw)};
+}
+
+a2l::Context planar_context(const std::vector<int>& b) {
+  a2l::Context c;
+  c.object = {0.7, 0.0, 0.04};
+  const Eigen::Vector2d x = planar_centre(b);
+  c.eef = c.object + Eigen::Vector3d(x.x(), x.y(), 0.0);
+  c.effect = b[0];
+  c.high_level[3] = b[3];
+  return c;
+}
+
+TEST(Fallback, ApproachHeadsForTheCentreOfTheNearestCellWithData) {
+  const BundleParts p = planar_parts(9, 0.6);
+  const a2l::Skill nearest = load(with_fallback(p));
+  const a2l::Skill skill = load(with_fallback(p, "approach"));
+  EXPECT_EQ(skill.settings().fallback, a2l::Fallback::approach);
+  EXPECT_STREQ(a2l::fallback_name(skill.settings().fallback), "approach");
+  a2l::SkillState state(skill);
+  int checked = 0, other_than_nearest = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    // The same fallback rows as `nearest`.
+    ASSERT_EQ(skill.fallback_row(r), nearest.fallback_row(r)) << "row " << r;
+    double tx = 0.0, ty = 0.0;
+    const bool has = skill.fallback_target(r, tx, ty);
+    if (p.argmax[r] >= 0 || skill.fallback_row(r) < 0) {
+      EXPECT_FALSE(has) << "row " << r;
+      continue;
+    }
+    ASSERT_TRUE(has);
+    const auto f = static_cast<std::size_t>(skill.fallback_row(r));
+    const Eigen::Vector2d t = planar_centre(bins_of(f, p.shape));
+    EXPECT_NEAR(tx, t.x(), 1e-12);
+    EXPECT_NEAR(ty, t.y(), 1e-12);
+    const a2l::Context c = planar_context(bins_of(r, p.shape));
+    state.reset();
+    a2l::StepOutput out;
+    ASSERT_EQ(a2l::step(skill, state, c, out), Status::ok);
+    EXPECT_TRUE(out.record.fallback);
+    // The movement within the limits that ends nearest the target.
+    const Eigen::Vector3d rel = c.eef - c.object;
+    const double limit = std::max(rel.norm(), skill.fallback_reach());
+    const double near = std::min(rel.norm(), skill.fallback_near());
+    int best = -1;
+    double best_d = 0.0;
+    for (int m = 0; m < skill.n_moves(); ++m) {
+      const Eigen::Vector3d e = rel + skill.movements().displacement(m);
+      if (e.norm() > limit + 1e-12 || e.norm() < near - 1e-12) continue;
+      const double d = (e.head<2>() - t).norm();
+      if (best < 0 || d < best_d - 1e-12) {
+        best = m;
+        best_d = d;
+      }
+    }
+    ASSERT_GE(best, 0);
+    // the step's movement is allowed and ends as near the target as the nearest (a tie
+    // may go either way by rounding)
+    const Eigen::Vector3d e = rel + out.displacement;
+    EXPECT_LE(e.norm(), limit + 1e-12) << "row " << r;
+    EXPECT_GE(e.norm(), near - 1e-12) << "row " << r;
+    EXPECT_LE((e.head<2>() - t).norm(), best_d + 1e-9) << "row " << r;
+    a2l::SkillState ns(nearest);
+    a2l::StepOutput nout;
+    ASSERT_EQ(a2l::step(nearest, ns, c, nout), Status::ok);
+    other_than_nearest += nout.movement != out.movement ? 1 : 0;
+    ++checked;
+  }
+  EXPECT_GT(checked, 40);
+  EXPECT_GT(other_than_nearest, 10) << "heading for the cell differs from copying its movement";
+}
+
+TEST(Fallback, ApproachWithoutAPlanarContextIsNearest) {
+  // With an inclination variable the cell's centre is not a planar point: `approach` keeps
+  // `nearest`'s answer.
+  const BundleParts p = sample_parts(9, 0.6);
+  const a2l::Skill nearest = load(with_fallback(p));
+  const a2l::Skill skill = load(with_fallback(p, "approach"));
+  a2l::SkillState s1(nearest), s2(skill);
+  int checked = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    double tx = 0.0, ty = 0.0;
+    EXPECT_FALSE(skill.fallback_target(r, tx, ty));
+    if (p.argmax[r] >= 0) continue;
+    const a2l::Context c = context_of(bins_of(r, p.shape));
+    s1.reset();
+    s2.reset();
+    a2l::StepOutput o1, o2;
+    ASSERT_EQ(a2l::step(nearest, s1, c, o1), Status::ok);
+    ASSERT_EQ(a2l::step(skill, s2, c, o2), Status::ok);
+    EXPECT_EQ(o1.movement, o2.movement);
+    EXPECT_TRUE(o2.record.fallback);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(Fallback, WithApproachNoStepUndoesThePreviousMovement) {
+  // A step is a function of the context: a movement undone brings the end-effector back to
+  // the context it left, and the run repeats the pair until the step cap. With `approach`
+  // a cell with data whose movement undoes the previous one takes its next most probable.
+  const BundleParts p = planar_parts(9, 0.3);
+  const a2l::Skill nearest = load(with_fallback(p));
+  const a2l::Skill skill = load(with_fallback(p, "approach"));
+  int checked = 0;
+  for (std::size_t r = 0; r < skill.table().n_rows(); ++r) {
+    if (p.argmax[r] < 0) continue;
+    const a2l::Context a = planar_context(bins_of(r, p.shape));
+    a2l::SkillState s(skill), n(nearest);
+    a2l::StepOutput o1, o2, n1, n2;
+    ASSERT_EQ(a2l::step(skill, s, a, o1), Status::ok);
+    ASSERT_EQ(a2l::step(nearest, n, a, n1), Status::ok);
+    ASSERT_EQ(o1.movement, n1.movement);  // no previous movement: the same answer
+    a2l::Context b = a;
+    b.eef += o1.displacement;
+    int bins[a2l::kMaxVariables];
+    if (skill.discretizer().discretize(b, bins) != Status::ok) continue;
+    const std::size_t cell = skill.table().row_index(bins);
+    const int am = skill.table().argmax(cell);
+    if (am < 0) continue;
+    const Eigen::Vector3d back = skill.movements().displacement(am) + o1.displacement;
+    if (back.norm() > 1e-9) continue;  // its movement does not undo the first
+    ASSERT_EQ(a2l::step(nearest, n, b, n2), Status::ok);
+    EXPECT_EQ(n2.movement, am) << "without the rule the pair repeats";
+    ASSERT_EQ(a2l::step(skill, s, b, o2), Status::ok);
+    const double* post = skill.table().posterior_row(cell);
+    int want = -1;
+    for (int m = 0; m < skill.n_moves(); ++m) {
+      if (m == am) continue;
+      if (want < 0 || post[m] > post[want]) want = m;
+    }
+    EXPECT_EQ(o2.movement, want) << "row " << cell;
+    EXPECT_EQ(o2.probability, post[want]);
+    EXPECT_FALSE(o2.record.fallback);
+    ++checked;
+  }
+  EXPECT_GT(checked, 3);
+}
+
 TEST(Fallback, AnUnknownRuleIsAParseError) {
   const auto bytes = build(with_fallback(sample_parts(), "guess"));
   a2l::Skill s;

@@ -130,6 +130,54 @@ TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
 INSTANTIATE_TEST_SUITE_P(SmoothingFallback, StepNoAlloc,
                          ::testing::Combine(::testing::Bool(), ::testing::Bool()));
 
+// The `approach` fallback on a planar table (effect, distance, orientation, light: the push
+// skills' kind of variables, where it heads for a cell's centre), with and without smoothing.
+TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
+  for (const bool smoothing : {false, true}) {
+    auto parts = a2l::testing::sample_parts(11, 0.3, smoothing);
+    parts.manifest["variables"].erase(3);  // no inclination
+    parts.shape = {4, 3, 8, 2};
+    parts.argmax.resize(4 * 3 * 8 * 2);
+    parts.posterior.resize(parts.argmax.size() * 8);
+    parts.manifest["execution"]["fallback"] = "approach";
+    const auto bytes = a2l::testing::build(parts);
+    a2l::Skill skill;
+    ASSERT_TRUE(a2l::load_bundle_from_memory(bytes.data(), bytes.size(), skill).ok());
+    a2l::SkillState state(skill, 256);
+    std::mt19937_64 rng(43);
+    const int n = 50000;
+    std::vector<a2l::Context> contexts(static_cast<size_t>(n));
+    for (auto& c : contexts) {
+      c.object = {0.7, 0.0, 0.04};
+      c.eef = c.object + Eigen::Vector3d(random_coordinate(rng), random_coordinate(rng), 0.0);
+      c.effect = random_index(rng, 4);
+      c.high_level[3] = random_index(rng, 2);
+    }
+    int fallbacks = 0, wrong = 0;
+    bool threw = false;
+    std::size_t allocations = 0;
+    a2l::StepOutput out;
+    {
+      a2l::test::AllocationGuard guard;
+      try {
+        for (const a2l::Context& c : contexts) {
+          if (state.steps() >= 10) state.reset();
+          const Status s = a2l::step(skill, state, c, out);
+          if (s == Status::ok && (out.movement < 0 || out.movement >= 8)) ++wrong;
+          if (out.record.fallback) ++fallbacks;
+        }
+      } catch (...) {
+        threw = true;
+      }
+      allocations = guard.allocations();
+    }
+    EXPECT_FALSE(threw);
+    EXPECT_EQ(allocations, 0u) << "step() allocated (smoothing " << smoothing << ")";
+    EXPECT_EQ(wrong, 0);
+    EXPECT_GT(fallbacks, 1000);
+  }
+}
+
 TEST(SceneNoAlloc, VirtualMoveAllocatesNothing) {
   a2l::VirtualScene scene;
   scene.reset({0.2, 0.0, 0.04}, {0.0, 0.0, 0.04});

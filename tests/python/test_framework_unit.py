@@ -15,6 +15,7 @@ import pytest
 
 from a2l.acquisition.rollout import Rollout, erase_loops, play
 from a2l.cli import main
+from a2l.errors import ConfigError
 from a2l.framework import (
     FAIL,
     FALSE_POSITIVE,
@@ -135,15 +136,17 @@ def test_validate_distance_range(low: float, high: float) -> None:
 
 
 def test_fallback_defaults_by_scene_and_an_explicit_rule_wins() -> None:
-    """Baxter falls back to the nearest cell with data, the virtual scene stops (issue 27:
+    """Baxter heads for the nearest cell with data, the virtual scene stops (issue 27:
     measured in ``docs/experiments/push.md``); a rule given explicitly is kept, and a
     config read back from its dict keeps the resolved rule."""
-    assert FrameworkConfig(scene="baxter").fallback == "nearest"
+    assert FrameworkConfig(scene="baxter").fallback == "approach"
     assert FrameworkConfig(scene="virtual").fallback == "none"
     assert FrameworkConfig(scene="baxter", fallback="none").fallback == "none"
     assert FrameworkConfig(scene="virtual", fallback="nearest").fallback == "nearest"
     cfg = FrameworkConfig(scene="baxter")
-    assert FrameworkConfig.from_dict({**asdict(cfg), "scene": "virtual"}).fallback == "nearest"
+    assert FrameworkConfig.from_dict({**asdict(cfg), "scene": "virtual"}).fallback == "approach"
+    with pytest.raises(ConfigError, match="fallback"):
+        FrameworkConfig(scene="baxter", fallback="guess").validate()
 
 
 def test_default_config_is_valid_and_round_trips() -> None:

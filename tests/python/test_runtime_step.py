@@ -260,3 +260,77 @@ def test_runtime_fallback_answers_a_cell_without_data_and_the_trace_marks_it(
         assert _core.step(plain, state, ctx).status == Status.unknown_context
         checked += 1
     assert checked >= 1
+
+
+def test_runtime_approach_fallback_heads_for_the_nearest_cell_with_data(
+        tmp_path: Path) -> None:
+    """A planar skill written with ``fallback="approach"``: from a cell without data the
+    step takes, of the movements that end between min(d, the first distance bin's edge) and
+    max(d, the range's upper end), the one ending nearest the centre of the fallback cell
+    (the middle of its distance bin, at its orientation bin's middle angle), never the one
+    that undoes the previous movement when another is allowed; the trace marks it."""
+    from dataclasses import replace
+
+    from a2l.skills.runner import CppSkillRunner
+
+    # the fixture's skill without its inclination variable: effect, distance, orientation
+    # and light, as the push framework's skills (its cells' centres are planar points)
+    disc = Discretizer(
+        movements=MovementRepertoire(planar=True), inclination=None,
+        high_level=(HighLevelState("light", ("off", "on")),),
+    )
+    raw = push_dataset(600, seed=4)
+    rng = np.random.default_rng(4)
+    raw["light"] = np.where(rng.random(len(raw)) < 0.5, "off", "on")
+    net = learn_network(disc.discretize(raw), "hand-coded")
+    spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
+    path = tmp_path / "approach.a2lb"
+    save_bundle(replace(spec, fallback="approach"), path)
+    runner = CppSkillRunner(path)
+    skill = runner.skill
+    assert skill.fallback == "approach"
+    table = skill.table
+    names = [v.name for v in skill.variables]
+    assert "inclination" not in names  # a planar skill: the cells' centres are points
+    shape = [v.n_bins for v in skill.variables]
+    dv = skill.variables[names.index("distance")]
+    n_or = shape[names.index("orientation")]
+    near, reach = dv.low + (dv.high - dv.low) / dv.n_bins, dv.high
+    dirs = np.asarray(spec.directions, dtype=float)
+    disp = spec.step * dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+    obj = np.array([0.7, 0.0, 0.04])
+
+    def centre(bins: tuple[int, ...]) -> np.ndarray:
+        d = dv.low + (bins[names.index("distance")] + 0.5) * (dv.high - dv.low) / dv.n_bins
+        yaw = -np.pi + 2 * np.pi / n_or * bins[names.index("orientation")]
+        return d * np.array([np.cos(yaw), np.sin(yaw), 0.0])
+
+    checked = 0
+    for r in (r for r in range(table.n_rows) if table.argmax(r) < 0):
+        bins = tuple(int(b) for b in np.unravel_index(r, shape))
+        target = centre(tuple(int(b) for b in np.unravel_index(skill.fallback_row(r), shape)))
+        rel = centre(bins)
+        effect = bins[names.index("effect")]
+        light = ("off", "on")[bins[names.index("light")]]
+        for previous in (None, 0):
+            runner.reset()
+            if previous is not None:  # one movement first, from a cell with data
+                start = rel - disp[previous]
+                first = runner.step(obj + start, obj, effect, {"light": light})
+                if not first.ok or first.fallback or first.movement != previous:
+                    continue
+            out = runner.step(obj + rel, obj, effect, {"light": light})
+            if list(runner.trace()[-1]["bins"]) != list(bins):
+                continue
+            assert out.ok and out.fallback
+            d = np.linalg.norm(rel)
+            ends = np.linalg.norm(rel + disp, axis=1)
+            allowed = (ends <= max(d, reach) + 1e-12) & (ends >= min(d, near) - 1e-12)
+            undo = np.linalg.norm(disp + disp[previous], axis=1) < 1e-9 \
+                if previous is not None else np.zeros(len(disp), bool)
+            ok = allowed & ~undo if (allowed & ~undo).any() else allowed
+            gap = np.linalg.norm((rel + disp - target)[:, :2], axis=1)
+            assert ok[out.movement]  # the nearest to the target (equal ones: either)
+            assert gap[out.movement] <= np.min(np.where(ok, gap, np.inf)) + 1e-9
+            checked += 1
+    assert checked >= 10

@@ -38,9 +38,15 @@ enum class Fallback : int {
   //! carries the end-effector past the distance range (Skill::fallback_reach) or into its
   //! first bin (Skill::fallback_near)
   nearest = 1,
+  //! as `nearest`, but the step heads for the nearest informative cell instead of taking
+  //! its movement: of the movements within the same two limits, the one that ends nearest
+  //! the centre of that cell (Skill::fallback_target) (`nearest`'s answer where the
+  //! skill's geometric variables are not a distance and an orientation); and no step, with
+  //! data or without, undoes the run's previous movement unless no other is allowed
+  approach = 2,
 };
 
-//! The manifest name of a fallback rule ("none", "nearest"). Never allocates.
+//! The manifest name of a fallback rule ("none", "nearest", "approach"). Never allocates.
 const char* fallback_name(Fallback f) noexcept;
 
 //! Parse a manifest fallback name; false if `name` is not one.
@@ -70,8 +76,8 @@ class Skill {
   //! Assemble a skill from its parts, checking that they agree (table axes = variables'
   //! bins, table movements = repertoire size; phase conditions name declared states and
   //! values, at most kMaxDSPhases phases, tolerances finite and > 0). With
-  //! `settings.fallback == Fallback::nearest` it compiles the fallback of every uniform row
-  //! (fallback_row()).
+  //! `settings.fallback` `nearest` or `approach` it compiles the fallback of every uniform
+  //! row (fallback_row()), with `approach` also its target point (fallback_target()).
   //! \return `size_mismatch` or `invalid_argument` naming the check, else `ok`.
   static Result create(std::string name, Discretizer discretizer, PolicyTable table,
                        MovementRepertoire movements, SkillSettings settings, RobotInfo robot,
@@ -115,6 +121,18 @@ class Skill {
   //! fallback movement may not end nearer than min(current distance, this): contact with
   //! the object is left to cells with data.
   double fallback_near() const noexcept { return fallback_near_; }
+  //! With the `approach` fallback, whether uniform row `row` heads for a point, and the
+  //! point (eef - object, m, in the table plane): the centre of its fallback row's cell
+  //! (the middle of its distance bin, the last bin's middle for the saturated one, at the
+  //! middle angle of its orientation bin). False for an informative row, without the
+  //! `approach` fallback, or unless the skill's geometric variables are one distance and
+  //! one orientation.
+  bool fallback_target(std::size_t row, double& x, double& y) const noexcept {
+    if (targets_.empty() || table_.argmax(row) >= 0 || fallback_[row] < 0) return false;
+    x = targets_[2 * row];
+    y = targets_[2 * row + 1];
+    return true;
+  }
 
  private:
   std::string name_;
@@ -127,6 +145,7 @@ class Skill {
   std::vector<std::int32_t> fallback_;  // per row, with Fallback::nearest (fallback_row())
   double fallback_reach_ = -1.0;        // fallback_reach()
   double fallback_near_ = -1.0;         // fallback_near()
+  std::vector<double> targets_;         // 2 per row, with Fallback::approach (fallback_target())
 };
 
 //! One step of a skill as the trace records it (docs/method.md: context bins, movement,

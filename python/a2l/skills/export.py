@@ -46,7 +46,7 @@ def make_skill_spec(
         Most movements per run.
     smoothing : bool
         Neighbour smoothing (``docs/method.md``) in the runtime.
-    fallback : {"none", "nearest"}
+    fallback : {"none", "nearest", "approach"}
         The runtime's answer in a cell with no data (:class:`SkillSpec`).
     extra : dict, optional
         Free-form metadata; the discretizer's description is added under ``"discretizer"``.

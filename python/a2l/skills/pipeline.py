@@ -105,7 +105,7 @@ def learn_bundle(
         Most movements per run.
     smoothing : bool
         The runtime's neighbour smoothing.
-    fallback : {"none", "nearest"}
+    fallback : {"none", "nearest", "approach"}
         The runtime's answer in a context cell with no data (:class:`SkillSpec`).
     extra : mapping or callable, optional
         The bundle's ``extra`` metadata, or ``extra(rows)`` giving it from the number of

@@ -52,7 +52,7 @@ class StepResult:
         The DS phase that decided (``mode="ds"``), else None.
     fallback : bool
         The context cell had no data and the movement is its fallback's (the skill's
-        ``nearest`` fallback, ``docs/runtime.md``).
+        ``nearest`` or ``approach`` fallback, ``docs/runtime.md``).
     """
 
     status: str

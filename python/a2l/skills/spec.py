@@ -94,11 +94,12 @@ class SkillSpec:
         Neighbour smoothing (``docs/method.md``).
     uniform_tolerance : float
         A row whose entries all lie within this of 1/n_moves is uniform.
-    fallback : {"none", "nearest"}
+    fallback : {"none", "nearest", "approach"}
         The runtime's answer in a context cell with no data (a uniform row): stop with
-        ``unknown_context``, or the movement of the nearest informative cell with the same
-        effect and high-level values (compiled when the bundle is loaded; the trace marks
-        the step, ``docs/runtime.md``).
+        ``unknown_context``, the movement of the nearest informative cell with the same
+        effect and high-level values (``nearest``), or the movement heading for that cell
+        (``approach``); compiled when the bundle is loaded, the trace marks the step
+        (``docs/runtime.md``).
     robot : dict or None
         ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
     extra : dict
