@@ -75,7 +75,8 @@ _FRAMEWORK = ("babbling around the object, the validation starts and the held-ou
               "every iteration")
 _FRAMEWORK_TUNED = ("the push defaults (FrameworkConfig: bins, structure, smoothing, "
                     "effect-directed babbling) were chosen on virtual seeds 0-29 and Baxter "
-                    "seeds 0-2 (docs/framework.md)")
+                    "seeds 0-2 (docs/framework.md), Baxter's fallback on seeds 3 and 4 "
+                    "(docs/experiments/push.md)")
 _LFD_STREAMS = ("demonstrations: seeds 0 .. 2 n_demos - 1 of each skill (training data drawn "
                 "by the scripted demonstrator; never a trial seed)")
 
@@ -89,6 +90,8 @@ REGISTRY: dict[str, ExperimentSeeds] = {e.experiment: e for e in (
                     _FRAMEWORK_TUNED),
     ExperimentSeeds("discretization", "one push run per grid cell (" + _FRAMEWORK + ")",
                     (1000, 1999), _FRAMEWORK_TUNED),
+    ExperimentSeeds("heldout", "none of its own: a push run's held-out starts again, from "
+                    "that run's seed", (1000, 1999), _FRAMEWORK_TUNED),
     ExperimentSeeds("babbling", "the exploration strategy and the scene", (1000, 1999),
                     "NovEB's and goal babbling's settings were tried on seeds 0-4, the seeds "
                     "of the first published comparison"),

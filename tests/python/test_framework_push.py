@@ -199,9 +199,104 @@ def test_report(run: Path, metrics: dict[str, Any]) -> None:
     assert ("| iteration | held-out success | held-out left | held-out right | held-out close "
             "| held-out far | held-out false positives | success (training starts) | score | "
             "held-out score |") in text
-    rows = [line for line in text.splitlines() if line.startswith("| ") and
+    tables = text.split("## Held-out misses")[0]  # the misses' table has a row per miss
+    rows = [line for line in tables.splitlines() if line.startswith("| ") and
             line.split("|")[1].strip().isdigit()]
     # the results table, then the robot movements per phase: a row per iteration each
     assert len(rows) == 2 * len(metrics["iterations"])
     assert "| iteration | `acquire` | `extend` | `validate` | `validate_heldout` |" in text
     assert "config.json" in text
+
+
+def test_heldout_misses_are_explained(run: Path, metrics: dict[str, Any]) -> None:
+    """Every held-out miss of the final skill has its row in ``heldout_misses.csv`` with a
+    cause read from its trajectory; the causes add up to the run's ``heldout_misses``, and
+    the report counts them and shows the figure."""
+    from a2l.experiments.push_misses import CAUSES
+
+    table = pd.read_csv(run / "heldout_misses.csv")
+    misses = [it for it in metrics["iterations"] if it["accepted"]][-1]["heldout_misses"]
+    n = sum(v for k, v in misses.items() if k != "with_fallback")
+    assert n > 0, "seed 0's final skill misses a few held-out rollouts"
+    assert len(table) == n
+    assert set(table["cause"]) <= set(CAUSES)
+    fp = table["cause"].isin(["detour contact", "off-centre push"])
+    assert int(fp.sum()) == misses.get("false_positive", 0)
+    assert int(table["cause"].isin(["two-cell loop", "wandering"]).sum()) == misses.get(
+        "step_cap", 0)
+    assert (table.loc[fp, "happened"] != table.loc[fp, "wanted"]).all()
+    assert (table.loc[~fp, "happened"] == "none").all()
+    assert (table["fallback_steps"] == 0).all()  # the virtual scene has no fallback
+    assert ((table["r"] >= 0.10 - 1e-9) & (table["r"] <= 0.25 + 1e-9)).all()
+    text = (run / "report.md").read_text()
+    assert f"## Held-out misses ({n} of 128 rollouts)" in text
+    for cause, count in table["cause"].value_counts().items():
+        assert f"| {cause} | {count} |" in text
+    assert "](heldout_misses.png)" in text
+    assert (run / "heldout_misses.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_miss_causes_from_made_up_trajectories(run: Path) -> None:
+    """The causes on trajectories made to have them (box at the origin; far = +x): a push
+    from the box's +y side while going round it, an off-axis push from behind, a two-cell
+    loop, a wander, an unreachable first movement and an effect only the camera saw."""
+    from a2l.experiments.push_misses import miss_table
+
+    cfg = FrameworkConfig.from_dict(json.loads((run / "config.json").read_text())["framework"])
+    labels = ["+x", "-x", "+y", "-y", "+x+y", "+x-y", "-x+y", "-x-y"]
+    step = {"+x": (0.05, 0), "-x": (-0.05, 0), "+y": (0, 0.05), "-y": (0, -0.05)}
+
+    def rollout(start: tuple[float, float], moves: list[str], outcome: str, stop: str,
+                true_effect: int, wanted: int = 3) -> dict[str, Any]:
+        pts = [np.array([*start, 0.0])]
+        for m in moves:
+            pts.append(pts[-1] + np.array([*step[m], 0.0]))
+        eef = np.array(pts)
+        return {"start": 0, "wanted": wanted, "effect": true_effect, "outcome": outcome,
+                "stop": stop, "moves": [labels.index(m) for m in moves], "fallbacks": 0,
+                "true_effect": true_effect, "eef": eef.ravel(), "obj": np.zeros(eef.size)}
+
+    held = pd.DataFrame([
+        rollout((-0.03, 0.15), ["-y", "-y"], "false_positive", "moved", 1),  # detour
+        rollout((-0.15, 0.02), ["+x", "+x"], "false_positive", "moved", 0),  # off-centre
+        rollout((0.10, 0.0), ["+x", "-x"] * 6, "fail", "step_cap", -1),     # loop
+        rollout((0.20, 0.0), ["+y"] * 3 + ["-x"] * 4 + ["-y"] * 5, "fail", "step_cap", -1),
+        rollout((0.25, 0.0), [], "fail", "unreachable", -1),
+        rollout((0.15, 0.0), ["+y"], "fail", "moved", -1),
+        rollout((0.15, 0.0), ["-x"], "success", "moved", 3),
+    ])
+    table = miss_table(cfg, held, run / "skills" / "push.a2lb")
+    assert list(table["cause"]) == ["detour contact", "off-centre push", "two-cell loop",
+                                    "wandering", "out of reach", "camera-only effect"]
+    assert list(table["happened"]) == ["right", "left", "none", "none", "none", "none"]
+    assert table["detail"].iloc[4] == "at the first movement"
+    assert list(table["steps"]) == [2, 2, 12, 12, 0, 1]
+    assert list(table["side"])[:3] == ["+y (left)", "-x (close)", "+x (far)"]
+
+
+def test_heldout_command_reruns_the_final_skill_and_explains_its_misses(
+        run: Path, metrics: dict[str, Any], tmp_path: Path) -> None:
+    """``a2l experiment heldout RUN`` plays the run's final skill from its held-out starts
+    again: the same success rate and misses as the run's own (every draw is seeded); with
+    ``--fallback nearest`` it writes the bundle's rule it ran; the run directory is left
+    alone."""
+    before = sorted(p.name for p in run.iterdir())
+    out = tmp_path / "again"
+    assert main(["experiment", "heldout", str(run), "--out", str(out), "--quiet"]) == 0
+    again = json.loads((out / "metrics.json").read_text())
+    kept = [it for it in metrics["iterations"] if it["accepted"]][-1]
+    assert again["heldout_success"] == metrics["heldout_success"]
+    assert again["heldout_misses"] == kept["heldout_misses"]
+    assert again["heldout_miss_causes"] == metrics["heldout_miss_causes"]
+    assert again["fallback"] == "none"
+    assert pd.read_csv(out / "heldout_misses.csv").equals(pd.read_csv(run / "heldout_misses.csv"))
+    assert "## Held-out misses (" in (out / "report.md").read_text()
+    assert "**Tuning seeds**" in (out / "report.md").read_text()
+    other = tmp_path / "nearest"
+    assert main(["experiment", "heldout", str(run), "--out", str(other), "--fallback",
+                 "nearest", "--iteration", "0", "--quiet"]) == 0
+    assert json.loads((other / "metrics.json").read_text())["fallback"] == "nearest"
+    assert sorted(p.name for p in run.iterdir()) == before
+    with pytest.raises(SystemExit) as exc:  # not a run directory: a usage error
+        main(["experiment", "heldout", str(tmp_path), "--out", str(other)])
+    assert exc.value.code == 2

@@ -184,8 +184,47 @@ def _sweep_parser() -> Parser:
     return p
 
 
+def _cmd_heldout(ns: Namespace) -> int:
+    # imported here: parsing and --help do not load this command's stack
+    from a2l.experiments.push_heldout import rerun_heldout
+
+    run = Path(ns.run)
+    if not (run / "config.json").is_file():
+        raise UsageError("RUN", f"'{run}' holds no config.json: not a push run directory")
+    out = Path(ns.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    m = rerun_heldout(run, out, iteration=ns.iteration, fallback=ns.fallback,
+                      workers=ns.workers)
+    if not ns.quiet:
+        print(f"held-out success {m['heldout_success']:.1%} ("
+              + ", ".join(f"{e} {v:.0%}" for e, v in m["heldout_success_rate"].items())
+              + f"); fallback {m['fallback']}; misses explained in {out / 'report.md'}")
+    return 0
+
+
+def _heldout_parser() -> Parser:
+    p = Parser(prog="a2l experiment heldout", description=(
+        "Run a push run's skill from the run's held-out starts again, with its own "
+        "execution settings or another fallback (--fallback), and write metrics.json, "
+        "heldout.parquet, heldout_misses.csv, heldout_misses.png and report.md (every miss "
+        "with its cause, read from its trajectory) to --out. The run directory is not "
+        "written to."))
+    p.add_argument("run", metavar="RUN", help="a push run directory")
+    p.add_argument("--out", metavar="DIR", required=True, help="output directory")
+    p.add_argument("--iteration", type=int, default=None, metavar="N",
+                   help="the skill of iteration N (skills/iter_NNN.a2lb; default the final "
+                   "skills/push.a2lb)")
+    p.add_argument("--fallback", choices=("none", "nearest", "approach"), default=None,
+                   help="the step's answer in a cell without data (default the bundle's)")
+    p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
+                   help="local worker processes for the rollouts (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no summary line")
+    return p
+
+
 def add_push_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
-    """Register ``experiment push``, ``discretization`` and ``sweep``."""
+    """Register ``experiment push``, ``discretization``, ``sweep`` and ``heldout``."""
     for name, make, handler, help_ in (
             ("push", _push_parser, _cmd_push, "the iterative framework on the push effects"),
             ("discretization", _discretization_parser, _cmd_discretization,
@@ -197,3 +236,8 @@ def add_push_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
         add_config_option(parser)
         exps.add_subcommand(name, parser, help=help_)
         commands[("experiment", name)] = (parser, handler)
+    parser = _heldout_parser()
+    add_config_option(parser)
+    exps.add_subcommand("heldout", parser, help="a push run's skill from its held-out starts "
+                        "again (another fallback), every miss explained")
+    commands[("experiment", "heldout")] = (parser, _cmd_heldout)

@@ -4,7 +4,9 @@
 effects and writes a run directory: ``config.json``, ``metrics.json``,
 ``dataset.parquet``, ``skills/push.a2lb`` (the final skill) and one bundle per iteration,
 ``score.png``, ``trajectories.png``, ``policy.png`` and ``report.md``
-(:mod:`a2l.experiments.push_report`, whose names are re-exported here). The discretization
+(:mod:`a2l.experiments.push_report`, whose names are re-exported here), and the held-out
+misses with their causes, ``heldout_misses.csv`` and ``heldout_misses.png``
+(:mod:`a2l.experiments.push_misses`). The discretization
 study is :mod:`a2l.experiments.discretization`.
 """
 
@@ -18,6 +20,12 @@ from pathlib import Path
 from typing import Any
 
 from a2l.atomic import atomic_write_text
+from a2l.experiments.push_misses import (
+    miss_causes,
+    miss_table,
+    misses_markdown,
+    plot_misses,
+)
 from a2l.experiments.push_report import (
     context_label,
     context_source,
@@ -140,6 +148,12 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     shutil.copyfile(result["bundle"], final)
     result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
     history = with_heldout(result["iterations"], result["heldout"], result["movements"])
+    miss_lines, table = None, None
+    if result["heldout_score"] is not None:  # every held-out miss with its cause
+        table = miss_table(cfg, result["heldout_validation"], final)
+        atomic_write_text(run_dir / "heldout_misses.csv", table.to_csv(index=False))
+        miss_lines = misses_markdown(table, len(result["heldout_validation"]),
+                                     figure=plots)
     metrics = {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
         "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
@@ -149,6 +163,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         "final_score": result["final_score"], "heldout_score": result["heldout_score"],
         "heldout": {"starts": cfg.heldout_starts, "r_low": cfg.heldout_r_low,
                     "r_high": cfg.heldout_r_high},
+        **({"heldout_miss_causes": miss_causes(table)} if table is not None else {}),
         "bundle": str(final.relative_to(run_dir)),
         "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
         **({"acquisition": {"method": acquisition, **noveb_log}}
@@ -165,8 +180,12 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                               run_dir / "heldout_trajectories.png",
                               title="Held-out trajectories")
         plot_policy(cfg, final, run_dir / "policy.png")
+        if table is not None and not table.empty:
+            plot_misses(cfg, result["heldout_validation"], table,
+                        run_dir / "heldout_misses.png")
     atomic_write_text(run_dir / "report.md", mark_report(
-        report_markdown(cfg, result, run_dir, history), seed_record("push", [cfg.seed])))
+        report_markdown(cfg, result, run_dir, history, miss_lines=miss_lines),
+        seed_record("push", [cfg.seed])))
     if not quiet:
         from rich.console import Console
         from rich.markdown import Markdown

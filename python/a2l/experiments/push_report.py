@@ -90,9 +90,12 @@ def _overall(rates: dict[str, float] | None) -> str:
 def headline_table(runs: list[dict[str, Any]]) -> str:
     """Markdown table, one row per run (``metrics.json`` of each): scene, effects, seed,
     iterations run, final score and success rate (the last accepted iteration's), held-out
-    score and success rate (from the held-out starts), robot movements to the end."""
+    score and success rate (from the held-out starts), robot movements to the end, and the
+    held-out misses by cause (``heldout_miss_causes``, :mod:`a2l.experiments.push_misses`;
+    "—" for a run without them)."""
     head = ["scene", "effects", "seed", "iterations run", "final score", "success rate",
-            "held-out score", "held-out success rate", "robot movements"]
+            "held-out score", "held-out success rate", "robot movements",
+            "held-out misses by cause"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for m in runs:
         its = m["iterations"]
@@ -103,8 +106,18 @@ def headline_table(runs: list[dict[str, Any]]) -> str:
             str(m["scene"]), str(m["n_effects"]), str(m["seed"]), str(len(its)),
             f"{m['final_score']:.1f}", _overall(last.get("success_rate")),
             "—" if held is None else f"{held:.1f}", _overall(last.get("heldout_success_rate")),
-            "—" if moves is None else f"{moves:,}"]) + " |")
+            "—" if moves is None else f"{moves:,}", _causes(m.get("heldout_miss_causes"))])
+            + " |")
     return "\n".join(lines)
+
+
+def _causes(causes: dict[str, int] | None) -> str:
+    """``{cause: n}`` as ``n cause, ...`` (most first), "—" when not recorded."""
+    if causes is None:
+        return "—"
+    if not causes:
+        return "none"
+    return ", ".join(f"{n} {c}" for c, n in sorted(causes.items(), key=lambda kv: -kv[1]))
 
 
 def movements_table(history: list[dict[str, Any]]) -> list[str]:
@@ -267,9 +280,10 @@ def context_label(cfg: FrameworkConfig) -> str:
 
 
 def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
-                    history: list[dict[str, Any]]) -> str:
+                    history: list[dict[str, Any]], miss_lines: list[str] | None = None) -> str:
     """The run directory's ``report.md``: final and held-out scores, the iterations' table,
-    the robot movements per phase and the plots."""
+    the robot movements per phase, the plots and, when given, the held-out misses' section
+    (`miss_lines`, :func:`a2l.experiments.push_misses.misses_markdown`)."""
     held = result.get("heldout_score")
     final = next((m for m in history if m["iteration"] == _accepted_iteration(history)), {})
     rate = final.get("heldout_success")
@@ -311,6 +325,7 @@ def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
           if held is not None else []),
         "![inferred movement](policy.png)",
         "",
+        *(miss_lines or []),
         "Configuration: `config.json`; machine-readable results: `metrics.json`.",
     ]) + "\n"
 

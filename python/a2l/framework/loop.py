@@ -36,7 +36,7 @@ from a2l.parallel import Executor
 from a2l.rundir import latest_checkpoint, save_checkpoint
 
 __all__ = ["MOVEMENT_PHASES", "acquire", "extend", "generate_skill",
-           "import_learning_ahead", "run_framework"]
+           "import_learning_ahead", "rollouts_frame", "run_framework"]
 
 #: The phases of an iteration that move the robot, as ``metrics.json`` names them
 #: (``robot_movements``).
@@ -199,8 +199,9 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     return learned.table
 
 
-def _rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
-    """Validation rollouts as a table (one row per rollout; positions as lists)."""
+def rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
+    """Validation rollouts as a table (one row per rollout; positions as lists): the
+    columns of a checkpoint's ``validation.parquet`` and ``heldout.parquet``."""
     return pd.DataFrame({
         "start": [r.start for r in rollouts], "wanted": [r.wanted for r in rollouts],
         "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
@@ -346,8 +347,8 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
             "iterations": history, "best_score": best_score,
             "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()}, "heldout": heldout,
             **({"movements": movement_log} if movement_log is not None else {}),
-        }, {"dataset": dataset, "validation": _rollouts_frame(best_val),
-            "heldout": _rollouts_frame(best_held)})
+        }, {"dataset": dataset, "validation": rollouts_frame(best_val),
+            "heldout": rollouts_frame(best_held)})
         if on_iteration:
             on_iteration(m)
     accepted_name = (skills_dir / "accepted.txt").read_text().strip()
@@ -355,12 +356,12 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     final_held = [h for h in heldout if h["iteration"] == last_accepted]
     return {"iterations": history, "final_score": best_score,
             "bundle": str(skills_dir / accepted_name), "dataset": dataset,
-            "validation": _rollouts_frame(best_val), "heldout": heldout,
+            "validation": rollouts_frame(best_val), "heldout": heldout,
             "heldout_score": final_held[0]["heldout_score"] if final_held else None,
             "heldout_success": final_held[0].get("heldout_success") if final_held else None,
             "heldout_success_rate": (final_held[0].get("heldout_success_rate")
                                      if final_held else None),
-            "heldout_validation": _rollouts_frame(best_held), "movements": movement_log or []}
+            "heldout_validation": rollouts_frame(best_held), "movements": movement_log or []}
 
 
 def _movement_record(it: int, phases: dict[str, int], last: dict[str, Any] | None

@@ -68,6 +68,10 @@ class Entry:
     evaluation : bool
         The table reports results, on evaluation seeds only (every entry but the demo, which
         shows what ``make demo`` prints on its own seed and says that this is a tuning seed).
+    details : callable, optional
+        ``details(run_dirs, fig_dir)``: Markdown lines for the page below its runs (not the
+        README's block), e.g. each run's misses; it may copy figures into `fig_dir` and link
+        them as ``<name>/<file>``.
     """
 
     name: str
@@ -77,6 +81,7 @@ class Entry:
     figures: tuple[str, ...] = field(default=())
     metrics: str = "metrics.json"
     evaluation: bool = True
+    details: Callable[[Sequence[Path], Path], list[str]] | None = None
 
     def tabulate(self, run_dirs: Sequence[Path]) -> str:
         """The table of the finished runs in `run_dirs`."""
@@ -102,6 +107,12 @@ def _push_baxter(ms: list[dict[str, Any]]) -> str:
     src = [m.get("context_source", "perceived") for m in ms]
     return by_context([headline_table([m for m, s in zip(ms, src, strict=True) if s == want])
                        for want in ("perceived", "ground_truth")])
+
+
+def _push_baxter_misses(run_dirs: Sequence[Path], fig_dir: Path) -> list[str]:
+    from a2l.experiments.push_misses import run_misses_markdown
+
+    return run_misses_markdown(run_dirs, fig_dir)
 
 
 def _babbling(ms: list[dict[str, Any]]) -> str:
@@ -192,7 +203,8 @@ ENTRIES: tuple[Entry, ...] = (
           {"quick": _push("s1000-e4", 1000, 4, "--max_iterations", "3"),
            "full": [*_push("s1000-e4", 1000, 4), *_push("s1001-e4", 1001, 4),
                     *_push("s1002-e4", 1002, 4), *_push("s1000-e8", 1000, 8)]},
-          _push_baxter, ("trajectories.png", "heldout_trajectories.png")),
+          _push_baxter, ("trajectories.png", "heldout_trajectories.png"),
+          details=_push_baxter_misses),
     Entry("babbling", "Exploration: NovEB against random motor and random goal babbling "
           "(a2l experiment babbling-compare)",
           {"quick": [Run("compare", ("experiment", "babbling-compare", "--scene", "push",

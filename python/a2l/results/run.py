@@ -146,6 +146,8 @@ def write_entry(entry: Entry, profile: str, root: Path, docs: Path, mach: str) -
               "upper bounds).", "",
               "Seeds: see [seeds.md](../seeds.md); `DIR` is the run's output directory.", ""]
     lines += [f"{f}\n" for f in figures]
+    if entry.details is not None:
+        lines += entry.details(run_dirs, fig_dir)
     page = docs / f"{entry.name}.md"
     atomic_write_text(page, "\n".join(lines))
     return page
