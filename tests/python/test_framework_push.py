@@ -300,3 +300,28 @@ def test_heldout_command_reruns_the_final_skill_and_explains_its_misses(
     with pytest.raises(SystemExit) as exc:  # not a run directory: a usage error
         main(["experiment", "heldout", str(tmp_path), "--out", str(other)])
     assert exc.value.code == 2
+
+
+def test_results_page_lists_every_runs_misses(run: Path, tmp_path: Path) -> None:
+    """The push-baxter results page's section (``details``): each run's misses under its
+    name, its figure copied beside the page; a run made before the misses were explained is
+    named as such."""
+    from a2l.experiments.push_misses import run_misses_markdown
+    from a2l.results.catalog import ENTRIES
+
+    entry = next(e for e in ENTRIES if e.name == "push-baxter")
+    assert entry.details is not None
+    old = tmp_path / "old"
+    old.mkdir()
+    metrics = json.loads((run / "metrics.json").read_text())
+    (old / "metrics.json").write_text(json.dumps(metrics))
+    fig_dir = tmp_path / "push-baxter"
+    lines = run_misses_markdown([run, old], fig_dir)
+    text = "\n".join(lines)
+    n = len(pd.read_csv(run / "heldout_misses.csv"))
+    assert f"### Run `{run.name}`: virtual, 4 effects, seed 0" in text
+    assert f"**Held-out misses ({n} of 128 rollouts), from their trajectories**" in text
+    assert (fig_dir / f"heldout_misses-{run.name}.png").is_file()
+    assert f"(push-baxter/heldout_misses-{run.name}.png)" in text
+    assert "### Run `old`" in text and "No `heldout_misses.csv`" in text
+    assert entry.details([run], fig_dir) == run_misses_markdown([run], fig_dir)
