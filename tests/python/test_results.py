@@ -171,7 +171,8 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     state = git_state(root)
     assert state["dirty"] and state["changed"] == ["README.md"]
     rows = [{"seed": 1000 + i, "iterations_to_100": n, "final_score": 100.0 if n else 90.0,
-             "iterations_run": n or 3, "wall_s": 5.0} for i, n in enumerate([2, 3, None])]
+             "iterations_run": n or 3, "wall_s": 5.0, "heldout_success": h}
+            for i, (n, h) in enumerate([(2, 1.0), (3, 0.875), (None, 0.75)])]
     out = tmp_path / "runs"
     run_dir = out / "push-virtual" / "sweep"
     write_json(run_dir / "metrics.json", {"rows": rows, "summary": summarize_sweep(rows)})
@@ -185,7 +186,7 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     assert done["missing"] == []
     page = (root / "docs" / "results" / "push-virtual.md").read_text()
     body = read_blocks(page)["push-virtual"]
-    assert "| 1000–1002 (3) | 2 of 3 | 2 of 3 | 2.5 (2–3) |" in body
+    assert "| 1000–1002 (3) | 87.5 % (lowest 75.0 %) | 2 of 3 | 2 of 3 | 2.5 (2–3) |" in body
     assert "fffffff (dirty tree)" in body and "evaluation seeds 1000-1002" in body
     assert "`a2l experiment sweep --seeds 1000-1002`" in page
     readme = (root / "README.md").read_text()
