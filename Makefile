@@ -31,9 +31,10 @@ STAMP_INSTALL := $(VENV)/.stamp-install
 # The editable install maps each Python module to its file when installed: a module added or
 # removed needs a reinstall. The list of modules is rewritten only when it changes.
 PY_MODULES := $(BUILD)/.python-modules
-$(shell mkdir -p $(BUILD) && find python -name '*.py' | sort > $(PY_MODULES).new && \
-  { cmp -s $(PY_MODULES).new $(PY_MODULES) || mv $(PY_MODULES).new $(PY_MODULES); }; \
-  rm -f $(PY_MODULES).new)
+# (a file of its own per make: `make test` runs makes side by side)
+$(shell mkdir -p $(BUILD) && find python -name '*.py' | sort > $(PY_MODULES).$$$$ && \
+  { cmp -s $(PY_MODULES).$$$$ $(PY_MODULES) || mv $(PY_MODULES).$$$$ $(PY_MODULES); }; \
+  rm -f $(PY_MODULES).$$$$)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # Every C++ build goes through ccache when it is installed: the Python module's build and the
 # test build compile the same core sources with the same flags, so the second one reuses them.
@@ -52,7 +53,8 @@ CLOCK = echo "$$(date +%s) $$($(CPU_TICKS))" > $(BUILD)/.clock-$(1)
 LAP = read t0 c0 < $(BUILD)/.clock-$(1) && echo "$(2): $$(( $$(date +%s) - t0 )) s (CPU \
   $$(( ($$($(CPU_TICKS)) - c0) / $$(getconf CLK_TCK) )) s)" >> $(BUILD)/times.log
 
-.PHONY: help setup demo results test test-clock test-layers test-cpp test-guarded test-python fuzz bench lint format clean
+.PHONY: help setup demo results test test-clock test-layers test-cpp guard-build test-guarded \
+  test-python fuzz-build fuzz bench lint format clean
 
 help:
 	@sed -n '2,10p' Makefile | sed 's/^# \{0,1\}//'
@@ -118,37 +120,51 @@ test-cpp: setup $(BUILD)/cpp/build.ninja
 # The real-time tests (every gtest whose suite or test name holds `NoAlloc`, and the allocation
 # counter's self-tests) again, in a build with Eigen's allocation guard on and assertions
 # enabled (tests/cpp/alloc_counter.hpp): an Eigen heap allocation inside a real-time section
-# aborts there. Its own build tree; only the test executable is built.
+# aborts there. Its own build tree; only the test executable is built, from the test files that
+# name a real-time test, on the real-time path alone (CMakeLists.txt: A2L_GUARD_TESTS).
 GUARD_TESTS := NoAlloc|AllocationCounter
-test-guarded: setup
-	@echo "[test] real-time tests with Eigen's allocation guard (A2L_MALLOC_GUARD, assertions on)"
+# The build needs only the build tools (no a2l install): `make test` runs it beside the set-up.
+guard-build: $(STAMP_VENV)
 	@$(call CLOCK,guard)
 	@$(VENV)/bin/cmake -S . -B $(BUILD)/cpp-guard -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DA2L_MALLOC_GUARD=ON -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_TESTS=ON $(LAUNCHER) \
+	  -DA2L_MALLOC_GUARD=ON "-DA2L_GUARD_TESTS=$(GUARD_TESTS)" -DA2L_BUILD_PYTHON=OFF \
+	  -DA2L_BUILD_TESTS=ON $(LAUNCHER) \
 	  -DA2L_BUILD_BENCHMARKS=OFF -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp-guard -j $(JOBS) --target a2l_tests
+	@$(call LAP,guard,C++ build with the guard (real-time path and its tests))
+
+test-guarded: setup guard-build
+	@echo "[test] real-time tests with Eigen's allocation guard (A2L_MALLOC_GUARD, assertions on)"
+	@$(call CLOCK,guard)
 	@export A2L_ROBOTS_DIR=$$($(PY) -m a2l.robot --robots-dir); \
 	cd $(BUILD)/cpp-guard && $(abspath $(VENV))/bin/ctest --output-on-failure -j $(JOBS) \
 	  --no-tests=error -R '$(GUARD_TESTS)' 2>&1 | tee ctest.log
-	@$(call LAP,guard,C++ real-time tests with the guard (build and run))
+	@$(call LAP,guard,C++ real-time tests with the guard)
 
+# --dist worksteal: a process that runs out of tests takes some of the other's (a slow test near
+# the end would otherwise leave one core idle); --durations lists the slowest tests.
 test-python: setup
 	@echo "[test] Python (pytest, $(JOBS) processes)"
 	@mkdir -p $(BUILD) && $(call CLOCK,pytest)
-	@$(PY) -m pytest -q -n $(JOBS) tests/python 2>&1 | tee $(BUILD)/pytest.log
+	@$(PY) -m pytest -q -n $(JOBS) --dist worksteal --durations=15 tests/python 2>&1 \
+	  | tee $(BUILD)/pytest.log
 	@$(call LAP,pytest,Python tests (pytest))
 
 # libFuzzer on the bundle loader under ASan + UBSan (clang; its own build tree).
 FUZZ_RUNS ?= 200000
-fuzz: setup
-	@echo "[fuzz] bundle loader: $(FUZZ_RUNS) inputs under ASan + UBSan"
+# The build needs only the build tools: `make test` runs it beside the set-up.
+fuzz-build: $(STAMP_VENV)
 	@$(call CLOCK,fuzz)
 	@$(VENV)/bin/cmake -S . -B $(BUILD)/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DA2L_BUILD_PYTHON=OFF -DA2L_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++ $(LAUNCHER) \
 	  "-DCMAKE_CXX_FLAGS=-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
 	  -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja >/dev/null
 	@$(VENV)/bin/cmake --build $(BUILD)/fuzz -j $(JOBS) --target fuzz_bundle
-	@$(call LAP,fuzz,fuzzer build (skill library under ASan + UBSan)) && $(call CLOCK,fuzz)
+	@$(call LAP,fuzz,fuzzer build (skill library under ASan + UBSan))
+
+fuzz: setup fuzz-build
+	@echo "[fuzz] bundle loader: $(FUZZ_RUNS) inputs under ASan + UBSan"
+	@$(call CLOCK,fuzz)
 	@mkdir -p $(BUILD)/fuzz/corpus && $(PY) tests/fuzz/make_seeds.py $(BUILD)/fuzz/corpus
 	@$(BUILD)/fuzz/fuzz_bundle -runs=$(FUZZ_RUNS) -seed=1 -max_len=8192 -print_final_stats=1 \
 	  -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus > $(BUILD)/fuzz/fuzz.log 2>&1 \
@@ -168,7 +184,24 @@ test-layers: setup
 test-clock:
 	@rm -f $(BUILD)/times.log && $(call CLOCK,total)
 
-test: test-clock test-layers test-cpp test-guarded test-python fuzz
+# Two lanes keep both cores busy where a phase alone would leave one idle (pip's downloads and
+# unpacking, links, the single-threaded fuzzer): the guarded and fuzzer builds (each with flags
+# of its own, nothing to share) run beside the set-up, the fuzzer beside the guarded tests and
+# pytest. Each side lane is a make of its own, its output in $(BUILD)/lane-*.log (printed after
+# its lane), its phases timed apart: the phases' wall times overlap, their CPU times do not.
+# The plain C++ build follows the set-up: it reuses the module build's objects (ccache).
+LANE = $(MAKE) --no-print-directory
+test: test-clock $(STAMP_VENV)
+	@trap 'kill $$(jobs -p) 2>/dev/null || true' EXIT; \
+	$(LANE) guard-build fuzz-build > $(BUILD)/lane-builds.log 2>&1 & lane=$$!; \
+	$(LANE) setup test-layers test-cpp; \
+	wait $$lane || { tail -n 40 $(BUILD)/lane-builds.log; exit 1; }; \
+	$(LANE) fuzz > $(BUILD)/lane-fuzz.log 2>&1 & lane=$$!; \
+	$(LANE) test-guarded test-python; \
+	wait $$lane || { tail -n 40 $(BUILD)/lane-fuzz.log; exit 1; }; cat $(BUILD)/lane-fuzz.log
+	@n=$$(cd $(BUILD)/cpp && $(abspath $(VENV))/bin/ctest -N -R '$(GUARD_TESTS)' | sed -n 's/^Total Tests: //p'); \
+	g=$$(cd $(BUILD)/cpp-guard && $(abspath $(VENV))/bin/ctest -N -R '$(GUARD_TESTS)' | sed -n 's/^Total Tests: //p'); \
+	[ "$$n" = "$$g" ] || { echo "[test] the guarded build has $$g real-time tests, the plain one $$n"; exit 1; }
 	@echo "[test] import layers:               $$(grep -E '^Contracts:' $(BUILD)/layers.log)"
 	@echo "[test] C++ (ctest):                 $$(grep -E 'tests passed' $(BUILD)/cpp/ctest.log)"
 	@echo "[test] C++ with Eigen's guard:      $$(grep -E 'tests passed' $(BUILD)/cpp-guard/ctest.log)"
