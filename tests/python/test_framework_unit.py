@@ -119,6 +119,7 @@ def test_score_of_babbling_rollouts_count_nothing() -> None:
     ("start_r_low", 0.0),
     ("start_r_high", float("nan")),
     ("fallback", "guess"),
+    ("train_fallback", "nearer"),
 ])
 def test_validate_names_the_bad_field(field: str, value: object) -> None:
     cfg = FrameworkConfig(**{field: value})
@@ -147,6 +148,35 @@ def test_fallback_defaults_by_scene_and_an_explicit_rule_wins() -> None:
     assert FrameworkConfig.from_dict({**asdict(cfg), "scene": "virtual"}).fallback == "approach"
     with pytest.raises(ConfigError, match="fallback"):
         FrameworkConfig(scene="baxter", fallback="guess").validate()
+
+
+def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
+    """The training validation's skill is the learned one with ``train_fallback`` (a copy
+    beside it when the rules differ, the same file when they agree); Baxter trains with
+    ``nearest`` and runs with ``approach``, the virtual scene uses ``none`` for both."""
+    from a2l.framework.loop import training_bundle
+    from a2l.skills import Discretizer, MovementRepertoire
+    from a2l.skills.bundle import load_bundle, save_bundle
+    from a2l.skills.pipeline import compile_policy, learn_network, make_skill_spec
+    from a2l.skills.synthetic import push_dataset
+
+    base = FrameworkConfig(scene="baxter")
+    assert (base.fallback, base.train_fallback) == ("approach", "nearest")
+    virtual = FrameworkConfig(scene="virtual")
+    assert (virtual.fallback, virtual.train_fallback) == ("none", "none")
+    assert FrameworkConfig(scene="baxter", train_fallback="approach").train_fallback == (
+        "approach")
+    disc = Discretizer(movements=MovementRepertoire(planar=True), inclination=None)
+    net = learn_network(disc.discretize(push_dataset(300, seed=1)), "hand-coded")
+    spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
+    path = tmp_path / "iter_000.a2lb"
+    save_bundle(replace(spec, fallback="approach"), path)
+    train = training_bundle(base, path)
+    assert train == tmp_path / "iter_000.train.a2lb"
+    got, run = load_bundle(train), load_bundle(path)
+    assert (got.fallback, run.fallback) == ("nearest", "approach")
+    assert np.array_equal(got.posterior, run.posterior) and got.extra == run.extra
+    assert training_bundle(replace(base, train_fallback="approach"), path) == path
 
 
 def test_default_config_is_valid_and_round_trips() -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -199,6 +199,19 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     return learned.table
 
 
+def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
+    """The skill the training validation runs: `bundle` itself, or, when
+    ``cfg.train_fallback`` differs from its ``cfg.fallback``, a copy beside it
+    (``<name>.train.a2lb``) with the training rule (the same table otherwise)."""
+    if cfg.train_fallback == cfg.fallback:
+        return bundle
+    from a2l.skills.bundle import load_bundle, save_bundle
+
+    out = bundle.with_suffix(".train.a2lb")
+    save_bundle(replace(load_bundle(bundle), fallback=cfg.train_fallback), out)
+    return out
+
+
 def rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
     """Validation rollouts as a table (one row per rollout; positions as lists): the
     columns of a checkpoint's ``validation.parquet`` and ``heldout.parquet``."""
@@ -320,7 +333,7 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
                                   ignore_index=True)
         bundle = skills_dir / f"iter_{it:03d}.a2lb"
         generate_skill(cfg, candidate, bundle, robot)
-        val = validate(cfg, executor, bundle, progress)
+        val = validate(cfg, executor, training_bundle(cfg, bundle), progress)
         phase_moves["validate"] = sum(r.executed for r in val)
         score = score_of(val, cfg.n_effects, cfg.n_starts)
         accepted = score >= best_score
