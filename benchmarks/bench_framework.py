@@ -334,6 +334,8 @@ def run() -> str:
         + " For comparison, the "
         "virtual scene's budget (`directed_try_cap` 2,000) made its extensions execute "
         f"{ins.phase_moves['extend']:,} movements: at the Baxter scene's rate, about "
-        f"{est_h:.1f} hours.",
+        f"{est_h:.1f} hours. The whole Baxter run with the demo's budget (8 starts, 32 "
+        "held-out starts), end to end, before and after the changes that cut its time: the "
+        "next section (`benchmarks/bench_framework_baxter.py`).",
     ]
     return "\n".join(lines)
