@@ -53,8 +53,8 @@ CLOCK = echo "$$(date +%s) $$($(CPU_TICKS))" > $(BUILD)/.clock-$(1)
 LAP = read t0 c0 < $(BUILD)/.clock-$(1) && echo "$(2): $$(( $$(date +%s) - t0 )) s (CPU \
   $$(( ($$($(CPU_TICKS)) - c0) / $$(getconf CLK_TCK) )) s)" >> $(BUILD)/times.log
 
-.PHONY: help setup demo results test test-clock test-layers test-cpp guard-build test-guarded \
-  test-python fuzz-build fuzz bench lint format clean
+.PHONY: help setup demo results test test-clock test-layers test-cpp guard-build guard-run \
+  test-guarded test-python fuzz-build fuzz-run fuzz bench lint format clean
 
 help:
 	@sed -n '2,10p' Makefile | sed 's/^# \{0,1\}//'
@@ -133,7 +133,9 @@ guard-build: $(STAMP_VENV)
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp-guard -j $(JOBS) --target a2l_tests
 	@$(call LAP,guard,C++ build with the guard (real-time path and its tests))
 
-test-guarded: setup guard-build
+# (prerequisites are made left to right: the build, then the run)
+test-guarded: guard-build guard-run
+guard-run: setup
 	@echo "[test] real-time tests with Eigen's allocation guard (A2L_MALLOC_GUARD, assertions on)"
 	@$(call CLOCK,guard)
 	@export A2L_ROBOTS_DIR=$$($(PY) -m a2l.robot --robots-dir); \
@@ -162,7 +164,8 @@ fuzz-build: $(STAMP_VENV)
 	@$(VENV)/bin/cmake --build $(BUILD)/fuzz -j $(JOBS) --target fuzz_bundle
 	@$(call LAP,fuzz,fuzzer build (skill library under ASan + UBSan))
 
-fuzz: setup fuzz-build
+fuzz: fuzz-build fuzz-run
+fuzz-run: setup
 	@echo "[fuzz] bundle loader: $(FUZZ_RUNS) inputs under ASan + UBSan"
 	@$(call CLOCK,fuzz)
 	@mkdir -p $(BUILD)/fuzz/corpus && $(PY) tests/fuzz/make_seeds.py $(BUILD)/fuzz/corpus
@@ -200,8 +203,8 @@ test: test-clock $(STAMP_VENV)
 	$(LANE) guard-build fuzz-build > $(BUILD)/lane-builds.log 2>&1 & lane=$$!; \
 	$(LANE) setup test-layers test-cpp; \
 	wait $$lane || { tail -n 40 $(BUILD)/lane-builds.log; exit 1; }; \
-	$(LANE) fuzz > $(BUILD)/lane-fuzz.log 2>&1 & lane=$$!; \
-	$(LANE) test-guarded test-python; \
+	$(LANE) fuzz-run > $(BUILD)/lane-fuzz.log 2>&1 & lane=$$!; \
+	$(LANE) guard-run test-python; \
 	wait $$lane || { tail -n 40 $(BUILD)/lane-fuzz.log; exit 1; }; cat $(BUILD)/lane-fuzz.log
 	@missing=$$(comm -23 <($(call RT_TESTS,cpp)) <($(call RT_TESTS,cpp-guard))); \
 	[ -z "$$missing" ] || { echo "[test] real-time tests not in the guarded build:" $$missing; exit 1; }
