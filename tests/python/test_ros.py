@@ -1,7 +1,8 @@
 """a2l.ros: the simulated Baxter and the skill node, each in its own process, push the box
 over ROS 2; bad input ends the skill node with a clear message and no command after it.
 
-Every test gets its own random ROS_DOMAIN_ID and localhost-only discovery, so test runs of
+Every test gets its own random ROS_DOMAIN_ID (the processes of one pytest run draw from
+disjoint ranges) and localhost-only discovery, so tests running at once and test runs of
 other people on the same machine do not cross-talk.
 """
 
@@ -9,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import random
 import signal
 import subprocess
@@ -37,8 +39,14 @@ def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture
 def domain(monkeypatch: pytest.MonkeyPatch) -> int:
-    """A random ROS domain of this test, discovery on localhost only."""
-    d = random.SystemRandom().randint(1, 100)
+    """A random ROS domain of this test, discovery on localhost only; the pytest processes
+    of one run (pytest-xdist, ``make test``) draw from disjoint ranges of domains 1-100, so
+    two of its tests running at once never share one."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")[2:]
+    count = max(1, int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")))
+    span = max(1, 100 // count)
+    index = (int(worker) if worker.isdigit() else 0) % count
+    d = 1 + index * span + random.SystemRandom().randrange(span)
     monkeypatch.setenv("ROS_DOMAIN_ID", str(d))
     monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     monkeypatch.delenv("ROS_LOCALHOST_ONLY", raising=False)
