@@ -171,18 +171,17 @@ def _tasks(ms: list[dict[str, Any]]) -> str:
     return by_context([results_table(m["tasks"]) for m in ms])
 
 
-def _both(key: str, *args: str) -> list[Run]:
+def _both(key: str, *args: str, resume: bool = False) -> list[Run]:
     """`args` run with the camera (the default) and with the ground truth (:data:`CONTEXTS`'
-    order)."""
-    return [Run(key, args), Run(f"{key}-gt", (*args, "--context_source", "ground_truth"))]
+    order); `resume`: see :class:`Run`."""
+    return [Run(key, args, resume),
+            Run(f"{key}-gt", (*args, "--context_source", "ground_truth"), resume)]
 
 
 def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
     """The Baxter push run of `seed` with the camera and with the ground truth."""
-    args = ("experiment", "push", "--scene", "baxter", "--n_effects", str(effects),
-            "--seed", str(seed), "--quiet", *extra)
-    return [Run(key, args, resume=True),
-            Run(f"{key}-gt", (*args, "--context_source", "ground_truth"), resume=True)]
+    return _both(key, "experiment", "push", "--scene", "baxter", "--n_effects", str(effects),
+                 "--seed", str(seed), "--quiet", *extra, resume=True)
 
 
 #: Every table, in the order of the README.
