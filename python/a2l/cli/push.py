@@ -17,7 +17,7 @@ from jsonargparse.typing import PositiveInt
 
 from a2l.cli.args import UsageError, check_cluster, check_record, parse_overrides, parse_seeds
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
-from a2l.framework.config import FrameworkConfig
+from a2l.framework.config import FALLBACK_RULES, FrameworkConfig
 from a2l.rundir import command_line
 
 #: The earlier names of some FrameworkConfig flags, still accepted.
@@ -215,7 +215,7 @@ def _heldout_parser() -> Parser:
     p.add_argument("--iteration", type=int, default=None, metavar="N",
                    help="the skill of iteration N (skills/iter_NNN.a2lb; default the final "
                    "skills/push.a2lb)")
-    p.add_argument("--fallback", choices=("none", "nearest", "approach"), default=None,
+    p.add_argument("--fallback", choices=FALLBACK_RULES, default=None,
                    help="the step's answer in a cell without data (default the bundle's)")
     p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                    help="local worker processes for the rollouts (default 1)")

@@ -19,13 +19,12 @@ from a2l.atomic import atomic_write_text
 from a2l.errors import ConfigError
 from a2l.experiments.push_misses import miss_causes, miss_table, misses_markdown, plot_misses
 from a2l.framework.config import FrameworkConfig
-from a2l.framework.loop import rollouts_frame
+from a2l.framework.loop import bundle_with_fallback, rollouts_frame
 from a2l.framework.scoring import heldout_metrics
 from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor
 from a2l.rundir import write_json
 from a2l.seeds import mark_report, seed_record
-from a2l.skills.bundle import load_bundle, save_bundle
 
 __all__ = ["rerun_heldout"]
 
@@ -63,16 +62,12 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     src = run_dir / "skills" / ("push.a2lb" if iteration is None else f"iter_{iteration:03d}.a2lb")
     if not src.is_file():
         raise ConfigError("iteration", f"'{src}' does not exist")
-    spec = load_bundle(src)
     if fallback is not None:
-        if fallback not in ("none", "nearest", "approach"):
-            raise ConfigError("fallback", f"unknown {fallback!r}; choose 'approach', "
-                              "'nearest' or 'none'")
-        spec = dataclasses.replace(spec, fallback=fallback)
         cfg = dataclasses.replace(cfg, fallback=fallback)
+        cfg.validate()  # names an unknown rule
     out.mkdir(parents=True, exist_ok=True)
     bundle = out / "skill.a2lb"
-    save_bundle(spec, bundle)
+    spec = bundle_with_fallback(src, bundle, fallback)
     t0 = time.perf_counter()
     with Executor(workers=workers) as ex:
         held = validate_heldout(cfg, ex, bundle)

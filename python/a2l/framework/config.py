@@ -14,8 +14,8 @@ from a2l.errors import ConfigError
 from a2l.skills.discretization import DiscretizationConfig
 from a2l.skills.discretize import Discretizer
 
-__all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "HELDOUT_REDRAWS", "HELDOUT_STREAM", "FrameworkConfig",
-           "discretizers", "heldout_redraw", "task_config"]
+__all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "HELDOUT_REDRAWS", "HELDOUT_STREAM",
+           "TRAIN_FALLBACK", "FrameworkConfig", "discretizers", "heldout_redraw", "task_config"]
 
 #: Default ``directed_try_cap`` of each scene.
 DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
@@ -27,6 +27,9 @@ DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
 #: (``nearest``) ran into (tuning seeds 3 and 4); on the virtual scene such cells are rare
 #: and the fallback measured no gain.
 FALLBACK = {"virtual": "none", "baxter": "approach"}
+
+#: The C++ step's rules for a context cell without data (``fallback``, ``train_fallback``).
+FALLBACK_RULES = ("approach", "nearest", "none")
 
 #: Default ``train_fallback`` of each scene: the rule of the skill the training validation
 #: runs. A fallback that carries a rollout through a cell without data also hides that cell
@@ -265,7 +268,7 @@ class FrameworkConfig:
             raise ConfigError("start_r_low, start_r_high", f"need low <= high, got "
                              f"{self.start_r_low}, {self.start_r_high}")
         for name in ("fallback", "train_fallback"):
-            if getattr(self, name) not in ("approach", "nearest", "none"):
+            if getattr(self, name) not in FALLBACK_RULES:
                 raise ConfigError(name, f"unknown {getattr(self, name)!r}; choose "
                                   "'approach', 'nearest' or 'none'")
         if self.n_incl < 0:

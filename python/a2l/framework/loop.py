@@ -13,7 +13,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -35,8 +35,11 @@ from a2l.framework.waypoints import EffectDirected, directed_outcome_task
 from a2l.parallel import Executor
 from a2l.rundir import latest_checkpoint, save_checkpoint
 
-__all__ = ["MOVEMENT_PHASES", "acquire", "extend", "generate_skill",
-           "import_learning_ahead", "rollouts_frame", "run_framework"]
+if TYPE_CHECKING:
+    from a2l.skills.spec import SkillSpec
+
+__all__ = ["MOVEMENT_PHASES", "acquire", "bundle_with_fallback", "extend", "generate_skill",
+           "import_learning_ahead", "rollouts_frame", "run_framework", "training_bundle"]
 
 #: The phases of an iteration that move the robot, as ``metrics.json`` names them
 #: (``robot_movements``).
@@ -199,16 +202,26 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     return learned.table
 
 
+def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None) -> SkillSpec:
+    """Write the push skill bundle `src` to `dst` with the fallback `rule` (None: its own),
+    the same table otherwise; returns the skill written."""
+    from a2l.skills.bundle import load_bundle, save_bundle
+
+    spec = load_bundle(src)
+    if rule is not None:
+        spec = replace(spec, fallback=rule)
+    save_bundle(spec, dst)
+    return spec
+
+
 def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     """The skill the training validation runs: `bundle` itself, or, when
     ``cfg.train_fallback`` differs from its ``cfg.fallback``, a copy beside it
     (``<name>.train.a2lb``) with the training rule (the same table otherwise)."""
     if cfg.train_fallback == cfg.fallback:
         return bundle
-    from a2l.skills.bundle import load_bundle, save_bundle
-
     out = bundle.with_suffix(".train.a2lb")
-    save_bundle(replace(load_bundle(bundle), fallback=cfg.train_fallback), out)
+    bundle_with_fallback(bundle, out, cfg.train_fallback)
     return out
 
 
