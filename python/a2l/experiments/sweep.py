@@ -79,7 +79,7 @@ def headline_table(metrics: dict[str, Any]) -> str:
     seeds = [r["seed"] for r in rows]
     its = "—" if s["median"] is None else f"{s['median']:g} ({s['min']}–{s['max']})"
     held = [r["heldout_success"] for r in rows if r.get("heldout_success") is not None]
-    rate = (f"{np.mean(held):.1%} (lowest {min(held):.1%})".replace("%", " %") if held
+    rate = (f"{100 * np.mean(held):.1f} % (lowest {100 * min(held):.1f} %)" if held
             else "—")
     return "\n".join([
         "| seeds | held-out success rate (mean, lowest) | reach 100 | within "
