@@ -9,7 +9,7 @@ and under every perturbation (:func:`a2l.experiments.perturbations.trial_task`).
 of a condition is the smallest success count a skill at the claimed rate (:func:`_rate`)
 reaches with probability >= 1 - ALPHA: a skill as good as claimed fails a bound with
 probability < ALPHA = 1 %. Every perturbation must be measured in the world (the box moved
-by 3-5 cm, the arm held for the planned movements, the light flipped), and the three skills'
+by 3-5 cm, commanded movements held, the light flipped), and the three skills'
 successes with the box moved, pooled, must reach the bound of the rate the table measured
 there (:data:`MOVED_RATE`): a skill that reads the box once and does not see it move keeps
 above the 90 % target of each skill (23, 21 and 10 of 24, 24 and 12, docs/evidence.md) but
@@ -84,9 +84,8 @@ def _unmeasured(r: dict) -> str | None:
     if cond == "move_object" and not (MOVE_RANGE[0] - 1e-3 <= r["displacement_m"]
                                       <= MOVE_RANGE[1] + 1e-3):
         return f"box moved {r['displacement_m']:.4f} m"
-    if cond == "hold" and not (r["held_observed"] > 0
-                               and abs(r["hold_s"] - r["hold_planned_s"]) < 1e-9):
-        return f"held {r['held_observed']} movements, {r['hold_s']} of {r['hold_planned_s']} s"
+    if cond == "hold" and r["held_observed"] == 0:  # (a run may stop before the hold ends)
+        return "no movement held"
     if cond == "toggle_light" and r["light_before"] == r["light_after"]:
         return f"light stayed {r['light_after']!r}"
     return None
