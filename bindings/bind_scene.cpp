@@ -141,7 +141,8 @@ rest; True if the box moved more than ``moved_threshold`` in the table plane.
       .def_readwrite("limit_margin", &ExecutorOptions::limit_margin)
       .def_readwrite("workspace_min", &ExecutorOptions::workspace_min)
       .def_readwrite("workspace_max", &ExecutorOptions::workspace_max)
-      .def_readwrite("watchdog_ticks", &ExecutorOptions::watchdog_ticks);
+      .def_readwrite("watchdog_ticks", &ExecutorOptions::watchdog_ticks)
+      .def_readwrite("max_angular_speed", &ExecutorOptions::max_angular_speed);
 
   py::class_<Executor>(m, "Executor", R"doc(
 Differential-IK executor: end-effector position targets -> joint commands, one tick at a
@@ -163,12 +164,16 @@ options : ExecutorOptions
            py::arg("kinematics"), py::arg("q0"), py::arg("options") = ExecutorOptions(),
            py::keep_alive<1, 2>())
       .def("reset", &Executor::reset, py::arg("q0"))
+      .def("set_orientation", &Executor::set_orientation, py::arg("rotation"),
+           "Aim at this orientation (3, 3) until the next reset; a Status.")
       .def("set_target", &Executor::set_target, py::arg("position"))
       .def("tick", &Executor::tick, "One control tick; returns a Status.")
       .def_property_readonly("reached", &Executor::reached)
       .def_property_readonly("q", [](const Executor& e) { return Eigen::VectorXd(e.q()); })
       .def_property_readonly("position", &Executor::position)
       .def_property_readonly("target", &Executor::target)
+      .def_property_readonly("orientation",
+                             [](const Executor& e) { return Eigen::Matrix3d(e.orientation()); })
       .def_property_readonly("ticks", &Executor::ticks);
 }
 

@@ -1,6 +1,7 @@
 #include "a2l/executor.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -22,11 +23,13 @@ Result Executor::init(const Kinematics& kinematics, const Eigen::Ref<const Eigen
   if (!(options.period > 0.0) || !(options.max_speed > 0.0) || !(options.damping >= 0.0) ||
       !(options.position_tolerance > 0.0) || !(options.velocity_margin > 0.0) ||
       !(options.limit_margin >= 0.0) || options.watchdog_ticks < 1 ||
-      !(options.orientation_gain >= 0.0 && options.orientation_gain <= 1.0)) {
+      !(options.orientation_gain >= 0.0 && options.orientation_gain <= 1.0) ||
+      !(options.max_angular_speed > 0.0)) {
     return Result::failure(Status::invalid_argument,
                            "executor: options out of their domain (period, max_speed, "
-                           "position_tolerance and velocity_margin > 0; damping, limit_margin "
-                           ">= 0; orientation_gain in [0, 1]; watchdog_ticks >= 1)");
+                           "position_tolerance, velocity_margin and max_angular_speed > 0; "
+                           "damping, limit_margin >= 0; orientation_gain in [0, 1]; "
+                           "watchdog_ticks >= 1)");
   }
   kin_ = &kinematics;
   options_ = options;
@@ -66,6 +69,17 @@ Status Executor::reset(const Eigen::Ref<const Eigen::VectorXd>& q0) noexcept {
   return Status::ok;
 }
 
+Status Executor::set_orientation(const Eigen::Matrix3d& rotation) noexcept {
+  if (kin_ == nullptr) return Status::not_initialized;
+  if (!rotation.allFinite() || rotation.determinant() <= 0.0 ||
+      ((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() >
+       1e-6)) {
+    return Status::invalid_argument;
+  }
+  hold_ = rotation;
+  return Status::ok;
+}
+
 Status Executor::set_target(const Eigen::Vector3d& position) noexcept {
   if (kin_ == nullptr) return Status::not_initialized;
   if (!position.allFinite() || (position.array() < options_.workspace_min.array()).any() ||
@@ -93,7 +107,10 @@ Status Executor::tick() noexcept {
   Eigen::Matrix<double, 6, 1> err;
   err.head<3>() = reference - pose_.translation();
   const Eigen::AngleAxisd aa(hold_ * pose_.linear().transpose());
-  err.tail<3>() = options_.orientation_gain * aa.angle() * aa.axis();
+  // AngleAxis' angle is in [0, pi]: the correction's size, capped per tick.
+  const double turn = std::min(options_.orientation_gain * aa.angle(),
+                               options_.max_angular_speed * options_.period);
+  err.tail<3>() = turn * aa.axis();
 
   Eigen::Matrix<double, 6, 6> a = jac_ * jac_.transpose();
   a.diagonal().array() += options_.damping * options_.damping;

@@ -184,6 +184,52 @@ TEST_F(ExecutorTest, ReachesAStepTargetWithinLimitsAndHoldsTheOrientation) {
   EXPECT_LT((fk.translation() - ex.position()).norm(), 1e-12);
 }
 
+TEST_F(ExecutorTest, TurnsTowardASetOrientationAtMostMaxAngularSpeed) {
+  a2l::ExecutorOptions o;
+  o.max_angular_speed = 1.0;  // rad/s: 1 mrad per 1 ms tick
+  a2l::Executor ex;
+  ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
+  const Eigen::Isometry3d start = ex.pose();
+  // the start turned 0.2 rad about the base's vertical
+  const Eigen::Matrix3d aim =
+      Eigen::AngleAxisd(0.2, V::UnitZ()).toRotationMatrix() * start.linear();
+  auto angle_to = [&](const Eigen::Matrix3d& r) {
+    return Eigen::AngleAxisd(r * ex.pose().linear().transpose()).angle();
+  };
+  // not a rotation, or not finite: refused, the aim unchanged
+  EXPECT_EQ(ex.set_orientation(2.0 * aim), Status::invalid_argument);
+  EXPECT_EQ(ex.set_orientation(-aim), Status::invalid_argument);  // a reflection
+  Eigen::Matrix3d nan_aim = aim;
+  nan_aim(0, 0) = std::nan("");
+  EXPECT_EQ(ex.set_orientation(nan_aim), Status::invalid_argument);
+  EXPECT_LT((ex.orientation() - start.linear()).norm(), 1e-12);
+  ASSERT_EQ(ex.set_orientation(aim), Status::ok);
+  EXPECT_LT((ex.orientation() - aim).norm(), 1e-12);
+  ASSERT_EQ(ex.set_target(start.translation() + V(0.02, 0.0, 0.0)), Status::ok);
+  double before = angle_to(aim);
+  Eigen::VectorXd prev = ex.q();
+  for (int k = 0; k < 400; ++k) {
+    ASSERT_EQ(ex.tick(), Status::ok) << k;
+    const double now = angle_to(aim);
+    EXPECT_LE(now, before + 1e-6) << k;         // it turns toward the aim
+    EXPECT_GE(now, before - 1e-3 - 2e-4) << k;  // by at most 1 mrad a tick (plus coupling)
+    for (int i = 0; i < 7; ++i) {
+      EXPECT_LE(std::abs(ex.q()[i] - prev[i]), kin_.velocity_limits()[i] * 1e-3 + 1e-12);
+    }
+    before = now;
+    prev = ex.q();
+  }
+  EXPECT_LT(angle_to(aim), 1e-3);  // 0.2 rad within 0.4 s at 1 rad/s
+  EXPECT_LT((ex.position() - ex.target()).norm(), 1e-4);
+  // reset() holds the orientation the arm has again
+  ASSERT_EQ(ex.reset(q0_), Status::ok);
+  EXPECT_LT((ex.orientation() - start.linear()).norm(), 1e-9);
+  o.max_angular_speed = 0.0;
+  EXPECT_EQ(ex.init(kin_, q0_, o).status, Status::invalid_argument);
+  a2l::Executor unbound;
+  EXPECT_EQ(unbound.set_orientation(aim), Status::not_initialized);
+}
+
 TEST_F(ExecutorTest, SafetyChecks) {
   a2l::ExecutorOptions o;
   a2l::Executor ex;

@@ -4,7 +4,8 @@
 //!
 //! Each tick moves a reference point toward the target by at most max_speed * period, and
 //! solves the damped least-squares problem dq = J^T (J J^T + lambda^2 I)^-1 [dp; w] for the
-//! position error dp and the orientation error w (the orientation of the first tick is held).
+//! position error dp and the orientation error w (the orientation at reset() is held, or the one
+//! set_orientation() aims at; its correction per tick at most max_angular_speed * period).
 //! Before a command is issued, it is checked against the joint velocity limits, the joint
 //! position limits and the workspace bounds; a target that is not reached within the
 //! watchdog's tick budget stops with `unreachable`. tick() allocates nothing and throws
@@ -36,6 +37,9 @@ struct ExecutorOptions {
   Eigen::Vector3d workspace_max =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   int watchdog_ticks = 20000;  //!< most ticks toward one target before `unreachable`
+  //! most rotation the orientation correction asks for per second (rad/s); infinity: only
+  //! orientation_gain limits it
+  double max_angular_speed = std::numeric_limits<double>::infinity();
 };
 
 //! Differential-IK executor of end-effector position targets for one arm.
@@ -52,6 +56,13 @@ class Executor {
 
   //! Put the arm at q0, hold its current orientation, no target. No allocation.
   Status reset(const Eigen::Ref<const Eigen::VectorXd>& q0) noexcept;
+
+  //! Aim at the orientation `rotation` (base frame) instead of the one held at reset(), until
+  //! the next reset(); the correction turns the end-effector toward it at most
+  //! max_angular_speed. reached() still says the position only. `invalid_argument` if
+  //! `rotation` is not finite or not a rotation (orthonormal within 1e-6, determinant +1);
+  //! the aim is then unchanged. No allocation.
+  Status set_orientation(const Eigen::Matrix3d& rotation) noexcept;
 
   //! Aim at `position` (base frame, m). `workspace_limit` if outside the workspace bounds or
   //! not finite (the target is then unchanged).
@@ -70,6 +81,8 @@ class Executor {
   Eigen::Vector3d position() const noexcept { return pose_.translation(); }
   //! The end-effector pose at q().
   const Eigen::Isometry3d& pose() const noexcept { return pose_; }
+  //! The orientation aimed at (base frame).
+  const Eigen::Matrix3d& orientation() const noexcept { return hold_; }
   //! The current target (base frame, m).
   const Eigen::Vector3d& target() const noexcept { return target_; }
   //! Ticks since the last set_target().
