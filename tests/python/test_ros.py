@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import os
 import random
 import signal
@@ -35,6 +36,15 @@ def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from a2l.lfd.library import learn_recipe
 
     return learn_recipe("push_far", tmp_path_factory.mktemp("ros")).bundle
+
+
+@pytest.fixture(scope="module")
+def sideways(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A sideways push learned from demonstrations (its bundle keeps the gripper's turn, 90
+    degrees, it was learned with), as tests/python/test_cli_skill.py learns it."""
+    from a2l.lfd.library import learn_recipe
+
+    return learn_recipe("push_right", tmp_path_factory.mktemp("ros-sideways")).bundle
 
 
 @pytest.fixture
@@ -90,6 +100,114 @@ def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, domain: int, tmp
     assert t["commands"] and {c["topic"] for c in t["commands"]} == {topic}
     if record:
         check_recording(tmp_path / "push.mcap", len(t["commands"]))
+
+
+@pytest.mark.timeout(180)
+def test_a_sideways_push_runs_over_ros_with_the_gripper_turned_as_it_was_learned(
+        sideways: Path, domain: int, tmp_path: Path) -> None:
+    """The sim takes the bundle's scene settings (the turn, the trial of push_right), the
+    skill node commands the turned gripper in both commands, and the box goes right."""
+    from mcap_ros2.reader import read_ros2_messages
+    from scipy.spatial.transform import Rotation
+
+    from a2l import _core
+    from a2l.robot import arm_spec, gripper_down, rotation_angle
+
+    truth, mcap = tmp_path / "truth.json", tmp_path / "push.mcap"
+    sim = subprocess.Popen([*A2L, "ros", "sim", "--bundle", str(sideways), "--seed", "1000",
+                            "--truth", str(truth)],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        assert sim.stdout is not None
+        ready = sim.stdout.readline()
+        assert ready.startswith("a2l ros sim: push scene"), ready
+        assert "trial push_right, gripper turned 90 degrees" in ready, ready
+        skill = subprocess.run([*A2L, "ros", "skill", str(sideways), "--effect", "right",
+                                "--timeout", "90", "--record", str(mcap)],
+                               capture_output=True, text=True, timeout=150)
+    finally:
+        sim_out = _stop(sim)
+    assert sim.returncode == 0, sim_out
+    assert skill.returncode == 0, skill.stdout + skill.stderr
+    assert "turned 90 degrees (as the skill was learned)" in skill.stdout + skill.stderr
+    t = json.loads(truth.read_text())
+    assert t["trial"] == "push_right" and t["gripper_yaw"] == 90.0
+    moved = np.subtract(t["end"]["box"], t["start"]["box"])
+    # the simulator's ground truth: pushed right (-y) at least the push distance
+    assert t["effect"] == "right"
+    assert -moved[1] >= PUSH_DISTANCE and abs(moved[0]) < -moved[1] / 2
+    # both commands carry the turn: the Cartesian target exactly, the trajectory's end
+    # (the C++ IK turning toward it) within a degree; unturned would be 90 degrees off
+    aim, unturned = gripper_down(90.0), gripper_down(0.0)
+    spec = arm_spec("baxter", "right")
+    kin = _core.Kinematics(str(spec.urdf), spec.base_link, spec.tip_link)
+
+    def angle(a: np.ndarray, b: np.ndarray) -> float:
+        return float(np.degrees(rotation_angle(a, b)))
+
+    poses = trajs = 0
+    for m in read_ros2_messages(str(mcap)):
+        if m.channel.topic == "/target_pose":
+            o = m.ros_msg.pose.orientation
+            r = Rotation.from_quat([o.x, o.y, o.z, o.w]).as_matrix()
+            assert angle(r, aim) < 1e-4 and angle(r, unturned) > 89.9
+            poses += 1
+        elif m.channel.topic == "/joint_trajectory":
+            r = np.asarray(kin.fk(np.asarray(m.ros_msg.points[-1].positions)))[:3, :3]
+            assert angle(r, aim) < 1.0, angle(r, aim)
+            trajs += 1
+    assert poses == trajs == len(t["commands"]) > 0
+
+
+def test_the_skill_node_commands_the_turn_of_the_bundle_or_of_its_parameter(
+        sideways: Path, bundle: Path) -> None:
+    from a2l.errors import A2LValueError
+    from a2l.robot import GRIPPER_DOWN, arm_spec, gripper_down, rotation_angle
+    from a2l.ros.orientation import commanded_orientation
+
+    for path, yaw, expect, source in ((sideways, math.nan, 90.0, "as the skill was learned"),
+                                      (sideways, 0.0, 0.0, "the gripper_yaw parameter"),
+                                      (bundle, math.nan, 0.0, "the bundle names no turn")):
+        aim = commanded_orientation(str(path), GRIPPER_DOWN, yaw)
+        assert (aim.yaw, aim.source) == (expect, source)
+        assert rotation_angle(aim.rotation, gripper_down(expect)) < 1e-12
+    aim = commanded_orientation(str(sideways), GRIPPER_DOWN)
+    assert aim.settings == {"gripper_yaw": 90.0}
+    w, x, y, z = aim.quaternion  # 180 degrees about an axis in the table plane
+    assert abs(w) < 1e-12 and abs(z) < 1e-12 and abs(x * x + y * y - 1) < 1e-12
+    aim.check_start(gripper_down(90.0 + 20.0), 0.5)  # 20 degrees off: within 0.5 rad
+    with pytest.raises(A2LValueError, match="the gripper starts 40 degrees from"):
+        aim.check_start(gripper_down(90.0 - 40.0), 0.5)
+    with pytest.raises(A2LValueError, match="gripper_yaw 200.0 must be in"):
+        commanded_orientation(str(sideways), GRIPPER_DOWN, 200.0)
+    # each arm's own "down": the unturned aim is near its neutral pose (Baxter's neutral
+    # gripper is 16.5 degrees off, the fake arm's start; the Panda's points straight down)
+    from a2l import _core
+
+    for robot, most in (("baxter", 0.3), ("panda", 1e-3)):
+        spec = arm_spec(robot)
+        kin = _core.Kinematics(str(spec.urdf), spec.base_link, spec.tip_link)
+        aim = commanded_orientation(str(bundle), spec.down)
+        assert rotation_angle(aim.rotation, kin.fk(np.asarray(spec.neutral))[:3, :3]) < most
+
+
+def test_the_sim_node_takes_the_scene_settings_of_a_bundle_or_a_trial(
+        sideways: Path, bundle: Path) -> None:
+    from a2l.errors import A2LValueError
+    from a2l.ros.sim_node import SimNodeConfig, sim_scene
+
+    for cfg, trial, yaw in (
+            (SimNodeConfig(bundle=str(sideways)), "push_right", 90.0),
+            (SimNodeConfig(bundle=str(sideways), gripper_yaw=0.0), "push_right", 0.0),
+            (SimNodeConfig(bundle=str(sideways), trial="push_far"), "push_far", 90.0),
+            (SimNodeConfig(trial="push_left"), "push_left", 90.0),
+            (SimNodeConfig(bundle=str(bundle)), "push_far", 0.0),
+            (SimNodeConfig(), "", 0.0)):
+        got, scene = sim_scene(cfg)
+        with scene:
+            assert (got, scene.config.gripper_yaw) == (trial, yaw), cfg
+    with pytest.raises(A2LValueError, match="'lift' is not a demonstrated skill"):
+        sim_scene(SimNodeConfig(trial="lift"))
 
 
 def check_recording(path: Path, n: int) -> None:
@@ -193,6 +311,19 @@ class FakeRobot:
         rclpy.shutdown()
 
 
+def run_against(robot: FakeRobot, *argv: str) -> tuple[int, str, str]:
+    """Run ``a2l ros skill ARGV`` against `robot` until it ends (then close the robot):
+    exit code, stdout, stderr."""
+    try:
+        proc = subprocess.Popen([*A2L, "ros", "skill", *argv], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        robot.spin_while(proc, 60)
+        out, err = proc.communicate(timeout=20)
+    finally:
+        robot.close()
+    return proc.returncode, out, err
+
+
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize(("box", "expect"), [
     ("missing", "no message on /objects/box/pose within startup_timeout 4.0 s"),
@@ -201,15 +332,9 @@ class FakeRobot:
 def test_bad_input_ends_the_skill_node_without_a_command_after_it(
         bundle: Path, domain: int, box: str, expect: str) -> None:
     robot = FakeRobot(box)
-    try:
-        proc = subprocess.Popen([*A2L, "ros", "skill", str(bundle), "--effect", "far",
-                                 "--startup_timeout", "4", "--movement_timeout", "0.5"],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        robot.spin_while(proc, 60)
-        out, err = proc.communicate(timeout=20)
-    finally:
-        robot.close()
-    assert proc.returncode == 2, out + err
+    code, out, err = run_against(robot, str(bundle), "--effect", "far",
+                                 "--startup_timeout", "4", "--movement_timeout", "0.5")
+    assert code == 2, out + err
     assert "a2l ros skill: error:" in err and expect in err
     assert robot.final is not None  # the stop was announced on skill/trace
     if box == "missing":
@@ -262,6 +387,41 @@ def test_a_bundle_for_another_robot_is_refused(bundle: Path, domain: int,
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 2
     assert "was learned for robot 'panda'" in res.stderr and "'baxter'" in res.stderr
+
+
+@pytest.mark.timeout(120)
+def test_a_gripper_turned_away_from_the_skills_orientation_is_refused(
+        sideways: Path, domain: int) -> None:
+    """The fake arm holds Baxter's neutral pose, its fingers along y: the sideways push
+    (learned with them along x) refuses to start, and commands nothing."""
+    robot = FakeRobot()
+    code, out, err = run_against(robot, str(sideways), "--effect", "right")
+    assert code == 2, out + err
+    assert "a2l ros skill: error: the gripper starts" in err
+    assert "turned 90 degrees: as the skill was learned); turn it there first" in err
+    assert robot.commands == [] and robot.final is not None
+
+
+def test_an_effect_other_than_a_push_is_refused(bundle: Path, domain: int,
+                                                 tmp_path: Path) -> None:
+    """The node tests push effects from the object's pose: a bundle's other effect (here a
+    push bundle whose effect values name 'pressed') is refused before any topic."""
+    from a2l.skills import load_bundle, load_ds_phases, save_bundle
+
+    spec = load_bundle(bundle)
+    variables = [dataclasses.replace(v, values=("left", "right", "close", "pressed"))
+                 if v.kind == "effect" else v for v in spec.variables]
+    other = tmp_path / "pressed.a2lb"
+    save_bundle(dataclasses.replace(spec, variables=variables), other,
+                ds_phases=load_ds_phases(bundle))
+    res = subprocess.run([*A2L, "ros", "skill", str(other), "--effect", "pressed"],
+                         capture_output=True, text=True, timeout=60)
+    assert res.returncode == 2, res.stdout + res.stderr
+    assert "effect 'pressed': the ROS node runs push skills only" in res.stderr
+    res = subprocess.run([*A2L, "ros", "skill", str(bundle), "--effect", "lifted"],
+                         capture_output=True, text=True, timeout=60)
+    assert res.returncode == 2
+    assert "effect 'lifted' is not one of the bundle's: left, right, close, far" in res.stderr
 
 
 def test_bad_arguments_are_usage_errors(tmp_path: Path, bundle: Path,

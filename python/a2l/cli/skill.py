@@ -74,7 +74,7 @@ def bundle_summary(path: Path) -> dict[str, Any]:
         "ds_phases": [{"name": p.name, "when": dict(p.when), "end_action": p.end_action,
                        "tolerance": p.tolerance} for p in phases],
         "robot": spec.robot,
-        "scene": dict((spec.extra.get("lfd") or {}).get("scene") or {}),
+        "scene": spec.scene_settings,
     }
 
 

@@ -17,15 +17,20 @@ from a2l.robot.descriptions import (
     robots_dir,
     urdf_sha256,
 )
+from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN, gripper_down, rotation_angle
 
 __all__ = [
     "BAXTER_ARMS",
+    "GRIPPER_DOWN",
+    "PANDA_DOWN",
     "ArmSpec",
     "arm_spec",
     "baxter_urdf",
+    "gripper_down",
     "panda_urdf",
     "pybullet_urdf",
     "resolve_urdf",
     "robots_dir",
+    "rotation_angle",
     "urdf_sha256",
 ]

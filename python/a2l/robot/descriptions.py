@@ -12,6 +12,7 @@ from pathlib import Path
 
 from a2l.atomic import atomic_write_text
 from a2l.errors import A2LFileNotFoundError, URDFError
+from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN
 
 __all__ = [
     "BAXTER_ARMS",
@@ -41,12 +42,16 @@ class ArmSpec:
         First and last links of the arm's chain.
     neutral : tuple of float
         A neutral joint configuration, shape (n,), used to seed IK.
+    down : tuple of tuple of float
+        Orientation (3, 3) of the tip link pointing down with the fingers closing along the
+        base's y axis (:func:`a2l.robot.gripper.gripper_down` turns it about the vertical).
     """
 
     urdf: Path
     base_link: str
     tip_link: str
     neutral: tuple[float, ...]
+    down: tuple[tuple[float, ...], ...] = tuple(map(tuple, GRIPPER_DOWN.tolist()))
 
 
 #: Baxter's arms: chains from the base to each gripper's end point, and a neutral pose
@@ -142,7 +147,8 @@ def arm_spec(robot: str | os.PathLike[str] = "baxter", arm: str = "right") -> Ar
         return ArmSpec(baxter_urdf(), base, tip, neutral)
     if robot == "panda":
         return ArmSpec(panda_urdf(), "panda_link0", "panda_hand_tcp",
-                       (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785))
+                       (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785),
+                       tuple(map(tuple, PANDA_DOWN.tolist())))
     raise ValueError(f"no built-in arm for robot '{robot}'; build an ArmSpec from its URDF")
 
 

@@ -76,8 +76,10 @@ def run_sim(params: dict[str, Any], args: Sequence[str] = (), duration: float = 
         except (A2LError, ValueError) as exc:
             print(f"a2l ros sim: error: {exc}", file=sys.stderr)
             return 2
+        yaw = getattr(node.scene.config, "gripper_yaw", 0.0)
         print(f"a2l ros sim: {node.cfg.scene} scene, joints {node.joint_names[0]}..., "
-              f"objects {list(node.pub_obj)}, command {node.cfg.command}", flush=True)
+              f"objects {list(node.pub_obj)}, command {node.cfg.command}, trial "
+              f"{node.trial or 'none'}, gripper turned {yaw:g} degrees", flush=True)
         end = time.monotonic() + duration
         try:
             spin_until(node, lambda: duration > 0 and time.monotonic() > end)

@@ -10,6 +10,12 @@ orientation identity) and one ``states/<name>`` per high-level state with a Bool
 :meth:`a2l.sim.Scene.move_by`) and ``gripper/command``. The physics runs while a command is
 carried out (faster than real time), and the node publishes the new state when it is done.
 
+The world starts as ``a2l skill run`` starts it: ``trial`` places the object and the arm as a
+trial of a demonstrated skill, in that skill's scene settings (the sideways pushes turn the
+gripper 90 degrees: :func:`a2l.lfd.library.make_skill_scene`); ``bundle`` takes the scene
+settings its skill was learned with (:attr:`a2l.skills.spec.SkillSpec.scene_settings`) and,
+without ``trial``, the trial of the skill of its name; ``gripper_yaw`` overrides the turn.
+
 At exit it writes its ground truth (``truth`` file, JSON): the objects at the start and at
 the end, the effect of the episode, and every command received with its stamp.
 """
@@ -17,6 +23,7 @@ the end, the effect of the episode, and every command received with its stamp.
 from __future__ import annotations
 
 import json
+import math
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -42,8 +49,16 @@ class SimNodeConfig:
     scene : str
         The a2l.sim scene (a PyBullet one: push, press, grasp, grasp_light).
     trial : str
-        Place the object and the arm as a trial of this demonstrated skill (push_far...;
-        empty: the scene's own reset).
+        Place the object and the arm as a trial of this demonstrated skill, in its scene
+        settings (push_far...; empty: the bundle's skill if it is one, else the scene's own
+        reset).
+    bundle : str
+        A skill bundle whose scene settings the scene takes (the gripper's turn its skill
+        was learned with) and, without trial, whose skill of the library's name sets the
+        trial.
+    gripper_yaw : float
+        Turn of the downward-pointing gripper about the vertical (degrees); NaN (the
+        default): the bundle's, else the trial skill's, else 0.
     seed : int
         Scene and trial seed.
     step : float
@@ -62,6 +77,8 @@ class SimNodeConfig:
 
     scene: str = "push"
     trial: str = ""
+    bundle: str = ""
+    gripper_yaw: float = math.nan
     seed: int = 0
     step: float = 0.02
     rate: float = 50.0
@@ -81,7 +98,6 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
 
     from a2l.lfd.library import reset_for_trial
     from a2l.rollout.world import observe
-    from a2l.sim import make_scene
 
     class SimNode(Node):
         def __init__(self) -> None:
@@ -90,13 +106,12 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
             if cfg.command not in COMMANDS:
                 raise A2LValueError(f"command {cfg.command!r} is not one of {COMMANDS}")
             self.recorder = recorder
-            self.scene = make_scene(cfg.scene, seed=cfg.seed, step=cfg.step,
-                                    context_source=cfg.source)
+            self.trial, self.scene = sim_scene(cfg)
             if not hasattr(self.scene, "follow_joint_trajectory"):
                 self.scene.close()
                 raise A2LValueError(f"scene {cfg.scene!r} has no arm; use a PyBullet scene")
-            if cfg.trial:
-                reset_for_trial(self.scene, cfg.trial, cfg.seed)
+            if self.trial:
+                reset_for_trial(self.scene, self.trial, cfg.seed)
             self.joint_names = list(self.scene.kinematics.joint_names)
             self.start = self.scene.ground_truth()
             self.commands: list[dict[str, Any]] = []
@@ -182,7 +197,8 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
         def truth(self) -> dict[str, Any]:
             """The ground truth: start and end objects, the episode's effect, commands."""
             end = self.scene.ground_truth()
-            return {"scene": self.cfg.scene, "seed": self.cfg.seed,
+            return {"scene": self.cfg.scene, "seed": self.cfg.seed, "trial": self.trial,
+                    "gripper_yaw": getattr(self.scene.config, "gripper_yaw", None),
                     "start": {n: list(map(float, v)) for n, v in self.start["objects"].items()},
                     "end": {n: list(map(float, v)) for n, v in end["objects"].items()},
                     "effect": self.scene.observe_effect(since="episode",
@@ -197,3 +213,29 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self.scene.close()
 
     return SimNode()
+
+
+def sim_scene(cfg: SimNodeConfig) -> tuple[str, Any]:
+    """The trial (a skill's name or "") and the scene of `cfg`, with the scene settings of
+    the bundle, the trial's skill and ``gripper_yaw`` (in this order of precedence, last
+    first), those the scene has (:func:`a2l.sim.settings_for`)."""
+    from a2l.lfd.library import SKILLS, make_skill_scene
+    from a2l.sim import make_scene, settings_for
+    from a2l.skills.bundle import load_bundle
+
+    trial, settings = cfg.trial, {}
+    if cfg.bundle:
+        spec = load_bundle(cfg.bundle)
+        settings = spec.scene_settings
+        if not trial and spec.name in SKILLS:
+            trial = spec.name
+    if not math.isnan(cfg.gripper_yaw):
+        settings["gripper_yaw"] = cfg.gripper_yaw
+    if trial and trial not in SKILLS:
+        raise A2LValueError(f"trial {trial!r} is not a demonstrated skill; known: "
+                            f"{', '.join(SKILLS)}")
+    common = {"seed": cfg.seed, "step": cfg.step, "context_source": cfg.source,
+              **settings_for(cfg.scene, settings)}
+    if trial:  # the trial skill's own settings under those
+        return trial, make_skill_scene(trial, scene=cfg.scene, **common)
+    return trial, make_scene(cfg.scene, **common)

@@ -10,15 +10,27 @@ differential IK (``joint_trajectory``), plus one trace record (``skill/trace``).
 is over when the end-effector is within ``goal_tolerance`` of its target, or after
 ``movement_timeout`` (a push held back by the object): then the next tick steps again.
 
+Both commands carry the orientation the skill was learned with: the gripper pointing down
+(the arm's :attr:`a2l.robot.ArmSpec.down`), turned about the vertical by the bundle's scene
+setting ``gripper_yaw`` (:attr:`a2l.skills.spec.SkillSpec.scene_settings`; the sideways
+pushes learn with 90 degrees), as every movement of the simulated scenes asks for it
+(:func:`a2l.robot.gripper.gripper_down`). The trajectory's IK turns the gripper toward it at
+most ``max_angular_speed``; an arm whose gripper starts more than ``orientation_tolerance``
+from it is refused (bad input) before any command. The scene settings that concern the world
+(where the arm starts, the objects) are the robot's, or ``a2l ros sim --bundle``'s.
+
 The node stops at the effect (exit code 0), at a stop status of the step (``step_cap``,
 ``unknown_context``: 1), after ``timeout`` (1), on SIGINT (130), and on bad input (2): a
 bundle for another robot, an input topic silent for ``input_timeout``, a pose or a joint
-position that is not finite. After a stop it publishes no command. Topics and frames:
+position that is not finite, a gripper turned away from the skill's orientation at the start,
+an effect other than a push (the node tests the push effects from the object's pose). After a
+stop it publishes no command. Topics and frames:
 :mod:`a2l.ros.topics`, ``docs/ros.md``.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -31,6 +43,7 @@ from a2l.errors import A2LError, A2LValueError
 from a2l.robot import arm_spec, urdf_sha256
 from a2l.rollout.effect_tests import Progress, effect_test_of
 from a2l.ros import topics as T
+from a2l.ros.orientation import commanded_orientation
 from a2l.ros.spin import declare_config, overrides
 from a2l.skills.effects import AXIS_EFFECTS
 from a2l.skills.runner import CppSkillRunner
@@ -68,6 +81,16 @@ class SkillNodeConfig:
         Sample period of the joint trajectory (s).
     max_speed : float
         End-effector speed of the joint trajectory (m/s).
+    gripper_yaw : float
+        Turn of the downward-pointing gripper about the vertical that both commands carry
+        (degrees, in [-180, 180]); NaN (the default): the bundle's scene setting, 0 if it
+        names none.
+    orientation_tolerance : float
+        Most angle between the gripper's orientation at the start and the commanded one
+        (rad); more is bad input (turn the gripper first).
+    max_angular_speed : float
+        Most rate at which the joint trajectory turns the gripper toward the commanded
+        orientation (rad/s).
     """
 
     bundle: str = ""
@@ -83,6 +106,9 @@ class SkillNodeConfig:
     goal_tolerance: float = 0.005
     trajectory_period: float = 0.004
     max_speed: float = 0.25
+    gripper_yaw: float = math.nan
+    orientation_tolerance: float = 0.5
+    max_angular_speed: float = 0.5
 
 
 @dataclass
@@ -168,17 +194,26 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                                     f"{', '.join(effects)}")
             self.test = effect_test_of(cfg.effect)
             if self.test is None or cfg.effect not in AXIS_EFFECTS:
-                raise A2LValueError(f"effect {cfg.effect!r}: the ROS node tests push effects "
-                                    f"({', '.join(AXIS_EFFECTS)}) from the object's pose")
+                raise A2LValueError(f"effect {cfg.effect!r}: the ROS node runs push skills "
+                                    f"only: it tests the effects {', '.join(AXIS_EFFECTS)} "
+                                    "from the object's pose (run others with a2l skill run)")
             if not 0 < cfg.goal_tolerance < self.runner.step_length / 2:
                 raise A2LValueError(f"goal_tolerance {cfg.goal_tolerance} must be in (0, "
                                     f"{self.runner.step_length / 2}) (half a movement)")
             spec = check_robot(self.runner, cfg.robot, cfg.arm)
+            if not 0 < cfg.orientation_tolerance <= math.pi:
+                raise A2LValueError(f"orientation_tolerance {cfg.orientation_tolerance} must "
+                                    "be in (0, pi] rad")
+            if not cfg.max_angular_speed > 0:
+                raise A2LValueError(f"max_angular_speed {cfg.max_angular_speed} must be > 0")
+            self.aim = commanded_orientation(str(self.runner.path), spec.down, cfg.gripper_yaw)
+            self.get_logger().info(f"commanded orientation: {self.aim.describe()}")
             self.kin = _core.Kinematics(str(spec.urdf), spec.base_link, spec.tip_link)
             self.joint_names = list(self.kin.joint_names)
             opts = _core.ExecutorOptions()
             opts.period = cfg.trajectory_period
             opts.max_speed = cfg.max_speed
+            opts.max_angular_speed = cfg.max_angular_speed
             opts.position_tolerance = 1e-4
             opts.watchdog_ticks = 5000
             self.ik = _core.Executor(self.kin, np.asarray(spec.neutral), opts)
@@ -265,6 +300,8 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                 self.target = None
             states = {s: v for s, (v, _) in self.states.items()}
             if self.start_obj is None:
+                self.aim.check_start(np.asarray(self.kin.fk(q))[:3, :3],
+                                     self.cfg.orientation_tolerance)
                 self.start_obj = obj.copy()
             done, ok = self.test(Progress(self.cfg.effect, obj - self.start_obj,
                                           self.start_obj, obj, eef, states, states, None))
@@ -298,7 +335,9 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             ex = self.ik
             t_ik = time.perf_counter()
             ex.reset(q)
-            status = ex.set_target(target)
+            status = ex.set_orientation(self.aim.rotation)
+            if status == _core.Status.ok:
+                status = ex.set_target(target)
             points = []
             while status == _core.Status.ok and not ex.reached:
                 status = ex.tick()
@@ -323,7 +362,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             pose.header.stamp, pose.header.frame_id = stamp, self.cfg.frame
             pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = map(
                 float, target)
-            w, x, y, z = _quaternion(np.asarray(self.kin.fk(q))[:3, :3])
+            w, x, y, z = self.aim.quaternion
             o = pose.pose.orientation
             o.w, o.x, o.y, o.z = w, x, y, z
             self.pub_traj.publish(traj)
@@ -367,10 +406,3 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
 def _xyz(v: NDArray[np.float64]) -> str:
     return "(" + ", ".join(f"{x:.3f}" for x in v) + ")"
 
-
-def _quaternion(r: NDArray[np.float64]) -> tuple[float, float, float, float]:
-    """A rotation matrix (3, 3) as a unit quaternion ``(w, x, y, z)``."""
-    from scipy.spatial.transform import Rotation
-
-    x, y, z, w = Rotation.from_matrix(r).as_quat()
-    return float(w), float(x), float(y), float(z)

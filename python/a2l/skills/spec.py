@@ -123,3 +123,10 @@ class SkillSpec:
     robot: dict[str, str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     actions: list[str] = field(default_factory=list)
+
+    @property
+    def scene_settings(self) -> dict[str, Any]:
+        """The scene settings the skill was learned with and is meant to run with (``extra``'s
+        ``lfd.scene``, written by :func:`a2l.lfd.skill.learn_skill`: the sideways pushes'
+        ``{"gripper_yaw": 90.0}``); ``{}`` when the bundle names none."""
+        return dict((self.extra.get("lfd") or {}).get("scene") or {})

@@ -12,8 +12,8 @@ Use :func:`a2l.sim.make_scene`. The package holds one concept per module:
 
 from __future__ import annotations
 
+from a2l.robot.gripper import GRIPPER_DOWN
 from a2l.sim.bullet.base import BulletScene
-from a2l.sim.bullet.motion import GRIPPER_DOWN
 from a2l.sim.bullet.scenes import GraspScene, PressScene, PushScene
 
 __all__ = ["BulletScene", "GraspScene", "PressScene", "PushScene", "GRIPPER_DOWN"]

@@ -12,27 +12,15 @@ from numpy.typing import ArrayLike, NDArray
 
 import a2l
 from a2l.errors import A2LValueError, UnreachableError
+from a2l.robot.gripper import gripper_down
 from a2l.sim._pybullet import p
 from a2l.sim.bullet.build import FINGER_OPEN
 from a2l.sim.movement import MoveResult
 
-__all__ = ["GRIPPER_DOWN", "MotionMixin", "gripper_down"]
+__all__ = ["MotionMixin"]
 
 #: Shortest settling at the end of a movement (s): 5 physics steps at 240 Hz.
 _SETTLE_MIN_S = 5.0 / 240.0
-
-#: Orientation of the gripper frame when it points down: z to the floor, fingers closing
-#: along the world y axis.
-GRIPPER_DOWN: NDArray[np.float64] = np.diag([-1.0, 1.0, -1.0])
-
-
-def gripper_down(yaw_deg: float = 0.0) -> NDArray[np.float64]:
-    """Rotation (3, 3) of the gripper pointing down, turned by `yaw_deg` degrees about the
-    vertical from :data:`GRIPPER_DOWN` (90: the fingers close along the world x axis)."""
-    a = math.radians(float(yaw_deg))
-    c, s = math.cos(a), math.sin(a)
-    turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    return GRIPPER_DOWN @ turn
 
 
 class MotionMixin:
