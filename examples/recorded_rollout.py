@@ -96,9 +96,10 @@ def draw(rrd: Path, out: Path) -> None:
                label="box centre (colour: step)", zorder=2)
     ax.plot(eef[:, 1], eef[:, 0], "-o", color="tab:orange", ms=3, label="end-effector path",
             zorder=3)
-    ax.set_xlabel("y (m), left →")
+    ax.set_xlabel("← left    y (m)")
     ax.set_ylabel("x (m), forward ↑")
-    ax.invert_xaxis()
+    ax.invert_xaxis()  # +y (the robot's left) on the left, as seen from above
+    ax.xaxis.set_major_locator(plt.MaxNLocator(4))  # tick labels apart
     ax.set_aspect("equal")
     ax.legend(fontsize=7, loc="lower left")
     ax.set_title("from above (world frame)", fontsize=9)
