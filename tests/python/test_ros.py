@@ -432,7 +432,8 @@ def test_bad_arguments_are_usage_errors(tmp_path: Path, bundle: Path,
             (["skill", str(tmp_path / "none.a2lb"), "--effect", "far"], "is not a file"),
             (["skill", str(bundle), "--effect", "far", "--remap", "joint_states"],
              "write it as from:=to"),
-            (["sim", "--record", str(tmp_path / "run.txt")], "ends in .mcap")):
+            (["sim", "--record", str(tmp_path / "run.txt")], "ends in .mcap"),
+            (["sim", "--bundle", str(tmp_path / "none.a2lb")], "--bundle: '")):
         with pytest.raises(SystemExit) as info:
             main(["ros", *argv])
         assert info.value.code == 2

@@ -71,6 +71,8 @@ def _cmd_skill(ns: Namespace) -> int:
 def _cmd_sim(ns: Namespace) -> int:
     from a2l.ros.run import run_sim
 
+    if ns.bundle and not Path(ns.bundle).is_file():
+        raise UsageError("--bundle", f"'{ns.bundle}' is not a file")
     _check_ros()
     _check_record(ns.record)
     return run_sim(_params(ns, SimNodeConfig), _rclpy_args(ns), duration=ns.duration,

@@ -216,9 +216,16 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
 
 
 def sim_scene(cfg: SimNodeConfig) -> tuple[str, Any]:
-    """The trial (a skill's name or "") and the scene of `cfg`, with the scene settings of
-    the bundle, the trial's skill and ``gripper_yaw`` (in this order of precedence, last
-    first), those the scene has (:func:`a2l.sim.settings_for`)."""
+    """The trial (a skill's name or "") and the scene of `cfg`, with the scene settings the
+    scene has (:func:`a2l.sim.settings_for`) of, first, ``gripper_yaw`` (when not NaN), then
+    the bundle's, then the trial skill's recipe (:func:`a2l.lfd.library.make_skill_scene`).
+
+    Raises
+    ------
+    a2l.A2LValueError
+        A trial that is not a demonstrated skill; a bundle that does not load
+        (:class:`a2l.BundleError`); a setting out of its range.
+    """
     from a2l.lfd.library import SKILLS, make_skill_scene
     from a2l.sim import make_scene, settings_for
     from a2l.skills.bundle import load_bundle
