@@ -87,7 +87,10 @@ def _cmd_discretization(ns: Namespace) -> int:
     cfg = framework_config(ns)
     out = Path(ns.out)
     _check_out(out)
-    run_discretization_study(out=out, base=cfg, workers=ns.workers, quiet=ns.quiet)
+    if ns.record is not None:
+        check_record(Path(ns.record))
+    run_discretization_study(out=out, base=cfg, workers=ns.workers, quiet=ns.quiet,
+                             record=ns.record)
     return 0
 
 
@@ -104,6 +107,8 @@ def _cmd_sweep(ns: Namespace) -> int:
         raise UsageError("--set", str(exc)) from None
     out = Path(ns.out) if ns.out is not None else None
     _check_out(out)
+    if ns.record is not None:
+        check_record(Path(ns.record))
     words = ["a2l", "experiment", "sweep", "--seeds", ns.seeds]
     for item in ns.set:
         words += ["--set", item]
@@ -111,7 +116,7 @@ def _cmd_sweep(ns: Namespace) -> int:
         words += ["--out", str(out)]
     try:
         run_seed_sweep(cfg, seeds, overrides, out=out, workers=ns.workers, quiet=ns.quiet,
-                       command=command_line(words, cfg, skip=("seed",)))
+                       command=command_line(words, cfg, skip=("seed",)), record=ns.record)
     except ValueError as exc:  # out holds a sweep of another configuration
         raise UsageError("--out", str(exc)) from None
     return 0
@@ -157,6 +162,9 @@ def _discretization_parser() -> Parser:
     p.add_argument("--out", metavar="DIR", required=True, help="study directory")
     p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                    help="local worker processes for the rollouts (default 1)")
+    p.add_argument("--record", metavar="FILE.rrd", default=None,
+                   help="write every combination's final validation to one Rerun recording "
+                   "(o<O>-d<D>/rollout/<i>/; a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no per-run lines")
     return p
 
@@ -180,6 +188,9 @@ def _sweep_parser() -> Parser:
                    help="local worker processes (default 1): with at least N seeds to run, "
                    "N seeds at once, each in its own process; with fewer, the runs share "
                    "them as rollout workers")
+    p.add_argument("--record", metavar="FILE.rrd", default=None,
+                   help="write every seed's final validation to one Rerun recording "
+                   "(seed/<seed>/rollout/<i>/; a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no line per seed")
     return p
 
@@ -188,6 +199,8 @@ def _cmd_heldout(ns: Namespace) -> int:
     # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.push_heldout import rerun_heldout
 
+    if ns.record is not None:
+        check_record(Path(ns.record))
     run = Path(ns.run)
     if not (run / "config.json").is_file():
         raise UsageError("RUN", f"'{run}' holds no config.json: not a push run directory")
@@ -195,7 +208,7 @@ def _cmd_heldout(ns: Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
     m = rerun_heldout(run, out, iteration=ns.iteration, fallback=ns.fallback,
-                      workers=ns.workers)
+                      workers=ns.workers, record=ns.record)
     if not ns.quiet:
         print(f"held-out success {m['heldout_success']:.1%} ("
               + ", ".join(f"{e} {v:.0%}" for e, v in m["heldout_success_rate"].items())
@@ -219,6 +232,8 @@ def _heldout_parser() -> Parser:
                    help="the step's answer in a cell without data (default the bundle's)")
     p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                    help="local worker processes for the rollouts (default 1)")
+    p.add_argument("--record", metavar="FILE.rrd", default=None,
+                   help="write the held-out rollouts to a Rerun recording (a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no summary line")
     return p
 

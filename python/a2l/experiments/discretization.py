@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from a2l.atomic import atomic_write_text
-from a2l.experiments.push import run_push_experiment
+from a2l.experiments.push import final_validation, record_validations, run_push_experiment
 from a2l.framework import FrameworkConfig
 from a2l.rundir import make_run_dir, write_json
 from a2l.seeds import mark_report, seed_record
@@ -23,13 +23,16 @@ def run_discretization_study(out: str | Path | None = None,
                              base: FrameworkConfig | None = None,
                              orientations: tuple[int, ...] = (8, 16, 24, 32),
                              distances: tuple[int, ...] = (3, 4, 5), workers: int = 1,
-                             quiet: bool = False) -> dict[str, Any]:
+                             quiet: bool = False, record: str | Path | None = None
+                             ) -> dict[str, Any]:
     """The authors' parametrization sweep: orientation × distance bins.
 
     Each combination runs the push experiment (virtual scene by default) with the same
     seed; the table reports final score, iterations and movements per action, and the
     selected default is the best score, then the fewest iterations, then the fewest
-    movements.
+    movements. With `record`, every combination's final validation goes to one Rerun
+    recording (``.rrd``), as ``a2l experiment push --record`` writes one run's, under
+    ``o<orientations>-d<distances>/rollout/<i>/``.
 
     Returns
     -------
@@ -57,6 +60,10 @@ def run_discretization_study(out: str | Path | None = None,
             if not quiet:
                 print(f"orientation {o:2d} x distance {d}: score {sub['final_score']:.1f}, "
                       f"{len(sub['iterations'])} iteration(s)")
+    if record is not None:
+        record_validations(record, {f"o{r['n_orient']}-d{r['n_dist']}": final_validation(
+            run_dir / f"o{r['n_orient']}-d{r['n_dist']}") for r in rows},
+            name="a2l experiment discretization")
     best = min(rows, key=lambda r: (-r["final_score"], r["iterations"],
                                     np.nan_to_num(r["movements_per_action"], nan=1e9)))
     selected = {"n_orient": best["n_orient"], "n_dist": best["n_dist"]}

@@ -15,9 +15,12 @@ from __future__ import annotations
 import contextlib
 import shutil
 import time
+from collections.abc import Mapping
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
+
+import pandas as pd
 
 from a2l.atomic import atomic_write_text
 from a2l.experiments.push_misses import (
@@ -45,7 +48,9 @@ from a2l.seeds import mark_report, seed_record
 __all__ = [
     "plot_policy",
     "plot_scores",
+    "final_validation",
     "plot_trajectories",
+    "record_validations",
     "results_table",
     "run_push_experiment",
     "with_heldout",
@@ -171,7 +176,8 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     }
     write_json(run_dir / "metrics.json", metrics)
     if record is not None:
-        _record(Path(record), list(result["validation"].itertuples(index=False)), final)
+        record_validations(record, {"": (result["validation"], final)},
+                           name="a2l experiment push")
     if plots:
         plot_scores(history, run_dir / "score.png")
         plot_trajectories(cfg, result["validation"], run_dir / "trajectories.png")
@@ -202,14 +208,47 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     return {**metrics, "run_dir": str(run_dir)}
 
 
-def _record(path: Path, rollouts: list[Any], bundle: Path) -> None:
-    """The final validation's rollouts as a Rerun recording (:mod:`a2l.rollout.recording`)."""
+def final_validation(run_dir: str | Path, table: str = "validation"
+                     ) -> tuple[pd.DataFrame, Path]:
+    """A finished push run's final validation rollouts (its newest checkpoint's
+    ``<table>.parquet``: ``"validation"`` or ``"heldout"``) and its final bundle."""
+    from a2l.rundir import latest_checkpoint
+
+    ck = latest_checkpoint(run_dir)
+    if ck is None:
+        raise FileNotFoundError(f"'{run_dir}' holds no checkpoint: not a finished push run")
+    return ck[2][table], Path(run_dir) / "skills" / "push.a2lb"
+
+
+def record_validations(path: str | Path, runs: Mapping[str, tuple[pd.DataFrame, Path]],
+                       name: str) -> Path:
+    """Push runs' validation rollouts as one Rerun recording (:mod:`a2l.rollout.recording`,
+    ``a2l view``): per run (its group, e.g. ``seed/3``; ``""`` for one run alone), one
+    rollout per row of its table (:func:`a2l.framework.loop.rollouts_frame`), its
+    movements, bins and effect names read from its bundle.
+
+    Parameters
+    ----------
+    path : path
+        The ``.rrd`` file.
+    runs : mapping of str to (DataFrame, Path)
+        Group -> (the rollouts' table, the bundle that ran them).
+    name : str
+        The recording's application id (the command).
+
+    Returns
+    -------
+    Path
+        The recording written.
+    """
     from a2l.rollout.recording import RerunRecorder, record_rollouts
     from a2l.skills.runner import CppSkillRunner
 
-    rec = RerunRecorder(path, name="a2l experiment push")
-    record_rollouts(rec, rollouts, CppSkillRunner(bundle).skill)
-    rec.close()
+    rec = RerunRecorder(path, name=name)
+    for group, (frame, bundle) in runs.items():
+        record_rollouts(rec, list(frame.itertuples(index=False)),
+                        CppSkillRunner(bundle).skill, group=group)
+    return rec.close()
 
 
 def _iteration_done(bars: ProgressBars, m: IterationResult) -> None:

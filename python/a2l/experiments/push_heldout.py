@@ -17,6 +17,7 @@ from typing import Any
 
 from a2l.atomic import atomic_write_text
 from a2l.errors import ConfigError
+from a2l.experiments.push import record_validations
 from a2l.experiments.push_misses import miss_causes, miss_table, misses_markdown, plot_misses
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.loop import bundle_with_fallback, rollouts_frame
@@ -30,7 +31,8 @@ __all__ = ["rerun_heldout"]
 
 
 def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = None,
-                  fallback: str | None = None, workers: int = 1) -> dict[str, Any]:
+                  fallback: str | None = None, workers: int = 1,
+                  record: str | Path | None = None) -> dict[str, Any]:
     """Run the skill of push run `run_dir` from the run's held-out starts again and write
     `out`: ``metrics.json`` (:func:`~a2l.framework.scoring.heldout_metrics`),
     ``heldout.parquet``, ``heldout_misses.csv``, ``heldout_misses.png`` and ``report.md``.
@@ -48,6 +50,9 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         The step's answer in a cell without data; default the bundle's own.
     workers : int
         Local worker processes for the rollouts.
+    record : path, optional
+        A Rerun recording (``.rrd``) of the held-out rollouts, one rollout each, as ``a2l
+        experiment push --record`` writes a validation's.
 
     Returns
     -------
@@ -74,6 +79,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     wall = time.perf_counter() - t0
     frame = rollouts_frame(held)
     frame.to_parquet(out / "heldout.parquet", index=False)
+    if record is not None:
+        record_validations(record, {"": (frame, bundle)}, name="a2l experiment heldout")
     it = -1 if iteration is None else iteration
     table = miss_table(cfg, frame, bundle)
     metrics = {**heldout_metrics(cfg, it, held), "heldout_miss_causes": miss_causes(table),

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from a2l.atomic import atomic_write_text
-from a2l.experiments.push import run_push_experiment
+from a2l.experiments.push import final_validation, record_validations, run_push_experiment
 from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
 from a2l.rundir import make_run_dir, read_json, write_json
@@ -164,8 +164,8 @@ def seed_run(job: SeedJob) -> dict[str, Any]:
 
 def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = range(30),
                    overrides: dict[str, Any] | None = None, out: str | Path | None = None,
-                   workers: int = 1, quiet: bool = False, command: str | None = None
-                   ) -> dict[str, Any]:
+                   workers: int = 1, quiet: bool = False, command: str | None = None,
+                   record: str | Path | None = None) -> dict[str, Any]:
     """Run the push experiment once per seed and tabulate the iterations to score 100.
 
     Parameters
@@ -188,6 +188,9 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
         No line per seed.
     command : str, optional
         The command line that made the sweep, kept in ``config.json``.
+    record : path, optional
+        A Rerun recording (``.rrd``) of every seed's final validation, as ``a2l experiment
+        push --record`` writes one run's, under ``seed/<seed>/rollout/<i>/``.
 
     Returns
     -------
@@ -237,6 +240,9 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
                                       for seed in todo], batches=len(todo))
         by_seed.update(zip(todo, ran, strict=True))
         rows = [by_seed[seed] for seed in seeds]
+    if record is not None:
+        record_validations(record, {f"seed/{seed}": final_validation(subs[seed])
+                                    for seed in seeds}, name="a2l experiment sweep")
     summary = summarize_sweep(rows)
     table = _table(rows, summary)
     write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary})

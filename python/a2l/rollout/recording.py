@@ -2,7 +2,8 @@
 ``a2l view FILE.rrd``; the ``ros`` extra installs ``rerun-sdk``).
 
 :class:`RerunRecorder` logs, per rollout ``i`` and per step (timelines ``step`` and
-``time``), under ``rollout/<i>/``:
+``time``), under ``rollout/<i>/`` (``<group>/rollout/<i>/`` in a recording of several runs,
+e.g. ``seed/3/rollout/0/`` for a sweep):
 
 ============================  ===================  ==========================================
 entity                        archetype            what
@@ -71,9 +72,12 @@ class RerunRecorder:
         self.path_points: list[list[float]] = []
         self.start: NDArray[np.float64] | None = None
 
-    def rollout(self, index: int) -> None:
-        """Log what follows as rollout `index` (a new path, a new effect origin)."""
-        self.prefix = f"rollout/{int(index)}"
+    def rollout(self, index: int, group: str = "") -> None:
+        """Log what follows as rollout `index` (a new path, a new effect origin), under
+        ``<group>/rollout/<index>/`` when a `group` is given (a recording of several runs:
+        a sweep's seeds, a study's cells, an experiment's skills)."""
+        self.prefix = f"{group.strip('/')}/rollout/{int(index)}" if group.strip("/") \
+            else f"rollout/{int(index)}"
         self.path_points, self.start = [], None
 
     def time(self, step: int, seconds: float | None = None) -> None:
@@ -179,7 +183,8 @@ def step_bins(skill: Any, eef: ArrayLike, obj: ArrayLike) -> list[dict[str, int]
 
 
 def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str = "object",
-               frames: Sequence[Mapping[str, Any]] | None = None, rollout: int = 0) -> None:
+               frames: Sequence[Mapping[str, Any]] | None = None, rollout: int = 0,
+               group: str = "") -> None:
     """Log a finished run (:class:`a2l.rollout.run.SkillRun`) as rollout `rollout`.
 
     Parameters
@@ -193,8 +198,10 @@ def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str =
         Per step (before it), what the scene looked like: ``{"links": {...}, "image": rgb,
         "t": seconds}``; any key may be missing.
     rollout : int
+    group : str
+        The entity path the rollout goes under (:meth:`RerunRecorder.rollout`).
     """
-    recorder.rollout(rollout)
+    recorder.rollout(rollout, group)
     bins = step_bins(skill, run.eef, run.obj)
     for k, st in enumerate(run.steps):
         frame = frames[k] if frames is not None and k < len(frames) else {}
@@ -209,16 +216,17 @@ def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str =
             recorder.image(frame["image"])
 
 
-def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any) -> int:
+def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any,
+                    group: str = "") -> int:
     """Log trajectories of the framework (:class:`a2l.acquisition.rollout.Rollout`, or the
     rows of the validation table: ``eef`` and ``obj`` (T + 1, 3) or flattened, ``moves``
     (T,), ``start``, ``wanted``, ``outcome``, ``stop``), one rollout each (``a2l experiment
-    push --record``); the movement labels, effect names and bins are `skill`'s. Returns the
-    number of rollouts."""
+    push --record``), under `group` (:meth:`RerunRecorder.rollout`); the movement labels,
+    effect names and bins are `skill`'s. Returns the number of rollouts."""
     labels = list(skill.movements.labels)
     effects = list(skill.effect_values)
     for i, ro in enumerate(rollouts):
-        recorder.rollout(i)
+        recorder.rollout(i, group)
         eef = np.asarray(ro.eef, dtype=float).reshape(-1, 3)
         obj = np.asarray(ro.obj, dtype=float).reshape(-1, 3)
         bins = step_bins(skill, eef, obj)
@@ -236,7 +244,8 @@ def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any
 
 def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tuple[ArrayLike,
                         ArrayLike]], notes: Mapping[str, str] | None = None,
-                        object_name: str = "object") -> int:
+                        object_name: str = "object", group: str = "",
+                        labels: Mapping[str, Sequence[str]] | None = None) -> int:
     """Log finished trials known only by their paths, one rollout each, in the mapping's
     order (e.g. ``a2l experiment perturbations --record``).
 
@@ -249,6 +258,11 @@ def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tupl
     notes : mapping of str to str, optional
         Per trial, a line about it (its name, how it ended); default its name.
     object_name : str
+    group : str
+        The entity path the rollouts go under (:meth:`RerunRecorder.rollout`).
+    labels : mapping of str to sequence of str, optional
+        Per trial, what was done at each step (T,) (e.g. the plan step), shown as the step's
+        movement; default none.
 
     Returns
     -------
@@ -256,11 +270,13 @@ def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tupl
         The number of rollouts logged.
     """
     for i, (name, (eef, obj)) in enumerate(trajectories.items()):
-        recorder.rollout(i)
+        recorder.rollout(i, group)
         e = np.asarray(eef, dtype=float).reshape(-1, 3)
         o = np.asarray(obj, dtype=float).reshape(-1, 3)
+        done = list((labels or {}).get(name, ()))
         for k in range(len(e)):
-            recorder.step(k, e[k], o[k], status="ok" if k + 1 < len(e) else "end",
+            recorder.step(k, e[k], o[k], label=done[k] if k < len(done) else "",
+                          status="ok" if k + 1 < len(e) else "end",
                           target=e[k + 1] if k + 1 < len(e) else None,
                           object_name=object_name)
         recorder.note((notes or {}).get(name, name))

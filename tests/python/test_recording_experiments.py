@@ -1,0 +1,98 @@
+"""``--record FILE.rrd`` of every experiment: a short run of each writes its recording and
+it is read back (Rerun's dataframe API) with the entities a person would look at: a sweep's
+seeds and a study's cells as groups of validation rollouts, the held-out rollouts, the
+demonstrated skills' trials, the tasks' plan steps, the babbling trajectories, the LASA
+demonstrations and DS paths."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+rr = pytest.importorskip("rerun", reason="the ros extra (rerun-sdk) is not installed")
+pytest.importorskip("datafusion", reason="rerun-sdk[catalog] is not installed")
+
+from a2l.cli import main  # noqa: E402
+from a2l.rollout.recording import read_recording  # noqa: E402
+
+#: The short push configuration of the framework's tests (virtual scene, one iteration).
+SHORT = ["--scene", "virtual", "--effects", "4", "--starts", "2", "--iterations", "1",
+         "--quiet"]
+
+
+def rollouts_under(cols: dict[str, list], group: str) -> set[int]:
+    """The rollout indices a recording holds under `group` (``""``: at the top)."""
+    pre = f"/{group}/rollout/" if group else "/rollout/"
+    return {int(c[len(pre):].split("/")[0]) for c in cols if c.startswith(pre)}
+
+
+def summaries(cols: dict[str, list], prefix: str) -> list[str]:
+    return [v[0] for v in cols.get(f"{prefix}/summary:TextLog:text", []) if v]
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``a2l experiment sweep --seeds 0-1 --record``: two short push runs."""
+    out = tmp_path_factory.mktemp("sweep")
+    assert main(["experiment", "sweep", *SHORT, "--seeds", "0-1", "--out", str(out / "run"),
+                 "--record", str(out / "sweep.rrd")]) == 0
+    return out
+
+
+def test_sweep_records_every_seeds_final_validation(sweep: Path) -> None:
+    from a2l.experiments.push import final_validation
+
+    cols = read_recording(sweep / "sweep.rrd")
+    for seed in (0, 1):
+        frame, _ = final_validation(sweep / "run" / f"seed_{seed:03d}")
+        assert rollouts_under(cols, f"seed/{seed}") == set(range(len(frame)))
+        last = frame.iloc[-1]
+        pre = f"/seed/{seed}/rollout/{len(frame) - 1}"
+        points = [v for v in cols[f"{pre}/world/eef:Points3D:positions"] if v]
+        eef = np.asarray(last.eef).reshape(-1, 3)
+        assert len(points) == len(eef)
+        np.testing.assert_allclose(np.asarray(points[-1]).reshape(3), eef[-1], atol=1e-6)
+        assert summaries(cols, pre)[0].endswith(f": {last.outcome} ({last.stop})")
+    assert rollouts_under(cols, "") == set()  # nothing outside the seeds' groups
+
+
+def test_heldout_records_the_heldout_rollouts(sweep: Path, tmp_path: Path) -> None:
+    out = tmp_path / "again"
+    assert main(["experiment", "heldout", str(sweep / "run" / "seed_000"), "--out", str(out),
+                 "--quiet", "--record", str(tmp_path / "held.rrd")]) == 0
+    held = pd.read_parquet(out / "heldout.parquet")
+    cols = read_recording(tmp_path / "held.rrd")
+    assert rollouts_under(cols, "") == set(range(len(held))) and len(held) > 0
+    for i, row in enumerate(held.itertuples()):
+        moves = [v[0] for v in cols[f"/rollout/{i}/movement_index:Scalars:scalars"] if v]
+        assert moves == [*map(float, row.moves), -1.0]  # every movement, then the end
+
+
+def test_discretization_records_every_cell(tmp_path: Path) -> None:
+    from a2l.experiments.discretization import run_discretization_study
+    from a2l.framework import FrameworkConfig
+
+    base = FrameworkConfig(scene="virtual", n_effects=4, n_starts=2, max_iterations=1)
+    res = run_discretization_study(tmp_path / "study", base, orientations=(8,),
+                                   distances=(3, 4), quiet=True,
+                                   record=tmp_path / "study.rrd")
+    cols = read_recording(tmp_path / "study.rrd")
+    for cell in ("o8-d3", "o8-d4"):
+        assert rollouts_under(cols, cell), cell
+    assert len(res["rows"]) == 2
+
+
+@pytest.mark.parametrize("command", [
+    ["experiment", "sweep", "--seeds", "0"], ["experiment", "discretization"],
+    ["experiment", "heldout", "."]])
+def test_a_recording_not_ending_in_rrd_is_a_usage_error(command: list[str], tmp_path: Path,
+                                                       capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    with pytest.raises(SystemExit) as info:
+        main([*command, "--out", str(tmp_path / "out"), "--record", str(tmp_path / "x.txt")])
+    assert info.value.code == 2
+    assert "a Rerun recording ends in .rrd" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
