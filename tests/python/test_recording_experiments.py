@@ -87,7 +87,9 @@ def test_discretization_records_every_cell(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("command", [
     ["experiment", "sweep", "--seeds", "0"], ["experiment", "discretization"],
-    ["experiment", "heldout", "."]])
+    ["experiment", "heldout", "."], ["experiment", "lfd-skills"],
+    ["experiment", "babbling", "--method", "random"],
+    ["experiment", "babbling-compare"]])
 def test_a_recording_not_ending_in_rrd_is_a_usage_error(command: list[str], tmp_path: Path,
                                                        capsys: pytest.CaptureFixture[str]
                                                        ) -> None:
@@ -96,3 +98,55 @@ def test_a_recording_not_ending_in_rrd_is_a_usage_error(command: list[str], tmp_
     assert info.value.code == 2
     assert "a Rerun recording ends in .rrd" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
+
+
+def test_lfd_skills_records_every_trial_of_every_skill(tmp_path: Path) -> None:
+    import dataclasses
+
+    from a2l.experiments.lfd_skills import run_lfd_skills
+    from a2l.lfd.config import DEFAULT
+
+    cfg = dataclasses.replace(DEFAULT, n_demos=3, maps=10)
+    run_lfd_skills(tmp_path / "r", ["push_right"], trials=2, scene="virtual", cfg=cfg,
+                   quiet=True, context_source="ground_truth", record=tmp_path / "lfd.rrd")
+    trials = pd.read_csv(tmp_path / "r" / "trials.csv")
+    cols = read_recording(tmp_path / "lfd.rrd")
+    assert rollouts_under(cols, "push_right") == {0, 1}
+    for i, t in enumerate(trials.itertuples()):
+        pre = f"/push_right/rollout/{i}"
+        assert summaries(cols, pre) == [
+            f"push_right seed {t.seed}: {'success' if t.success else 'failure'} ({t.stop})"]
+        moves = [v for v in cols[f"{pre}/movement_index:Scalars:scalars"] if v]
+        assert len(moves) - 1 == t.movements  # a row per step, the last one the stop
+        assert f"{pre}/world/objects/box:Boxes3D:centers" in cols
+        assert f"{pre}/bins/distance:Scalars:scalars" in cols
+
+
+def test_babbling_and_the_comparison_record_every_evaluation(tmp_path: Path) -> None:
+    """``babbling --record``: an evaluation a rollout, its path the one played, the box at
+    its home first and where the experimenter found it last; ``babbling-compare --record``
+    the same per run, under ``<method>-s<seed>``."""
+    run = tmp_path / "cmp" / "random-s1"
+    common = ["--evaluations", "4", "--generation-size", "2", "--scene", "push", "--quiet"]
+    assert main(["experiment", "babbling", "--method", "random", "--seed", "1", *common,
+                 "--out", str(run), "--record", str(tmp_path / "bab.rrd")]) == 0
+    evals = pd.read_parquet(run / "evaluations.parquet")
+    with np.load(run / "paths.npz") as z:
+        paths = [z[k] for k in z.files]
+    cols = read_recording(tmp_path / "bab.rrd")
+    assert rollouts_under(cols, "") == set(range(4))
+    for i, (row, path) in enumerate(zip(evals.itertuples(), paths, strict=True)):
+        pre = f"/rollout/{i}"
+        points = [v for v in cols[f"{pre}/world/eef:Points3D:positions"] if v]
+        np.testing.assert_allclose(np.asarray(points).reshape(-1, 3), path, atol=1e-6)
+        boxes = [np.asarray(v).reshape(3) for v in cols[f"{pre}/world/objects/box:Boxes3D:centers"]
+                 if v]
+        np.testing.assert_allclose(boxes[-1][:2], [row.x_box, row.y_box], atol=1e-6)
+        assert summaries(cols, pre)[0].startswith(f"evaluation {i} (generation ")
+    assert main(["experiment", "babbling-compare", "--methods", "random", "--seeds", "1",
+                 "--first-seed", "1", *common, "--out", str(tmp_path / "cmp"),
+                 "--record", str(tmp_path / "cmp.rrd")]) == 0  # the run above, reused
+    again = read_recording(tmp_path / "cmp.rrd")
+    assert rollouts_under(again, "random-s1") == set(range(4))
+    assert again["/random-s1/rollout/3/world/eef:Points3D:positions"] == \
+        cols["/rollout/3/world/eef:Points3D:positions"]

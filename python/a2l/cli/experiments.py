@@ -9,7 +9,7 @@ from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
 from a2l.cli import lfd, push, tasks
-from a2l.cli.args import UsageError, check_cluster, comma_list
+from a2l.cli.args import UsageError, check_cluster, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.experiments.lasa import LasaConfig
@@ -66,11 +66,14 @@ def _cmd_experiment_babbling(args: Namespace) -> int:
             raise UsageError("--out", f"'{out}' exists and is not a directory")
         if (out / "metrics.json").exists():
             raise UsageError("--out", f"'{out}' already holds a run; choose another directory")
+    if args.record is not None:
+        check_record(Path(args.record))
     check_cluster(args.cluster)
     world = config_from(args.world, WorldConfig)
     run_babbling(args.method, args.evaluations, args.seed, args.scene, out=args.out,
                  workers=args.workers, cluster=args.cluster,
-                 generation_size=args.generation_size, quiet=args.quiet, world=world)
+                 generation_size=args.generation_size, quiet=args.quiet, world=world,
+                 record=args.record)
     return 0
 
 
@@ -81,12 +84,14 @@ def _cmd_experiment_babbling_compare(args: Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
+    if args.record is not None:
+        check_record(Path(args.record))
     check_cluster(args.cluster)
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     run_babbling_compare(args.scene, args.evaluations, seeds, out=out,
                          methods=tuple(args.methods), workers=args.workers,
                          cluster=args.cluster, generation_size=args.generation_size,
-                         quiet=args.quiet)
+                         quiet=args.quiet, record=args.record)
     return 0
 
 
@@ -129,6 +134,12 @@ def _babbling_parsers() -> tuple[Parser, Parser]:
         p.add_argument("--cluster", metavar="ADDRESS", default=None,
                        help="Dask scheduler address (tcp://host:port); evaluations run there")
         p.add_argument("--quiet", action="store_true", help="no progress bar")
+    bab.add_argument("--record", metavar="FILE.rrd", default=None,
+                     help="write every evaluation to a Rerun recording: the end-effector "
+                     "path, the objects before and after (a2l view FILE.rrd)")
+    cmp_.add_argument("--record", metavar="FILE.rrd", default=None,
+                      help="write every run's evaluations to one Rerun recording, "
+                      "<method>-s<seed>/rollout/<i>/ (a2l view FILE.rrd)")
     add_config_fields(bab, WorldConfig, skip={"scene", "seed"}, nested_key="world")
     return bab, cmp_
 

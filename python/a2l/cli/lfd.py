@@ -45,9 +45,11 @@ def _cmd_lfd_skills(args: Namespace) -> int:
     from a2l.experiments.lfd_skills import run_lfd_skills
 
     out, skills = run_args(args)
+    if args.record is not None:
+        check_record(Path(args.record))
     run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
                    args.workers, cfg=lfd_config(args), quiet=args.quiet,
-                   context_source=args.context_source)
+                   context_source=args.context_source, record=args.record)
     return 0
 
 
@@ -70,6 +72,9 @@ def _lfd_skills_parser() -> Parser:
                    default="perceived", help="where the skills read the context: the camera "
                    "(perceived, default) or the simulator's ground truth")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--record", default=None, metavar="FILE.rrd",
+                   help="write a Rerun recording of every trial, <skill>/rollout/<i>/ "
+                   "(a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_config_fields(p, LfDConfig, nested_key="lfd")
     return p

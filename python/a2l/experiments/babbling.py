@@ -36,7 +36,7 @@ from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import mark_report, seed_record
 from a2l.skills.effects import effect_name
 
-__all__ = ["METHODS", "make_strategy", "outcome_keys", "run_babbling"]
+__all__ = ["METHODS", "make_strategy", "outcome_keys", "record_babbling", "run_babbling"]
 
 #: The methods compared.
 METHODS = ("noveb", "random", "goal")
@@ -80,7 +80,8 @@ def _moved(ev: Evaluation) -> bool:
 def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
                  out: str | Path | None = None, workers: int = 1, cluster: str | None = None,
                  generation_size: int = 20, quiet: bool = False, plots: bool = True,
-                 world: WorldConfig | None = None) -> dict[str, Any]:
+                 world: WorldConfig | None = None,
+                 record: str | Path | None = None) -> dict[str, Any]:
     """Run one babbling method and write its run directory.
 
     Parameters
@@ -107,6 +108,8 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
         Write the PNG plots.
     world : WorldConfig, optional
         The world's parameters (`scene` and `seed` override its own).
+    record : path, optional
+        A Rerun recording (``.rrd``) of every evaluation (:func:`record_babbling`).
 
     Returns
     -------
@@ -147,7 +150,7 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
         eval_s += time.perf_counter() - t
         return evs
 
-    def record(asked: Sequence[np.ndarray], evs: Sequence[Evaluation]) -> None:
+    def tally(asked: Sequence[np.ndarray], evs: Sequence[Evaluation]) -> None:
         moved = 0
         for g, e in zip(asked, evs, strict=True):
             reached.update(outcome_keys(e))
@@ -155,7 +158,9 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
             records.append({"evaluation": len(records), "generation": len(generations),
                             "genotype": [float(v) for v in g], "moved": _moved(e),
                             "moves": e.moves,
-                            **{f"d{n}": float(np.hypot(*d)) for n, d in e.displacement.items()}})
+                            **{f"d{n}": float(np.hypot(*d)) for n, d in e.displacement.items()},
+                            **{f"{a}_{n}": float(v) for n, xy in e.final.items()
+                               for a, v in zip("xy", xy, strict=True)}})
             paths.append(e.path)
         archive = len(strategy.archive) if isinstance(strategy, NovEB) else None
         generations.append({
@@ -171,7 +176,7 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
             ProgressBars(quiet) as bars:
         bars.update(label, 0, evaluations)
         drive(strategy, evaluate, generation_size,
-              told=lambda evs: np.array([e.descriptor for e in evs]), on_batch=record)
+              told=lambda evs: np.array([e.descriptor for e in evs]), on_batch=tally)
     wall = time.perf_counter() - t0
     df = pd.DataFrame(records)
     df.to_parquet(run_dir / "evaluations.parquet", index=False)
@@ -187,6 +192,12 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
                "generation_size": generation_size, "generations": generations,
                "totals": totals, "workers": workers, "cluster": cluster}
     write_json(run_dir / "metrics.json", metrics)
+    if record is not None:
+        from a2l.rollout.recording import RerunRecorder
+
+        rec = RerunRecorder(record, name="a2l experiment babbling")
+        record_babbling(rec, run_dir)
+        rec.close()
     if plots:
         plot_visits({method: paths}, wcfg, run_dir / "visits.png")
         plot_progress({method: [metrics]}, run_dir / "progress.png")
@@ -205,3 +216,50 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
               f"{len(records)} evaluations, {len(reached)} distinct outcomes; run directory: "
               f"{run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
+
+
+def record_babbling(recorder: Any, run_dir: str | Path, group: str = "") -> int:
+    """Log the evaluations of babbling run `run_dir` (its ``paths.npz``,
+    ``evaluations.parquet`` and ``config.json``) to `recorder`
+    (:class:`a2l.rollout.recording.RerunRecorder`), one rollout each under `group`: the
+    end-effector path played, the objects where they stood before (their homes) and after
+    (the experimenter's measurement; nothing between: the run keeps only those), and a line
+    saying the generation and what moved.
+
+    Returns
+    -------
+    int
+        The number of evaluations logged.
+    """
+    from a2l.experiments.babbling_world import object_homes
+    from a2l.rollout.recording import record_trajectories
+    from a2l.rundir import read_json
+    from a2l.sim import make_config
+
+    run_dir = Path(run_dir)
+    wcfg = WorldConfig(**read_json(run_dir / "config.json")["world"])
+    sim = make_config("push", object_jitter=0.0, context_source="ground_truth")
+    homes = object_homes(wcfg, sim)
+    z = sim.table_z + sim.box_size[2] / 2
+    df = pd.read_parquet(run_dir / "evaluations.parquet")
+    with np.load(run_dir / "paths.npz") as npz:
+        paths = [npz[k] for k in npz.files]
+    trajectories, others, notes = {}, {}, {}
+    for row, path in zip(df.itertuples(index=False), paths, strict=True):
+        key = f"evaluation {row.evaluation}"
+        objs = {}
+        for name, (hx, hy) in homes.items():
+            o = np.full((len(path), 3), np.nan)
+            o[0] = (hx, hy, z)
+            fx, fy = getattr(row, f"x_{name}", np.nan), getattr(row, f"y_{name}", np.nan)
+            if len(path) > 1 or np.isfinite(fx):
+                o[-1] = (fx, fy, z)  # NaN (not shown) in runs that kept no final position
+            objs[name] = o
+        first = next(iter(homes))
+        trajectories[key] = (path, objs.pop(first))
+        others[key] = objs
+        moved = ", ".join(f"{n} {getattr(row, f'd{n}'):.3f} m" for n in homes)
+        notes[key] = f"{key} (generation {row.generation}): {row.moves} movements; " \
+                     f"moved {moved}"
+    return record_trajectories(recorder, trajectories, notes, object_name=next(iter(homes)),
+                               group=group, others=others)

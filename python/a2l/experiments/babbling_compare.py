@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from a2l.atomic import atomic_write_text
-from a2l.experiments.babbling import run_babbling
+from a2l.experiments.babbling import record_babbling, run_babbling
 from a2l.experiments.babbling_plots import plot_progress, plot_visits, summary_table
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.rundir import make_run_dir, read_json, write_json
@@ -23,9 +23,12 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
                          out: str | Path | None = None, methods: tuple[str, ...] = (
                              "noveb", "random", "goal"), workers: int = 1,
                          cluster: str | None = None, generation_size: int = 20,
-                         quiet: bool = False) -> dict[str, Any]:
+                         quiet: bool = False, record: str | Path | None = None
+                         ) -> dict[str, Any]:
     """Every method with every seed (``<out>/<method>-s<seed>``; a finished run is reused),
-    then the side-by-side plots and the table of means and spreads.
+    then the side-by-side plots and the table of means and spreads; with `record`, every
+    run's evaluations in one Rerun recording (``.rrd``), group ``<method>-s<seed>``
+    (:func:`a2l.experiments.babbling.record_babbling`).
 
     Returns
     -------
@@ -62,6 +65,14 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
                 with np.load(sub / "paths.npz") as z:
                     paths[method] = [z[k] for k in z.files]
     assert world is not None
+    if record is not None:
+        from a2l.rollout.recording import RerunRecorder
+
+        rec = RerunRecorder(record, name="a2l experiment babbling-compare")
+        for method in methods:
+            for seed in seeds:
+                record_babbling(rec, root / f"{method}-s{seed}", group=f"{method}-s{seed}")
+        rec.close()
     plot_visits(paths, world, root / "visits.png")
     plot_progress(runs, root / "progress.png")
     table = summary_table(runs)

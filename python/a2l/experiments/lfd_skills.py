@@ -40,7 +40,8 @@ def package_dir() -> str:
 
 def trial_task(task: dict[str, Any]) -> dict[str, Any]:
     """One trial: ``{"skill", "bundle", "seed", "scene", "mode", "cfg", "package"}`` and
-    optionally ``"context_source"`` (default the camera, ``"perceived"``).
+    optionally ``"context_source"`` (default the camera, ``"perceived"``) and ``"keep_run"``
+    (the result then holds the :class:`a2l.rollout.run.SkillRun` as ``"run"``, to record).
 
     Raises
     ------
@@ -78,13 +79,14 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
             "context_source": source, "success": bool(run.success), "stop": run.stop,
             "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
-            "wall": run.wall}
+            "wall": run.wall, **({"run": run} if task.get("keep_run") else {})}
 
 
 def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
              mode: str = "table", cfg: LfDConfig | None = None, executor: Any = None,
              on_done: Callable[[int], None] | None = None,
-             context_source: str = "perceived") -> list[dict[str, Any]]:
+             context_source: str = "perceived", keep_runs: bool = False
+             ) -> list[dict[str, Any]]:
     """Run every skill of `bundles` from every trial seed; one result dict per trial.
 
     Parameters
@@ -104,13 +106,15 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
     context_source : {"perceived", "ground_truth"}
         Where the skill reads the context: the camera (default) or the simulator's truth.
         Success is judged on the truth either way.
+    keep_runs : bool
+        Every result holds its run (``"run"``, :class:`a2l.rollout.run.SkillRun`), to record.
     """
     from a2l.lfd.library import skill_config
     from a2l.parallel import Executor
 
     tasks = [{"skill": n, "bundle": str(b), "seed": int(s), "scene": scene, "mode": mode,
               "cfg": skill_config(n, cfg).to_json(), "package": package_dir(),
-              "context_source": context_source}
+              "context_source": context_source, "keep_run": keep_runs}
              for n, b in bundles.items() for s in seeds]
     if executor is None:
         with Executor(1) as ex:
@@ -153,11 +157,15 @@ def results_table(summary: dict[str, dict[str, Any]],
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                    trials: int = 20, seed: int = 1000, scene: str = "baxter",
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
-                   quiet: bool = False, context_source: str = "perceived") -> dict[str, Any]:
+                   quiet: bool = False, context_source: str = "perceived",
+                   record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
     """Learn the skills and try them; write the run directory (see the module docstring).
 
     The trials read the context from `context_source`: the camera (``"perceived"``, the
-    default) or the simulator's truth (``"ground_truth"``); the report names it.
+    default) or the simulator's truth (``"ground_truth"``); the report names it. With
+    `record`, every trial goes to a Rerun recording (``.rrd``): per skill (group ``<skill>``)
+    one rollout per trial seed, its steps as :func:`a2l.rollout.recording.record_run` logs
+    them, with a line saying the seed and how it ended.
 
     Returns
     -------
@@ -196,7 +204,10 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
                           **{f"{k}_s": v for k, v in learned.timings.items()}}
     seeds = list(range(seed, seed + trials))
     with Executor(workers) as ex, progress_bar("trials", len(names) * trials, quiet) as bar:
-        results = evaluate(bundles, seeds, scene, mode, cfg, ex, bar, context_source)
+        results = evaluate(bundles, seeds, scene, mode, cfg, ex, bar, context_source,
+                           keep_runs=record is not None)
+    if record is not None:
+        _record(record, results, bundles)
     frame = pd.DataFrame(results)
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     summary = summarise(frame)
@@ -219,3 +230,24 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         print(lines[-1])
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
     return metrics
+
+
+def _record(path: str | os.PathLike[str], results: list[dict[str, Any]],
+            bundles: dict[str, Path]) -> None:
+    """The trials' runs (taken out of `results`) as a Rerun recording: group ``<skill>``,
+    one rollout per trial in seed order."""
+    from a2l.lfd.library import SKILLS
+    from a2l.rollout.recording import RerunRecorder, record_run
+    from a2l.skills.runner import CppSkillRunner
+
+    rec = RerunRecorder(path, name="a2l experiment lfd-skills")
+    skills = {n: CppSkillRunner(b).skill for n, b in bundles.items()}
+    count: dict[str, int] = {}
+    for r in results:
+        run, name = r.pop("run"), r["skill"]
+        i = count[name] = count.get(name, -1) + 1
+        record_run(rec, run, skills[name], object_name=SKILLS[name].object_name, rollout=i,
+                   group=name)
+        rec.note(f"{name} seed {r['seed']}: {'success' if r['success'] else 'failure'} "
+                 f"({r['stop']})")
+    rec.close()

@@ -89,10 +89,11 @@ class RerunRecorder:
     def step(self, step: int, eef: ArrayLike, obj: ArrayLike, *, seconds: float | None = None,
              label: str = "", movement: int = -1, status: str = "ok",
              bins: Mapping[str, int] | None = None, target: ArrayLike | None = None,
-             object_name: str = "object", half_extents: Sequence[float] = DEFAULT_HALF
-             ) -> None:
+             object_name: str = "object", half_extents: Sequence[float] = DEFAULT_HALF,
+             others: Mapping[str, ArrayLike] | None = None) -> None:
         """Log one step: end-effector and object (3,) (NaN: not seen), the movement chosen
-        (its label and index), the step status, the context bins and the target (3,)."""
+        (its label and index), the step status, the context bins, the target (3,) and
+        other objects (name -> (3,), boxes without an effect of their own)."""
         rr, rec, pre = self.rr, self.rec, self.prefix
         self.time(step, seconds)
         e = np.asarray(eef, dtype=float).reshape(3)
@@ -110,6 +111,12 @@ class RerunRecorder:
             moved = o - self.start
             for axis, v in zip("xy", moved[:2], strict=True):
                 rec.log(f"{pre}/effect/{axis}", rr.Scalars([float(v)]))
+        for name, pos in (others or {}).items():
+            p = np.asarray(pos, dtype=float).reshape(3)
+            if np.all(np.isfinite(p)):
+                rec.log(f"{pre}/world/objects/{name}",
+                        rr.Boxes3D(centers=[p], half_sizes=[list(half_extents)],
+                                   labels=[name], colors=[(40, 160, 90)]))
         if target is not None:
             rec.log(f"{pre}/world/target", rr.Points3D([np.asarray(target, dtype=float)],
                                                        radii=0.006, colors=[(20, 160, 60)]))
@@ -245,7 +252,8 @@ def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any
 def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tuple[ArrayLike,
                         ArrayLike]], notes: Mapping[str, str] | None = None,
                         object_name: str = "object", group: str = "",
-                        labels: Mapping[str, Sequence[str]] | None = None) -> int:
+                        labels: Mapping[str, Sequence[str]] | None = None,
+                        others: Mapping[str, Mapping[str, ArrayLike]] | None = None) -> int:
     """Log finished trials known only by their paths, one rollout each, in the mapping's
     order (e.g. ``a2l experiment perturbations --record``).
 
@@ -263,6 +271,8 @@ def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tupl
     labels : mapping of str to sequence of str, optional
         Per trial, what was done at each step (T,) (e.g. the plan step), shown as the step's
         movement; default none.
+    others : mapping of str to (mapping of str to array), optional
+        Per trial, other objects' positions, name -> (T + 1, 3) (NaN: not seen).
 
     Returns
     -------
@@ -274,8 +284,11 @@ def record_trajectories(recorder: RerunRecorder, trajectories: Mapping[str, tupl
         e = np.asarray(eef, dtype=float).reshape(-1, 3)
         o = np.asarray(obj, dtype=float).reshape(-1, 3)
         done = list((labels or {}).get(name, ()))
+        more = {n: np.asarray(p, dtype=float).reshape(-1, 3)
+                for n, p in (others or {}).get(name, {}).items()}
         for k in range(len(e)):
             recorder.step(k, e[k], o[k], label=done[k] if k < len(done) else "",
+                          others={n: p[k] for n, p in more.items()},
                           status="ok" if k + 1 < len(e) else "end",
                           target=e[k + 1] if k + 1 < len(e) else None,
                           object_name=object_name)
