@@ -89,7 +89,8 @@ def test_discretization_records_every_cell(tmp_path: Path) -> None:
     ["experiment", "sweep", "--seeds", "0"], ["experiment", "discretization"],
     ["experiment", "heldout", "."], ["experiment", "lfd-skills"],
     ["experiment", "babbling", "--method", "random"],
-    ["experiment", "babbling-compare"]])
+    ["experiment", "babbling-compare"], ["experiment", "parametrization"],
+    ["experiment", "lasa"]])
 def test_a_recording_not_ending_in_rrd_is_a_usage_error(command: list[str], tmp_path: Path,
                                                        capsys: pytest.CaptureFixture[str]
                                                        ) -> None:
@@ -150,3 +151,51 @@ def test_babbling_and_the_comparison_record_every_evaluation(tmp_path: Path) -> 
     assert rollouts_under(again, "random-s1") == set(range(4))
     assert again["/random-s1/rollout/3/world/eef:Points3D:positions"] == \
         cols["/rollout/3/world/eef:Points3D:positions"]
+
+
+def test_parametrization_records_every_cells_trials(tmp_path: Path) -> None:
+    from a2l.experiments.parametrization import run_parametrization
+
+    run_parametrization(tmp_path / "p", ["push_far"],
+                        {"resolution": (0.02,), "step": (0.05,), "n_orient": (8, 16),
+                         "n_dist": (3,), "smoothing": (False,)},
+                        trials=2, scene="virtual", quiet=True, record=tmp_path / "p.rrd")
+    cells = pd.read_csv(tmp_path / "p" / "cells.csv")
+    cols = read_recording(tmp_path / "p.rrd")
+    for c in cells.itertuples():
+        group = f"push_far/cell{c.cell:03d}"
+        assert rollouts_under(cols, group) == {0, 1}
+        lines = [summaries(cols, f"/{group}/rollout/{i}")[0] for i in (0, 1)]
+        assert [line.split(":")[0] for line in lines] == ["push_far seed 500",
+                                                         "push_far seed 501"]
+        assert sum(" success " in f" {line} " for line in lines) / 2 == c.success_rate
+
+
+def test_lasa_records_the_demonstrations_and_the_ds_paths(tmp_path: Path) -> None:
+    """``lasa --record``: per shape and demonstration, the demonstration and the DS from its
+    start, traced in the plane over the demonstration's time, ending where each ends."""
+    from a2l.experiments.lasa_methods import load_lasa_shape
+
+    assert main(["experiment", "lasa", "--out", str(tmp_path / "lasa"), "--shapes", "Line",
+                 "--K", "40", "--mu", "0.6", "--starts", "40", "--tune", "false",
+                 "--query_points", "20", "--quiet", "--record", str(tmp_path / "l.rrd")]) == 0
+    demos, durations = load_lasa_shape("Line")
+    cols = read_recording(tmp_path / "l.rrd")
+    times = read_recording(tmp_path / "l.rrd", index="time")["time"]
+    assert rollouts_under(cols, "Line") == set(range(len(demos)))
+    assert max(times).total_seconds() == pytest.approx(max(durations), abs=1e-6)
+    target = None
+    for i, demo in enumerate(demos):
+        pre = f"/Line/rollout/{i}/plane"
+        points = [np.asarray(v).reshape(2) for v in cols[f"{pre}/demo:Points2D:positions"]
+                  if v]
+        assert 50 <= len(points) <= 100  # resampled, at most 100 per path
+        np.testing.assert_allclose(points[0], demo[0])
+        np.testing.assert_allclose(points[-1], demo[-1])
+        ds = [np.asarray(v).reshape(2) for v in cols[f"{pre}/ds:Points2D:positions"] if v]
+        np.testing.assert_allclose(ds[0], demo[0], atol=1e-9)  # the DS from its start
+        target = [v for v in cols[f"{pre}/target:Points2D:positions"] if v][0]
+        # the DS ends nearer the target than it started
+        t = np.asarray(target).reshape(2)
+        assert np.linalg.norm(ds[-1] - t) < 0.2 * np.linalg.norm(ds[0] - t)
+        assert f"{pre}/demo_path:LineStrips2D:strips" in cols

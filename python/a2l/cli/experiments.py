@@ -33,7 +33,10 @@ def _cmd_experiment_lasa(args: Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
-    run_lasa_experiment(cfg, out=out, shapes=shapes, workers=args.workers, quiet=args.quiet)
+    if args.record is not None:
+        check_record(Path(args.record))
+    run_lasa_experiment(cfg, out=out, shapes=shapes, workers=args.workers, quiet=args.quiet,
+                        record=args.record)
     return 0
 
 
@@ -51,6 +54,9 @@ def _lasa_parser() -> Parser:
                       help="comma-separated shape names (default: all 30)")
     lasa.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                       help="local worker processes, one shape each (default 1)")
+    lasa.add_argument("--record", metavar="FILE.rrd", default=None,
+                      help="write each shape's demonstrations and the DS paths from their "
+                      "starts, over time, to a Rerun recording (a2l view FILE.rrd)")
     lasa.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     lasa.aliases = {"--starts": "--n_starts"}  # type: ignore[attr-defined]
     return lasa

@@ -122,8 +122,11 @@ def _cmd_parametrization(args: Namespace) -> int:
 
     grid = grid_of(args)
     out, skills = run_args(args)
+    if args.record is not None:
+        check_record(Path(args.record))
     run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
-                        args.workers, base=lfd_config(args), quiet=args.quiet)
+                        args.workers, base=lfd_config(args), quiet=args.quiet,
+                        record=args.record)
     return 0
 
 
@@ -147,6 +150,9 @@ def _parametrization_parser() -> Parser:
     p.add_argument("--seed", type=int, default=500, help="first trial seed (default 500)")
     p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--record", default=None, metavar="FILE.rrd",
+                   help="write every cell's trials to one Rerun recording, "
+                   "<skill>/cell<NNN>/rollout/<i>/ (a2l view FILE.rrd)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_config_fields(p, LfDConfig, nested_key="lfd")
     return p

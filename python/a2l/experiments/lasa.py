@@ -243,7 +243,7 @@ def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
         lo, hi = _box(demos, cfg.enlarge)
         gx, gy = np.linspace(lo[0], hi[0], cfg.grid), np.linspace(lo[1], hi[1], cfg.grid)
         grid = np.stack(np.meshgrid(gx, gy), axis=-1).reshape(-1, 2)
-        out["plot"] = {"demos": demos, "reps": reps, "grid": (gx, gy),
+        out["plot"] = {"demos": demos, "durations": durations, "reps": reps, "grid": (gx, gy),
                        "field": ds.velocity(grid).reshape(cfg.grid, cfg.grid, 2),
                        "target": ds.target}
         out["maps"] = {"target": ds.target, "centers": ds.centers, "vectors": ds.vectors,
@@ -271,7 +271,8 @@ def tune(cfg: LasaConfig, known: list[str], executor: Executor,
 
 def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = None,
                         shapes: list[str] | None = None, workers: int = 1,
-                        quiet: bool = False, plots: bool = True) -> dict[str, Any]:
+                        quiet: bool = False, plots: bool = True,
+                        record: str | Path | None = None) -> dict[str, Any]:
     """Run the LASA benchmark and write its run directory.
 
     Parameters
@@ -288,6 +289,10 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
         No progress bar, no table.
     plots : bool
         Write ``lasa.png``.
+    record : path, optional
+        A Rerun recording (``.rrd``): per shape (group ``<shape>``) and demonstration
+        (rollout ``i``), the demonstration and the DS integrated from its start (protocol
+        ``all``) traced over the demonstration's time, in the plane (:func:`record_lasa`).
 
     Returns
     -------
@@ -337,6 +342,8 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     metrics["summary"] = _summary(metrics, [s for s in shapes if s not in tuned])
     metrics["summary_all"] = _summary(metrics, shapes)
     write_json(run_dir / "metrics.json", metrics)
+    if record is not None:
+        record_lasa(record, results)
     if plots:
         plot_lasa(results, run_dir / "lasa.png")
     atomic_write_text(run_dir / "report.md",
@@ -345,6 +352,24 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
         print(results_table(metrics))
         print(f"run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
+
+
+def record_lasa(path: str | Path, results: list[dict[str, Any]]) -> Path:
+    """Write the shapes' demonstrations and DS paths (:func:`run_shape`'s ``"plot"``) as a
+    Rerun recording at `path`: group ``<shape>``, rollout ``i`` the demonstration ``i``,
+    ``plane/demo`` and ``plane/ds`` (points over time and their paths so far, 100 samples
+    over the demonstration's duration), ``plane/target``; the file written."""
+    from a2l.rollout.recording import RerunRecorder
+
+    rec = RerunRecorder(path, name="a2l experiment lasa")
+    for r in results:
+        plot = r["plot"]
+        for i, (demo, rep, t) in enumerate(zip(plot["demos"], plot["reps"],
+                                               plot["durations"], strict=True)):
+            rec.rollout(i, group=r["name"])
+            rec.paths2d({"demo": demo, "ds": rep}, t, target=plot["target"])
+            rec.note(f"{r['name']} demonstration {i} ({t:.2f} s) and the DS from its start")
+    return rec.close()
 
 
 def _summary(metrics: dict[str, Any], names: list[str]) -> dict[str, Any]:

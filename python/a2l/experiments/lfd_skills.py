@@ -232,22 +232,33 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     return metrics
 
 
+def record_trials(recorder: Any, trials: Sequence[dict[str, Any]], skill: Any,
+                  object_name: str, group: str) -> int:
+    """Log trials of :func:`trial_task` run with ``keep_run`` (their ``"run"`` is taken
+    out) to `recorder` (:class:`a2l.rollout.recording.RerunRecorder`): one rollout each
+    under `group`, its steps as :func:`a2l.rollout.recording.record_run` logs them
+    (`skill`: the bundle's :class:`a2l._core.Skill`), and a line with the seed and how it
+    ended. Returns the number of trials logged."""
+    from a2l.rollout.recording import record_run
+
+    for i, r in enumerate(trials):
+        record_run(recorder, r.pop("run"), skill, object_name=object_name, rollout=i,
+                   group=group)
+        recorder.note(f"{r['skill']} seed {r['seed']}: "
+                      f"{'success' if r['success'] else 'failure'} ({r['stop']})")
+    return len(trials)
+
+
 def _record(path: str | os.PathLike[str], results: list[dict[str, Any]],
             bundles: dict[str, Path]) -> None:
     """The trials' runs (taken out of `results`) as a Rerun recording: group ``<skill>``,
     one rollout per trial in seed order."""
     from a2l.lfd.library import SKILLS
-    from a2l.rollout.recording import RerunRecorder, record_run
+    from a2l.rollout.recording import RerunRecorder
     from a2l.skills.runner import CppSkillRunner
 
     rec = RerunRecorder(path, name="a2l experiment lfd-skills")
-    skills = {n: CppSkillRunner(b).skill for n, b in bundles.items()}
-    count: dict[str, int] = {}
-    for r in results:
-        run, name = r.pop("run"), r["skill"]
-        i = count[name] = count.get(name, -1) + 1
-        record_run(rec, run, skills[name], object_name=SKILLS[name].object_name, rollout=i,
-                   group=name)
-        rec.note(f"{name} seed {r['seed']}: {'success' if r['success'] else 'failure'} "
-                 f"({r['stop']})")
+    for name, bundle in bundles.items():
+        record_trials(rec, [r for r in results if r["skill"] == name],
+                      CppSkillRunner(bundle).skill, SKILLS[name].object_name, group=name)
     rec.close()

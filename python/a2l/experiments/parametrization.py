@@ -52,7 +52,10 @@ DEFAULT_GRID: dict[str, tuple[Any, ...]] = {
 def cell_task(task: dict[str, Any]) -> dict[str, Any]:
     """Learn one skill with one cell's configuration and run its trials (in a worker).
 
-    ``task``: ``{"skill", "cell", "cfg", "seeds", "scene", "dir", "package"}``.
+    ``task``: ``{"skill", "cell", "cfg", "seeds", "scene", "dir", "package"}`` and
+    optionally ``"keep_runs"``: the result then holds the trials with their runs
+    (``"trials"``, :func:`a2l.experiments.lfd_skills.trial_task`'s) and the ``"bundle"``,
+    to record.
     """
     from a2l.lfd.library import learn_recipe
 
@@ -66,7 +69,8 @@ def cell_task(task: dict[str, Any]) -> dict[str, Any]:
     learn_s = time.perf_counter() - t0
     runs = [trial_task({"skill": task["skill"], "bundle": str(learned.bundle), "seed": s,
                         "scene": task["scene"], "mode": "table", "cfg": task["cfg"],
-                        "package": task["package"]}) for s in task["seeds"]]
+                        "package": task["package"], "keep_run": task.get("keep_runs")})
+            for s in task["seeds"]]
     ok = [r for r in runs if r["success"]]
     stops: dict[str, int] = {}
     for r in runs:
@@ -77,7 +81,25 @@ def cell_task(task: dict[str, Any]) -> dict[str, Any]:
             "movements_per_action": float(np.mean([r["movements"] for r in ok]))
             if ok else float("nan"),
             "rows": learned.rows, "table_cells": int(np.prod(learned.table.shape)),
-            "learn_s": learn_s, "failures": ";".join(f"{k}:{v}" for k, v in stops.items())}
+            "learn_s": learn_s, "failures": ";".join(f"{k}:{v}" for k, v in stops.items()),
+            **({"trials": runs, "bundle": str(learned.bundle)} if task.get("keep_runs")
+               else {})}
+
+
+def _record(path: str | os.PathLike[str], results: Sequence[Any]) -> None:
+    """Every cell's trials (their runs and bundle taken out of `results`) as one Rerun
+    recording, group ``<skill>/cell<NNN>``."""
+    from a2l.experiments.lfd_skills import record_trials
+    from a2l.lfd.library import SKILLS
+    from a2l.rollout.recording import RerunRecorder
+    from a2l.skills.runner import CppSkillRunner
+
+    rec = RerunRecorder(path, name="a2l experiment parametrization")
+    for r in results:
+        skill = CppSkillRunner(r.pop("bundle")).skill
+        record_trials(rec, r.pop("trials"), skill, SKILLS[r["skill"]].object_name,
+                      group=f"{r['skill']}/cell{r['cell']:03d}")
+    rec.close()
 
 
 def select_default(cells: pd.DataFrame) -> dict[str, Any]:
@@ -138,10 +160,14 @@ def _plot(cells: pd.DataFrame, chosen: dict[str, Any], path: Path) -> None:
 def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                         grid: dict[str, Sequence[Any]] | None = None, trials: int = 20,
                         seed: int = 500, scene: str = "baxter", workers: int = 1,
-                        base: LfDConfig | None = None, quiet: bool = False) -> dict[str, Any]:
+                        base: LfDConfig | None = None, quiet: bool = False,
+                        record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
     """The study (see the module docstring); returns the metrics written to
     ``metrics.json``. A cell's configuration is the skill's own
-    (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values."""
+    (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values. With
+    `record`, every cell's trials go to one Rerun recording (``.rrd``), group
+    ``<skill>/cell<NNN>`` (the ``cell`` of ``cells.csv``), as ``lfd-skills --record``
+    records its trials."""
     from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
@@ -174,7 +200,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
             cfg = skill_config(name, base).with_(**dict(zip(DEFAULT_GRID, combo, strict=True)))
             tasks.append({"skill": name, "cell": i, "cfg": cfg.to_json(), "seeds": seeds,
                           "scene": scene, "dir": str(run_dir / "skills" / name),
-                          "package": package_dir()})
+                          "package": package_dir(), "keep_runs": record is not None})
     t0 = time.perf_counter()
     # long cells first: the small steps take the most movements
     order = sorted(range(len(tasks)), key=lambda k: tasks[k]["cfg"]["step"])
@@ -183,6 +209,8 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     results = [None] * len(tasks)
     for k, r in zip(order, done, strict=True):
         results[k] = r
+    if record is not None:
+        _record(record, results)
     cells = pd.DataFrame(results)
     atomic_write_text(run_dir / "cells.csv", cells.to_csv(index=False))
     chosen = select_default(cells)

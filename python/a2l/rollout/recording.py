@@ -18,6 +18,7 @@ entity                        archetype            what
 ``movement``                  TextLog              the chosen movement and the step status
 ``movement_index``            Scalars              its index in the repertoire (-1: none)
 ``effect/<axis>``             Scalars              the object's displacement so far (m), x, y
+``plane/<name>[_path]``       Points2D/LineStrips  planar paths over time (``paths2d``)
 ============================  ===================  ==========================================
 
 :func:`record_run` writes a finished :class:`a2l.rollout.run.SkillRun` (``a2l skill run
@@ -125,6 +126,32 @@ class RerunRecorder:
         rec.log(f"{pre}/movement", rr.TextLog(f"{status}: {label or '-'}",
                                               level="INFO" if status == "ok" else "WARN"))
         rec.log(f"{pre}/movement_index", rr.Scalars([float(movement)]))
+
+    def paths2d(self, paths: Mapping[str, ArrayLike], duration: float, samples: int = 100,
+                target: ArrayLike | None = None) -> None:
+        """Planar paths traced over time, under ``<rollout>/plane/<name>``: each path
+        (name -> (T, 2)) resampled to at most `samples` points spread over `duration` (s),
+        its point now (Points2D) and its path so far (LineStrips2D) at every sample
+        (timelines ``step`` and ``time``); `target` (2,) a point of its own, ``plane/target``
+        (e.g. a demonstration and the DS integrated from its start)."""
+        rr, rec, pre = self.rr, self.rec, self.prefix
+        colors = [(40, 110, 220), (230, 120, 20), (40, 160, 90), (150, 40, 220)]
+        arrays = {n: np.asarray(p, dtype=float).reshape(-1, 2) for n, p in paths.items()}
+        n_max = max(len(a) for a in arrays.values())
+        keep = np.unique(np.linspace(0, n_max - 1, min(samples, n_max)).round().astype(int))
+        for k in keep:
+            self.time(int(k), duration * k / max(n_max - 1, 1))
+            if target is not None and k == keep[0]:
+                rec.log(f"{pre}/plane/target", rr.Points2D([np.asarray(target, dtype=float)],
+                                                           radii=1.0, colors=[(0, 0, 0)]))
+            for j, (name, a) in enumerate(arrays.items()):
+                upto = a[:min(int(k), len(a) - 1) + 1]
+                color = colors[j % len(colors)]
+                rec.log(f"{pre}/plane/{name}", rr.Points2D([upto[-1]], radii=0.8,
+                                                           colors=[color]))
+                if len(upto) > 1:
+                    rec.log(f"{pre}/plane/{name}_path", rr.LineStrips2D([upto],
+                                                                        colors=[color]))
 
     def note(self, text: str) -> None:
         """A line of text about the current rollout (what it wanted, how it ended)."""
