@@ -85,12 +85,26 @@ def test_discretization_records_every_cell(tmp_path: Path) -> None:
     assert len(res["rows"]) == 2
 
 
+def test_every_experiment_takes_record_and_records_nothing_by_default() -> None:
+    from a2l.cli import build_parser, parse
+
+    _, commands = build_parser()
+    experiments = sorted(p[1] for p in commands if p[0] == "experiment")
+    assert len(experiments) == 11, experiments  # push, sweep, tasks, lasa ...
+    for name in experiments:
+        options = {o for a in commands[("experiment", name)][0]._actions
+                   for o in a.option_strings}
+        assert "--record" in options, name
+    _, ns, _ = parse(["experiment", "sweep"])
+    assert ns.record is None
+
+
 @pytest.mark.parametrize("command", [
     ["experiment", "sweep", "--seeds", "0"], ["experiment", "discretization"],
     ["experiment", "heldout", "."], ["experiment", "lfd-skills"],
     ["experiment", "babbling", "--method", "random"],
     ["experiment", "babbling-compare"], ["experiment", "parametrization"],
-    ["experiment", "lasa"]])
+    ["experiment", "lasa"], ["experiment", "tasks"]])
 def test_a_recording_not_ending_in_rrd_is_a_usage_error(command: list[str], tmp_path: Path,
                                                        capsys: pytest.CaptureFixture[str]
                                                        ) -> None:
@@ -199,3 +213,29 @@ def test_lasa_records_the_demonstrations_and_the_ds_paths(tmp_path: Path) -> Non
         t = np.asarray(target).reshape(2)
         assert np.linalg.norm(ds[-1] - t) < 0.2 * np.linalg.norm(ds[0] - t)
         assert f"{pre}/demo_path:LineStrips2D:strips" in cols
+
+
+def test_tasks_records_every_trials_executed_steps(tmp_path: Path) -> None:
+    """``tasks --record``: a trial a rollout, a row per executed plan step labelled with the
+    step and how it ended, the block where it ended as the trial's row says."""
+    from a2l.experiments.tasks import run_tasks
+
+    run_tasks(tmp_path / "t", ["light-off-place-right"], trials=1, seed=7100,
+              faults=(True,), quiet=True, plots=False, context_source="ground_truth",
+              record=tmp_path / "t.rrd")
+    row = pd.read_csv(tmp_path / "t" / "trials.csv").iloc[0]
+    cols = read_recording(tmp_path / "t.rrd")
+    pre = "/light-off-place-right/fault/rollout/0"
+    assert rollouts_under(cols, "light-off-place-right/fault") == {0}
+    texts = [v[0] for v in cols[f"{pre}/movement:TextLog:text"] if v]
+    steps = row.stops.split(";")
+    assert len(texts) == len(steps) + 1 and texts[-1] == "end: -"
+    for text, stop in zip(texts, steps, strict=False):
+        name, how = stop.split(":", 1)
+        assert text.startswith(f"ok: ({name} ") and text.endswith(f" ({how})"), (text, stop)
+    block = [v for v in cols[f"{pre}/world/objects/block:Boxes3D:centers"] if v][-1]
+    np.testing.assert_allclose(np.asarray(block).reshape(3)[:2], [row.block_x, row.block_y],
+                               atol=1e-6)
+    note = summaries(cols, pre)[0]
+    assert note.startswith("light-off-place-right seed 7100 with its fault: ")
+    assert ("success" if row.success else "failure") in note

@@ -40,7 +40,8 @@ ros skill BUNDLE --effect E
 ros sim
     The simulated Baxter as a ROS 2 robot behind the same topics.
 view FILE.rrd
-    Open a Rerun recording of a run (``--record`` of ``skill run``, ``ros skill``).
+    Open a Rerun recording of a run (``--record`` of ``skill run``, ``ros skill`` and every
+    ``experiment``).
 
 Layout: ``parser`` (the jsonargparse parser class, configuration flags, config files),
 ``args`` (usage error, argument checks), ``demo`` (demo, demo-record), ``experiments`` (the

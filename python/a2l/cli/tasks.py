@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
-from a2l.cli.args import comma_list
+from a2l.cli.args import check_record, comma_list
 from a2l.cli.parser import Parser, add_config_option
 from a2l.experiments.tasks import DEFAULT_SEED, TASKS
 
@@ -17,9 +18,11 @@ def _cmd_tasks(args: Namespace) -> int:
     from a2l.experiments.tasks import run_tasks
 
     faults = {"both": (False, True), "without": (False,), "with": (True,)}[args.faults]
+    if args.record is not None:
+        check_record(Path(args.record))
     run_tasks(args.out, comma_list(args.tasks), args.trials, args.seed, args.workers, faults,
               args.planner, quiet=args.quiet, plots=not args.no_plots,
-              context_source=args.context_source)
+              context_source=args.context_source, record=args.record)
     return 0
 
 
@@ -50,6 +53,9 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),
                    default="perceived", help="where the skills and the planner read the "
                    "scene: the camera (perceived, default) or the simulator's ground truth")
+    p.add_argument("--record", metavar="FILE.rrd", default=None,
+                   help="write every trial's executed plan steps to a Rerun recording, "
+                   "<task>/<fault|no_fault>/rollout/<i>/ (a2l view FILE.rrd)")
     p.add_argument("--no-plots", action="store_true", help="no figure")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no table")
     add_config_option(p)

@@ -1,6 +1,6 @@
-"""``a2l view FILE.rrd``: open a Rerun recording (``a2l skill run --record``, ``a2l ros skill
---record``) in the Rerun viewer (the ``rerun`` of ``rerun-sdk``, the ``ros`` extra); ``--web``
-serves the web viewer instead of opening a window."""
+"""``a2l view FILE.rrd``: open a Rerun recording (``--record`` of ``a2l skill run``, ``a2l ros
+skill`` and every ``a2l experiment``) in the Rerun viewer (the ``rerun`` of ``rerun-sdk``,
+the ``ros`` extra); ``--web`` serves the web viewer instead of opening a window."""
 
 from __future__ import annotations
 

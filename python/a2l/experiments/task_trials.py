@@ -160,6 +160,10 @@ class Played:
         Where the block ended.
     plan_dir : Path
         The domain, problem and plan files.
+    trace : list of (str, ndarray, dict), optional
+        With ``trace=True``: the end-effector (3,) and the objects (name -> (3,)) at the
+        start (label ``""``) and after every executed plan step (label ``"<step>
+        (<stop>)"``), from the simulator's truth.
     """
 
     result: Any
@@ -169,12 +173,13 @@ class Played:
     block: np.ndarray
     plan_dir: Path
     unchanged: list[str] = field(default_factory=list)
+    trace: list[tuple[str, np.ndarray, dict[str, np.ndarray]]] = field(default_factory=list)
 
 
 def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
               out: str | os.PathLike[str], planner: str = "pyperplan",
               time_limit: float = 10.0, max_replans: int = 3, gui: bool = False,
-              context_source: str = "perceived") -> Played:
+              context_source: str = "perceived", trace: bool = False) -> Played:
     """Play task `name` once from trial `seed`, in a scene of its own.
 
     Parameters
@@ -196,6 +201,9 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
     context_source : {"perceived", "ground_truth"}
         Where the skills and the planner's state read the scene: the camera (default) or
         the simulator's truth.
+    trace : bool
+        Keep where the arm and the objects were after every executed step
+        (:attr:`Played.trace`, to record).
 
     Returns
     -------
@@ -223,13 +231,24 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
         hook = (fault_hook(spec, _rng(seed, spec.name, "fault"), regions, goal, fired,
                             unchanged) if fault else None)
         plan_dir = Path(out) / f"{spec.name}-{seed}{'-fault' if fault else ''}"
+        seen: list[tuple[str, np.ndarray, dict[str, np.ndarray]]] = []
+
+        def look(label: str, scene: Any) -> None:
+            seen.append((label, np.asarray(scene.eef_position(), dtype=float),
+                         {n: np.asarray(p, dtype=float)
+                          for n, p in scene.ground_truth()["objects"].items()}))
+
+        if trace:
+            look("", scene)
         res = execute_task(scene, task_skills(), bundles, goal, plan_dir, regions=regions,
                            planner=planner, time_limit=time_limit, max_replans=max_replans,
-                           transit=_transit(), seed=seed, after_step=hook, objects=("block",))
+                           transit=_transit(), seed=seed, after_step=hook, objects=("block",),
+                           on_step=(lambda k, ex, sc: look(f"{ex.step} ({ex.stop})", sc))
+                           if trace else None)
         block = np.asarray(scene.ground_truth()["objects"]["block"], dtype=float)
     finally:
         scene.close()
-    return Played(res, goal, light, fired, block, plan_dir, unchanged)
+    return Played(res, goal, light, fired, block, plan_dir, unchanged, seen)
 
 
 def trial_task(job: dict[str, Any]) -> dict[str, Any]:
@@ -240,7 +259,8 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
     job : dict
         ``task``, ``seed``, ``fault`` (bool), ``bundles`` (operator -> path), ``out``
         (where the plan files go), ``planner``, ``time_limit``, ``max_replans``,
-        ``context_source`` (default ``"perceived"``, the camera).
+        ``context_source`` (default ``"perceived"``, the camera) and ``trace`` (the row
+        then holds :attr:`Played.trace` as ``"trace"``, to record; not a column).
 
     Returns
     -------
@@ -254,7 +274,8 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
     p = play_task(job["task"], seed, bool(job["fault"]), job["bundles"], job["out"],
                   job.get("planner", "pyperplan"), float(job.get("time_limit", 10.0)),
                   int(job.get("max_replans", 3)),
-                  context_source=job.get("context_source", "perceived"))
+                  context_source=job.get("context_source", "perceived"),
+                  trace=bool(job.get("trace")))
     res = p.result
     fault = bool(job["fault"])
     not_applied = ""
@@ -276,7 +297,8 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
             "transit_ms": float(np.sum(res.transit_ms)), "transits": len(res.transit_ms),
             "transit_ms_max": float(np.max(res.transit_ms)) if res.transit_ms else 0.0,
             "block_x": float(p.block[0]), "block_y": float(p.block[1]),
-            "wall_s": time.perf_counter() - t0}
+            "wall_s": time.perf_counter() - t0, **({"trace": p.trace} if job.get("trace")
+                                                    else {})}
 
 
 def learn_task_skills(out_dir: str | os.PathLike[str]) -> dict[str, str]:

@@ -47,6 +47,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from a2l.errors import ConfigError
 from a2l.experiments.task_trials import (
     JITTER,
@@ -60,7 +62,7 @@ from a2l.experiments.task_trials import (
 from a2l.progress import progress_bar
 
 __all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec",
-           "learn_task_skills", "play_task", "run_tasks", "trial_task"]
+           "learn_task_skills", "play_task", "record_task_trials", "run_tasks", "trial_task"]
 
 #: First trial seed by default (held out: the demonstrations use 0 .. 2 n_demos - 1).
 DEFAULT_SEED = 7000
@@ -83,7 +85,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
               trials: int = 20, seed: int = DEFAULT_SEED, workers: int = 1,
               faults: Sequence[bool] = (False, True), planner: str = "pyperplan",
               quiet: bool = False, plots: bool = True,
-              context_source: str = "perceived") -> dict[str, Any]:
+              context_source: str = "perceived",
+              record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
     """Learn the skills, run every trial and write the run directory.
 
     Parameters
@@ -106,6 +109,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     context_source : {"perceived", "ground_truth"}
         Where the skills and the planner's state read the scene: the camera (default) or
         the simulator's truth; the report names it.
+    record : path, optional
+        A Rerun recording (``.rrd``) of every trial (:func:`record_task_trials`).
 
     Returns
     -------
@@ -148,11 +153,13 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     learn_s = time.perf_counter() - t0
     jobs = [{"task": n, "seed": s, "fault": f, "bundles": bundles,
              "out": str(run_dir / "plans"), "planner": planner,
-             "context_source": context_source}
+             "context_source": context_source, "trace": record is not None}
             for n in names for f in faults for s in range(seed, seed + trials)]
     with Executor(workers) as ex, progress_bar("task trials", len(jobs), quiet) as bar:
         rows = ex.map(trial_task, jobs, on_done=bar)
     wall = time.perf_counter() - t0
+    if record is not None:
+        record_task_trials(record, rows)
     frame = pd.DataFrame(rows)
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     metrics = {"experiment": "tasks", "trial_seeds": config["trial_seeds"],
@@ -165,3 +172,33 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         print(text)
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, tasks.png)")
     return metrics
+
+
+def record_task_trials(path: str | os.PathLike[str], rows: list[dict[str, Any]]) -> None:
+    """Write the trials' executed steps (the ``"trace"`` of each row, taken out) as a Rerun
+    recording at `path`: group ``<task>/fault`` or ``<task>/no_fault``, one rollout per
+    trial in seed order; a row per executed plan step: the end-effector and the block (and
+    the other objects) where the simulator had them after it, the step and how it ended as
+    the movement's label; a line with the seed, the goal and how the trial ended."""
+    from a2l.rollout.recording import RerunRecorder, record_trajectories
+
+    rec = RerunRecorder(path, name="a2l experiment tasks")
+    groups: dict[str, list[dict[str, Any]]] = {}
+    for r in rows:
+        groups.setdefault(f"{r['task']}/{'fault' if r['fault'] else 'no_fault'}", []).append(r)
+    for group, trials in groups.items():
+        paths, notes, labels, others = {}, {}, {}, {}
+        for r in trials:
+            trace, key = r.pop("trace"), f"seed {r['seed']}"
+            paths[key] = (np.array([e for _, e, _ in trace]),
+                          np.array([o["block"] for _, _, o in trace]))
+            labels[key] = [lab for lab, _, _ in trace[1:]]
+            others[key] = {n: np.array([o[n] for _, _, o in trace])
+                           for n in trace[0][2] if n != "block"}
+            notes[key] = (f"{r['task']} seed {r['seed']}{' with its fault' if r['fault'] else ''}"
+                          f": {'success' if r['success'] else 'failure'}, goal {r['goal']}, "
+                          f"{r['replans']} replan(s)"
+                          + (f", fault {r['fault_injected']}" if r["fault_injected"] else ""))
+        record_trajectories(rec, paths, notes, object_name="block", group=group,
+                            labels=labels, others=others)
+    rec.close()

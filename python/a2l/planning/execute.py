@@ -225,7 +225,8 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
                  planner: str = "pyperplan", time_limit: float = 10.0, max_replans: int = 3,
                  transit: Any = None, seed: int = 0,
                  after_step: Callable[[int, PlanStep, Any], None] | None = None,
-                 static: Sequence[str] = (), objects: Sequence[str] | None = None
+                 static: Sequence[str] = (), objects: Sequence[str] | None = None,
+                 on_step: Callable[[int, ExecutedStep, Any], None] | None = None
                  ) -> TaskResult:
     """Reach `goal` in `scene` with the learned skills, replanning when the world disagrees.
 
@@ -262,6 +263,9 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
     objects : sequence of str, optional
         The movable objects the planner may act on (default: all; see
         :func:`perceive_state`).
+    on_step : callable ``(k, executed, scene) -> None``, optional
+        Called after every plan step k (as planned or not, after `after_step`) with how it
+        ended (:class:`ExecutedStep`); it only looks (e.g. a recording).
 
     Returns
     -------
@@ -319,6 +323,8 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
                 now = frozenset(state.facts())
             k += 1
             result.steps.append(ExecutedStep(step, stop, expected, now))
+            if on_step is not None:
+                on_step(k - 1, result.steps[-1], scene)
             facts = now
             if now != expected:
                 break  # an effect not produced or a world changed: replan
