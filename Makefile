@@ -144,12 +144,13 @@ guard-run: setup
 	@$(call LAP,guard,C++ real-time tests with the guard)
 
 # --dist worksteal: a process that runs out of tests takes some of the other's (a slow test near
-# the end would otherwise leave one core idle); --durations lists the slowest tests.
+# the end would otherwise leave one core idle); --durations lists the slowest tests;
+# A2L_NO_SKIPS=1: a skipped test fails the run (tests/python/conftest.py).
 test-python: setup
 	@echo "[test] Python (pytest, $(JOBS) processes)"
 	@mkdir -p $(BUILD) && $(call CLOCK,pytest)
-	@$(PY) -m pytest -q -n $(JOBS) --dist worksteal --durations=15 tests/python 2>&1 \
-	  | tee $(BUILD)/pytest.log
+	@A2L_NO_SKIPS=1 $(PY) -m pytest -q -n $(JOBS) --dist worksteal --durations=15 \
+	  tests/python 2>&1 | tee $(BUILD)/pytest.log
 	@$(call LAP,pytest,Python tests (pytest))
 
 # libFuzzer on the bundle loader under ASan + UBSan (clang; its own build tree).
