@@ -197,6 +197,16 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     assert done["missing"] == ["tasks"] and done["pages"] == []
 
 
+def test_a_caption_names_each_seed_use_once_with_its_ranges() -> None:
+    from a2l.results.run import seeds_caption
+
+    ev = [{"use": "evaluation", "seeds": s} for s in ("1000", "1000", "1001", "1002")]
+    assert seeds_caption(ev) == "evaluation seeds 1000, 1001, 1002"
+    assert seeds_caption([{"use": "tuning", "seeds": "0"}, *ev[:1]]) == (
+        "tuning seeds 0; evaluation seeds 1000")
+    assert seeds_caption([]) == "not recorded"
+
+
 def test_the_command_refuses_an_unknown_table_and_a_non_repository(tmp_path: Path) -> None:
     from a2l.cli import main
 
