@@ -46,9 +46,9 @@ from a2l.rundir import command_line, make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
 __all__ = [
+    "final_validation",
     "plot_policy",
     "plot_scores",
-    "final_validation",
     "plot_trajectories",
     "record_validations",
     "results_table",
