@@ -113,6 +113,26 @@ def atomic_write(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def assemble(sections: dict[str, Path], directory: Path = SECTIONS) -> str:
+    """BENCHMARKS.md's text: a header, then each area's kept section
+    (``<directory>/<area>.md``) in the order of `sections`, those never run left out.
+
+    BENCHMARKS.md is only ever this: an edit made to it and not to its section file is lost
+    at the next ``make bench`` (``tests/python/test_bench_provenance.py`` checks the two agree).
+    """
+    parts = [
+        "# a2l benchmarks\n",
+        "Written by `make bench` (`benchmarks/run.py`); every figure below was measured on the "
+        "machine named in its section, and ratios compare figures measured in the same run. "
+        "This machine is shared and noisy: read medians and tails, not single runs.\n",
+    ]
+    for name in sections:
+        f = directory / f"{name}.md"
+        if f.is_file():
+            parts.append(f.read_text())
+    return "\n".join(parts)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="*", default=None, help="areas to rerun")
@@ -127,17 +147,7 @@ def main() -> int:
     SECTIONS.mkdir(exist_ok=True)
     for name, path in todo.items():
         atomic_write(SECTIONS / f"{name}.md", run_section(name, path))
-    parts = [
-        "# a2l benchmarks\n",
-        "Written by `make bench` (`benchmarks/run.py`); every figure below was measured on the "
-        "machine named in its section, and ratios compare figures measured in the same run. "
-        "This machine is shared and noisy: read medians and tails, not single runs.\n",
-    ]
-    for name in sections:
-        f = SECTIONS / f"{name}.md"
-        if f.is_file():
-            parts.append(f.read_text())
-    atomic_write(Path(args.out), "\n".join(parts))
+    atomic_write(Path(args.out), assemble(sections))
     print(f"[bench] wrote {args.out}")
     return 0
 

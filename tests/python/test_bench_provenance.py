@@ -77,3 +77,31 @@ def test_no_section_types_a_version_or_an_unsourced_published_figure() -> None:
         assert not re.search(r"pgmpy \d", text), f"{path.name}: a typed pgmpy version"
         if "published" in text.lower():
             assert "source" in text.lower(), f"{path.name}: published figure without source"
+
+
+def test_benchmarks_md_is_its_section_files(run_py: ModuleType) -> None:
+    """BENCHMARKS.md is what run.py assembles from benchmarks/sections/: a figure edited in
+    BENCHMARKS.md alone would be lost at the next ``make bench`` (it happened once)."""
+    root = RUN_PY.parents[1]
+    assembled = run_py.assemble(run_py.discover(), root / "benchmarks" / "sections")
+    kept = (root / "BENCHMARKS.md").read_text()
+    assert kept == assembled, (
+        "BENCHMARKS.md differs from benchmarks/sections/*.md assembled by benchmarks/run.py: "
+        "edit the section file (and BENCHMARKS.md alike)")
+
+
+def test_an_edit_to_benchmarks_md_alone_is_found(run_py: ModuleType, tmp_path: Path) -> None:
+    root = RUN_PY.parents[1]
+    sections = run_py.discover()
+    directory = tmp_path / "sections"
+    directory.mkdir()
+    for name in sections:
+        f = root / "benchmarks" / "sections" / f"{name}.md"
+        if f.is_file():
+            (directory / f.name).write_text(f.read_text())
+    kept = (root / "BENCHMARKS.md").read_text()
+    assert run_py.assemble(sections, directory) == kept
+    name = next(n for n in sections if (directory / f"{n}.md").is_file())
+    text = (directory / f"{name}.md").read_text()
+    (directory / f"{name}.md").write_text(text.replace("\n\n", "\n\nedited\n\n", 1))
+    assert run_py.assemble(sections, directory) != kept
