@@ -258,7 +258,7 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     its first reachable redraw, from the same ring, and every call gives the same one. A
     reachable start is kept as drawn."""
     from a2l.errors import UnreachableError
-    from a2l.framework.config import heldout_redraw
+    from a2l.framework.starts import heldout_redraw
     from a2l.framework.validation import reachable_heldout
     from a2l.rollout.env import scene_env
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from a2l.acquisition.rollout import Rollout, erase_loops, play
+from a2l.acquisition.rollout import Rollout, erase_loops, frame_rollouts, play, rollouts_frame
 from a2l.cli import main
 from a2l.errors import ConfigError
 from a2l.framework import (
@@ -294,6 +294,33 @@ def test_erase_loops_cuts_a_return_before_contact() -> None:
     np.testing.assert_allclose(e.eef, [p0, p2, p3])
     np.testing.assert_allclose(e.obj, [o0, o0, o1])
     assert (e.start, e.effect, e.stop) == (2, 1, "moved")
+
+
+def test_a_rollout_table_reads_back_the_rollouts_it_stored(tmp_path: Path) -> None:
+    """A checkpoint's validation table (written as Parquet) gives back every field of its
+    rollouts, in order; a table from before ``fallbacks`` and ``true_effect`` reads them as 0
+    and the observed effect."""
+    rng = np.random.default_rng(5)
+    rollouts = [Rollout(i, [int(m) for m in rng.integers(0, 8, 3 + i)],
+                        rng.normal(size=(4 + i, 3)), rng.normal(size=(4 + i, 3)),
+                        effect=i % 4, wanted=(i + 1) % 4, outcome=("success", "fail")[i % 2],
+                        stop="effect", fallbacks=i, true_effect=(i + 2) % 4)
+                for i in range(3)]
+    path = tmp_path / "validation.parquet"
+    rollouts_frame(rollouts).to_parquet(path)
+    import pandas as pd
+
+    back = frame_rollouts(pd.read_parquet(path))
+    assert len(back) == 3
+    for a, b in zip(rollouts, back, strict=True):
+        assert (a.start, a.moves, a.effect, a.wanted, a.outcome, a.stop, a.fallbacks,
+                a.true_effect) == (b.start, b.moves, b.effect, b.wanted, b.outcome, b.stop,
+                                   b.fallbacks, b.true_effect)
+        np.testing.assert_array_equal(a.eef, b.eef)
+        np.testing.assert_array_equal(a.obj, b.obj)
+    old = frame_rollouts(rollouts_frame(rollouts).drop(columns=["fallbacks", "true_effect"]))
+    assert [r.fallbacks for r in old] == [0, 0, 0]
+    assert [r.true_effect for r in old] == [r.effect for r in rollouts]
 
 
 def test_erase_loops_keeps_a_loop_free_walk() -> None:

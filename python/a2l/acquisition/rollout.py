@@ -1,6 +1,8 @@
 """Rollouts: one end-effector trajectory played in a scene (:func:`play`), its record
-(:class:`Rollout`), loop erasure, and the conversion of rollouts that moved the object into
-the interaction dataset's rows (:func:`rollouts_to_frame`, :mod:`a2l.data.schema`).
+(:class:`Rollout`), loop erasure, the conversion of rollouts that moved the object into
+the interaction dataset's rows (:func:`rollouts_to_frame`, :mod:`a2l.data.schema`), and a
+table of whole rollouts, one per row, to store and read back (:func:`rollouts_frame`,
+:func:`frame_rollouts`: a checkpoint's validation and held-out rollouts).
 
 Every acquisition strategy's trajectories end up here; the framework's validation plays the
 skills' trajectories the same way.
@@ -19,7 +21,8 @@ from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUM
 from a2l.rollout.env import SceneEnv
 from a2l.rollout.loop import Decision, closed_loop
 
-__all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "play", "rollouts_to_frame"]
+__all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "frame_rollouts", "play",
+           "rollouts_frame", "rollouts_to_frame"]
 
 
 @dataclass
@@ -226,3 +229,31 @@ def rollouts_to_frame(rollouts: Sequence[Rollout], disc: Any, first_episode: int
     data.update({c: floats[:, i] for i, c in enumerate(cols[3:])})
     return pd.DataFrame(data, columns=cols)
 
+
+def rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
+    """Validation rollouts as a table (one row per rollout; positions as lists): the
+    columns of a checkpoint's ``validation.parquet`` and ``heldout.parquet``."""
+    return pd.DataFrame({
+        "start": [r.start for r in rollouts], "wanted": [r.wanted for r in rollouts],
+        "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
+        "stop": [r.stop for r in rollouts], "moves": [list(r.moves) for r in rollouts],
+        "fallbacks": [r.fallbacks for r in rollouts],
+        "true_effect": [r.true_effect for r in rollouts],
+        "eef": [r.eef.ravel().tolist() for r in rollouts],
+        "obj": [r.obj.ravel().tolist() for r in rollouts],
+    })
+
+
+def frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
+    """The rollouts of a table :func:`rollouts_frame` wrote (a checkpoint's
+    ``validation.parquet``, ``heldout.parquet``), in its row order."""
+    out = []
+    for row in df.itertuples(index=False):
+        out.append(Rollout(int(row.start), [int(m) for m in row.moves],
+                           np.asarray(row.eef, dtype=float).reshape(-1, 3),
+                           np.asarray(row.obj, dtype=float).reshape(-1, 3),
+                           effect=int(row.effect), wanted=int(row.wanted),
+                           outcome=str(row.outcome), stop=str(row.stop),
+                           fallbacks=int(getattr(row, "fallbacks", 0)),
+                           true_effect=int(getattr(row, "true_effect", row.effect))))
+    return out

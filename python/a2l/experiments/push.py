@@ -224,7 +224,7 @@ def record_validations(path: str | Path, runs: Mapping[str, tuple[pd.DataFrame, 
                        name: str) -> Path:
     """Push runs' validation rollouts as one Rerun recording (:mod:`a2l.rollout.recording`,
     ``a2l view``): per run (its group, e.g. ``seed/3``; ``""`` for one run alone), one
-    rollout per row of its table (:func:`a2l.framework.loop.rollouts_frame`), its
+    rollout per row of its table (:func:`a2l.acquisition.rollout.rollouts_frame`), its
     movements, bins and effect names read from its bundle.
 
     Parameters

@@ -15,12 +15,13 @@ import time
 from pathlib import Path
 from typing import Any
 
+from a2l.acquisition.rollout import rollouts_frame
 from a2l.atomic import atomic_write_text
 from a2l.errors import ConfigError
 from a2l.experiments.push import record_validations
 from a2l.experiments.push_misses import miss_causes, miss_table, misses_markdown, plot_misses
 from a2l.framework.config import FrameworkConfig
-from a2l.framework.loop import bundle_with_fallback, rollouts_frame
+from a2l.framework.loop import bundle_with_fallback
 from a2l.framework.scoring import heldout_metrics
 from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor

@@ -24,6 +24,7 @@ run is reproducible, independent of the number of workers, and resumable from th
 checkpoint written after each iteration.
 
 The modules: :mod:`~a2l.framework.config` (:class:`FrameworkConfig`),
+:mod:`~a2l.framework.starts` (where training and held-out rollouts start),
 :mod:`~a2l.framework.validation` (each effect from each start through the C++ step,
 :class:`a2l.skills.CppSkillRunner`, in the scene of :mod:`a2l.rollout.env`),
 :mod:`~a2l.framework.scoring` and :mod:`~a2l.framework.loop`, with the loop's own

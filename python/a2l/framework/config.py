@@ -3,7 +3,6 @@ defines (:func:`discretizers`)."""
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field, fields
 from typing import Any
@@ -11,11 +10,12 @@ from typing import Any
 import numpy as np
 
 from a2l.errors import ConfigError
+from a2l.framework.starts import heldout_offsets, spread_ranks
 from a2l.skills.discretization import DiscretizationConfig
 from a2l.skills.discretize import Discretizer
 
-__all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "HELDOUT_REDRAWS", "HELDOUT_STREAM",
-           "TRAIN_FALLBACK", "FrameworkConfig", "discretizers", "heldout_redraw", "task_config"]
+__all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "TRAIN_FALLBACK", "FrameworkConfig",
+           "discretizers", "task_config"]
 
 #: Default ``directed_try_cap`` of each scene.
 DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
@@ -38,11 +38,6 @@ FALLBACK_RULES = ("approach", "nearest", "none")
 #: trained with ``nearest`` and run with ``approach``, 94.5 / 92.2 %
 #: (``docs/experiments/push.md``).
 TRAIN_FALLBACK = {"virtual": "none", "baxter": "nearest"}
-
-#: Tag of the held-out starts' seed stream: their generator is seeded by
-#: ``(seed, HELDOUT_STREAM)``, a sequence no training draw (``(seed, iteration, phase,
-#: index)``) uses.
-HELDOUT_STREAM = 0x68656C64
 
 @dataclass
 class FrameworkConfig:
@@ -342,7 +337,7 @@ class FrameworkConfig:
             r = np.full(n, self.start_radius)
         else:
             r = self.start_r_low + (self.start_r_high - self.start_r_low) * \
-                _spread_ranks(n) / (n - 1)
+                spread_ranks(n) / (n - 1)
         return np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(a)], axis=1)
 
     def outer_start_radius(self) -> float:
@@ -352,45 +347,10 @@ class FrameworkConfig:
     def heldout_offsets(self) -> np.ndarray:
         """Held-out end-effector start positions relative to the object, shape
         (heldout_starts, 3): uniform angle, distance uniform in ``[heldout_r_low,
-        heldout_r_high]``, drawn from their own stream (:data:`HELDOUT_STREAM`)."""
-        return _heldout_offsets(self.seed, self.heldout_starts, self.heldout_r_low,
-                                self.heldout_r_high).copy()
-
-
-def _spread_ranks(n: int) -> np.ndarray:
-    """A permutation of ``0 .. n-1``, shape (n,): the indices ordered by their bit-reversed
-    value (van der Corput), so consecutive entries are far apart."""
-    bits = max(1, (n - 1).bit_length())
-    rev = [int(format(i, f"0{bits}b")[::-1], 2) for i in range(n)]
-    ranks = np.empty(n, dtype=float)
-    ranks[np.argsort(rev, kind="stable")] = np.arange(n)
-    return ranks
-
-
-#: Most redraws of one held-out start the arm cannot reach (:func:`heldout_redraw`).
-HELDOUT_REDRAWS = 20
-
-
-def heldout_redraw(cfg: FrameworkConfig, start: int, attempt: int) -> np.ndarray:
-    """Replacement `attempt` (1, 2, ...) for held-out start `start` when the arm cannot reach
-    it, shape (3,): the same distribution (uniform angle, distance uniform in
-    ``[heldout_r_low, heldout_r_high]``) from a stream of its own, ``(seed, HELDOUT_STREAM,
-    start, attempt)``, so a redraw depends on neither the other starts nor the worker."""
-    if attempt < 1:
-        raise ValueError(f"attempt: must be >= 1, got {attempt}")
-    rng = np.random.default_rng(np.random.SeedSequence([cfg.seed, HELDOUT_STREAM, start,
-                                                        attempt]))
-    a = rng.uniform(0.0, 2 * np.pi)
-    r = rng.uniform(cfg.heldout_r_low, cfg.heldout_r_high)
-    return np.array([r * np.cos(a), r * np.sin(a), 0.0])
-
-
-@functools.lru_cache(maxsize=16)
-def _heldout_offsets(seed: int, n: int, r_low: float, r_high: float) -> np.ndarray:
-    rng = np.random.default_rng(np.random.SeedSequence([seed, HELDOUT_STREAM]))
-    a = rng.uniform(0.0, 2 * np.pi, n)
-    r = rng.uniform(r_low, r_high, n)
-    return np.stack([r * np.cos(a), r * np.sin(a), np.zeros(n)], axis=1)
+        heldout_r_high]``, drawn from their own stream
+        (:func:`a2l.framework.starts.heldout_offsets`)."""
+        return heldout_offsets(self.seed, self.heldout_starts, self.heldout_r_low,
+                               self.heldout_r_high)
 
 
 #: The last config dict :func:`task_config` built a config from, and that config.

@@ -19,7 +19,13 @@ import numpy as np
 import pandas as pd
 
 from a2l.acquisition.protocol import drive_ahead
-from a2l.acquisition.rollout import Interactions, Rollout, rollouts_to_frame
+from a2l.acquisition.rollout import (
+    Interactions,
+    Rollout,
+    frame_rollouts,
+    rollouts_frame,
+    rollouts_to_frame,
+)
 from a2l.framework.config import FrameworkConfig, discretizers
 from a2l.framework.random_babbling import RandomBabbling, babble_task
 from a2l.framework.scoring import (
@@ -39,7 +45,7 @@ if TYPE_CHECKING:
     from a2l.skills.spec import SkillSpec
 
 __all__ = ["MOVEMENT_PHASES", "acquire", "bundle_with_fallback", "extend", "generate_skill",
-           "import_learning_ahead", "rollouts_frame", "run_framework", "training_bundle"]
+           "import_learning_ahead", "run_framework", "training_bundle"]
 
 #: The phases of an iteration that move the robot, as ``metrics.json`` names them
 #: (``robot_movements``).
@@ -225,33 +231,6 @@ def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     return out
 
 
-def rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
-    """Validation rollouts as a table (one row per rollout; positions as lists): the
-    columns of a checkpoint's ``validation.parquet`` and ``heldout.parquet``."""
-    return pd.DataFrame({
-        "start": [r.start for r in rollouts], "wanted": [r.wanted for r in rollouts],
-        "effect": [r.effect for r in rollouts], "outcome": [r.outcome for r in rollouts],
-        "stop": [r.stop for r in rollouts], "moves": [list(r.moves) for r in rollouts],
-        "fallbacks": [r.fallbacks for r in rollouts],
-        "true_effect": [r.true_effect for r in rollouts],
-        "eef": [r.eef.ravel().tolist() for r in rollouts],
-        "obj": [r.obj.ravel().tolist() for r in rollouts],
-    })
-
-
-def _frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
-    out = []
-    for row in df.itertuples(index=False):
-        out.append(Rollout(int(row.start), [int(m) for m in row.moves],
-                           np.asarray(row.eef, dtype=float).reshape(-1, 3),
-                           np.asarray(row.obj, dtype=float).reshape(-1, 3),
-                           effect=int(row.effect), wanted=int(row.wanted),
-                           outcome=str(row.outcome), stop=str(row.stop),
-                           fallbacks=int(getattr(row, "fallbacks", 0)),
-                           true_effect=int(getattr(row, "true_effect", row.effect))))
-    return out
-
-
 #: A first acquisition: ``(config, executor, iteration, progress) -> interactions``.
 FirstAcquisition = Callable[[FrameworkConfig, Executor, int,
                              Callable[[str, int, int], None] | None], Interactions]
@@ -312,12 +291,12 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     if ck is not None:
         last, state, frames = ck
         dataset = frames["dataset"]
-        best_val = _frame_rollouts(frames["validation"])
+        best_val = frame_rollouts(frames["validation"])
         history = state["iterations"]
         heldout = state.get("heldout", [])
         # None: a checkpoint written before movements were counted (totals unknown)
         movement_log = state.get("movements", None if history else [])
-        best_held = _frame_rollouts(frames["heldout"]) if "heldout" in frames else []
+        best_held = frame_rollouts(frames["heldout"]) if "heldout" in frames else []
         best_score = float(state["best_score"])
         stuck = {(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
                  for k, v in state["stuck"].items()}

@@ -13,14 +13,9 @@ import numpy as np
 
 from a2l.acquisition.rollout import Rollout, play
 from a2l.errors import UnreachableError
-from a2l.framework.config import (
-    HELDOUT_REDRAWS,
-    FrameworkConfig,
-    discretizers,
-    heldout_redraw,
-    task_config,
-)
+from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.scoring import SUCCESS, outcome_of
+from a2l.framework.starts import HELDOUT_REDRAWS, heldout_redraw
 from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
 from a2l.skills.runner import CppSkillRunner
@@ -64,7 +59,7 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     """Held-out start `start`'s offset from the object, shape (3,), or, when the arm cannot
     put its end-effector there (:class:`~a2l.errors.UnreachableError` at the scene's reset,
     e.g. Baxter's gripper pointing down 0.25 m beyond a box near the rim of its reach), the
-    first reachable of its redraws (:func:`~a2l.framework.config.heldout_redraw`): a
+    first reachable of its redraws (:func:`~a2l.framework.starts.heldout_redraw`): a
     deterministic replacement from the same distribution, the same on every worker.
 
     Raises
