@@ -19,6 +19,7 @@ always ends in a :class:`PlanResult` that says so, never in a hang.
 from __future__ import annotations
 
 import atexit
+import contextlib
 import json
 import os
 import select
@@ -116,6 +117,7 @@ class PlannerWorker:
         self._proc: subprocess.Popen | None = None
         self._owner = 0
         self._buf = b""
+        self._eof = False
         self._stderr: Any = None
         self._lock = threading.Lock()
         #: how many workers this object started (the first, and one per kill or crash)
@@ -146,7 +148,8 @@ class PlannerWorker:
         return None
 
     def _read_line(self, deadline: float) -> bytes | None:
-        """One line of the worker's output, or None at `deadline` or when it ended."""
+        """The worker's next line; None at `deadline` or when its output ended (then
+        ``self._eof`` is True: the worker is gone, whether or not it has been reaped)."""
         assert self._proc is not None and self._proc.stdout is not None
         fd = self._proc.stdout.fileno()
         while b"\n" not in self._buf:
@@ -155,6 +158,7 @@ class PlannerWorker:
                 return None
             chunk = os.read(fd, 65536)
             if not chunk:
+                self._eof = True
                 return None
             self._buf += chunk
         line, self._buf = self._buf.split(b"\n", 1)
@@ -169,6 +173,11 @@ class PlannerWorker:
     def call(self, request: dict[str, Any], time_limit: float) -> tuple[str, Any]:
         """Send `request` and wait at most `time_limit` s for the answer.
 
+        A worker that is gone without answering (killed or crashed between calls, which
+        its process's status may not show yet, or during this one) is restarted once and
+        asked again within what is left of the time limit; a second worker gone too is an
+        error.
+
         Returns
         -------
         (str, object)
@@ -176,29 +185,43 @@ class PlannerWorker:
             kill at the limit, ``("error", message)`` if the worker died or did not start.
         """
         with self._lock:
-            if not self._alive():
-                why = self._start()
-                if why is not None:
-                    return "error", why
-            assert self._proc is not None and self._proc.stdin is not None
-            t0 = time.perf_counter()
-            try:
-                self._proc.stdin.write((json.dumps(request) + "\n").encode())
-                self._proc.stdin.flush()
-            except BrokenPipeError:
-                line = None
-            else:
-                line = self._read_line(t0 + time_limit)
-            if line is not None:
-                answer = json.loads(line)
-                return answer["status"], answer["payload"]
-            if self._proc.poll() is None:  # still searching: the hard limit
-                self.close()
-                return "timeout", f"stopped at the time limit of {time_limit:g} s"
-            why = (f"the planner worker ended without an answer (exit code "
-                   f"{self._proc.returncode}): {self._stderr_tail()}")
-            self.close()
+            left = time_limit
+            why: str | None = None
+            for _ in range(2):
+                if not self._alive():
+                    why = self._start()
+                    if why is not None:
+                        return "error", why
+                t0 = time.perf_counter()
+                line = self._exchange(request, t0 + left)
+                if line is not None:
+                    answer = json.loads(line)
+                    return answer["status"], answer["payload"]
+                left -= time.perf_counter() - t0
+                assert self._proc is not None
+                if not self._eof and self._proc.poll() is None:  # searching: the hard limit
+                    self.close()
+                    return "timeout", f"stopped at the time limit of {time_limit:g} s"
+                proc, tail = self._proc, self._stderr_tail()
+                self.close()  # reaps it (after a kill, should it still run)
+                why = (f"the planner worker ended without an answer (exit code "
+                       f"{proc.returncode}): {tail}")
+                if left <= 0:
+                    break
             return "error", why
+
+    def _exchange(self, request: dict[str, Any], deadline: float) -> bytes | None:
+        """Write `request` to the running worker and read its answer line (None: no answer
+        by `deadline`, or the worker is gone: ``self._eof``)."""
+        assert self._proc is not None and self._proc.stdin is not None
+        self._eof = False
+        try:
+            self._proc.stdin.write((json.dumps(request) + "\n").encode())
+            self._proc.stdin.flush()
+        except BrokenPipeError:  # gone before it read the request
+            self._eof = True
+            return None
+        return self._read_line(deadline)
 
     def close(self) -> None:
         """Kill the worker (its whole process group) if this process started it."""
@@ -211,7 +234,9 @@ class PlannerWorker:
             proc.wait()
             for f in (proc.stdin, proc.stdout):
                 if f is not None:
-                    f.close()
+                    # a request still buffered for a dead worker cannot be flushed
+                    with contextlib.suppress(OSError):
+                        f.close()
         if self._stderr is not None:
             self._stderr.close()
             self._stderr = None
