@@ -258,7 +258,6 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     its first reachable redraw, from the same ring, and every call gives the same one. A
     reachable start is kept as drawn."""
     from a2l.errors import UnreachableError
-    from a2l.framework.starts import heldout_redraw
     from a2l.framework.validation import reachable_heldout
     from a2l.rollout.env import scene_env
 
@@ -270,12 +269,12 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     got = reachable_heldout(cfg, 23)
     assert not np.array_equal(got, raw[23])
     assert 0.10 <= np.hypot(got[0], got[1]) <= 0.25 and got[2] == 0.0
-    assert any(np.array_equal(got, heldout_redraw(cfg, 23, k)) for k in range(1, 21))
+    assert any(np.array_equal(got, cfg.heldout_redraw(23, k)) for k in range(1, 21))
     env.begin(got)  # reachable
     assert np.array_equal(reachable_heldout(cfg, 23), got)
     assert np.array_equal(reachable_heldout(cfg, 0), raw[0])
     with pytest.raises(ValueError, match="attempt"):
-        heldout_redraw(cfg, 23, 0)
+        cfg.heldout_redraw(23, 0)
 
 
 def test_the_framework_reads_the_context_from_the_camera_by_default() -> None:

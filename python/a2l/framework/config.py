@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from a2l.errors import ConfigError
-from a2l.framework.starts import heldout_offsets, spread_ranks
+from a2l.framework.starts import heldout_offsets, heldout_redraw, spread_ranks
 from a2l.skills.discretization import DiscretizationConfig
 from a2l.skills.discretize import Discretizer
 
@@ -351,6 +351,12 @@ class FrameworkConfig:
         (:func:`a2l.framework.starts.heldout_offsets`)."""
         return heldout_offsets(self.seed, self.heldout_starts, self.heldout_r_low,
                                self.heldout_r_high)
+
+    def heldout_redraw(self, start: int, attempt: int) -> np.ndarray:
+        """Replacement `attempt` (1, 2, ...) for held-out start `start` when the arm cannot
+        reach it, shape (3,) (:func:`a2l.framework.starts.heldout_redraw`)."""
+        return heldout_redraw(self.seed, start, attempt, self.heldout_r_low,
+                              self.heldout_r_high)
 
 
 #: The last config dict :func:`task_config` built a config from, and that config.

@@ -4,18 +4,16 @@ The training starts are a fixed layout around the object
 (:meth:`~a2l.framework.config.FrameworkConfig.start_offsets`, whose ring orders its radii by
 :func:`spread_ranks`); the held-out starts are drawn from a seed stream of their own
 (:data:`HELDOUT_STREAM`, :func:`heldout_offsets`), and a start the arm cannot reach is
-replaced by a redraw from a stream of its own (:func:`heldout_redraw`).
+replaced by a redraw from a stream of its own (:func:`heldout_redraw`). The configuration's
+methods (:meth:`~a2l.framework.config.FrameworkConfig.heldout_offsets`,
+:meth:`~a2l.framework.config.FrameworkConfig.heldout_redraw`) draw them with its fields.
 """
 
 from __future__ import annotations
 
 import functools
-from typing import TYPE_CHECKING
 
 import numpy as np
-
-if TYPE_CHECKING:
-    from a2l.framework.config import FrameworkConfig
 
 __all__ = ["HELDOUT_REDRAWS", "HELDOUT_STREAM", "heldout_offsets", "heldout_redraw",
            "spread_ranks"]
@@ -40,17 +38,18 @@ def spread_ranks(n: int) -> np.ndarray:
 HELDOUT_REDRAWS = 20
 
 
-def heldout_redraw(cfg: FrameworkConfig, start: int, attempt: int) -> np.ndarray:
-    """Replacement `attempt` (1, 2, ...) for held-out start `start` when the arm cannot reach
-    it, shape (3,): the same distribution (uniform angle, distance uniform in
-    ``[heldout_r_low, heldout_r_high]``) from a stream of its own, ``(seed, HELDOUT_STREAM,
-    start, attempt)``, so a redraw depends on neither the other starts nor the worker."""
+def heldout_redraw(seed: int, start: int, attempt: int, r_low: float, r_high: float
+                   ) -> np.ndarray:
+    """Replacement `attempt` (1, 2, ...) for held-out start `start` of the run seeded `seed`
+    when the arm cannot reach it, shape (3,): the same distribution as
+    :func:`heldout_offsets` (uniform angle, distance uniform in ``[r_low, r_high]``) from a
+    stream of its own, ``(seed, HELDOUT_STREAM, start, attempt)``, so a redraw depends on
+    neither the other starts nor the worker."""
     if attempt < 1:
         raise ValueError(f"attempt: must be >= 1, got {attempt}")
-    rng = np.random.default_rng(np.random.SeedSequence([cfg.seed, HELDOUT_STREAM, start,
-                                                        attempt]))
+    rng = np.random.default_rng(np.random.SeedSequence([seed, HELDOUT_STREAM, start, attempt]))
     a = rng.uniform(0.0, 2 * np.pi)
-    r = rng.uniform(cfg.heldout_r_low, cfg.heldout_r_high)
+    r = rng.uniform(r_low, r_high)
     return np.array([r * np.cos(a), r * np.sin(a), 0.0])
 
 

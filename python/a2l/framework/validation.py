@@ -15,7 +15,7 @@ from a2l.acquisition.rollout import Rollout, play
 from a2l.errors import UnreachableError
 from a2l.framework.config import FrameworkConfig, discretizers, task_config
 from a2l.framework.scoring import SUCCESS, outcome_of
-from a2l.framework.starts import HELDOUT_REDRAWS, heldout_redraw
+from a2l.framework.starts import HELDOUT_REDRAWS
 from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
 from a2l.skills.runner import CppSkillRunner
@@ -59,7 +59,7 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     """Held-out start `start`'s offset from the object, shape (3,), or, when the arm cannot
     put its end-effector there (:class:`~a2l.errors.UnreachableError` at the scene's reset,
     e.g. Baxter's gripper pointing down 0.25 m beyond a box near the rim of its reach), the
-    first reachable of its redraws (:func:`~a2l.framework.starts.heldout_redraw`): a
+    first reachable of its redraws (:meth:`~a2l.framework.config.FrameworkConfig.heldout_redraw`): a
     deterministic replacement from the same distribution, the same on every worker.
 
     Raises
@@ -75,7 +75,7 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     env = scene_env(cfg)
     for attempt in range(HELDOUT_REDRAWS + 1):
         if attempt:
-            offset = heldout_redraw(cfg, start, attempt)
+            offset = cfg.heldout_redraw(start, attempt)
         try:
             env.begin(offset)
         except UnreachableError:
