@@ -11,6 +11,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from a2l.acquisition.rollout import Rollout, erase_loops, frame_rollouts, play, rollouts_frame
@@ -308,8 +309,6 @@ def test_a_rollout_table_reads_back_the_rollouts_it_stored(tmp_path: Path) -> No
                 for i in range(3)]
     path = tmp_path / "validation.parquet"
     rollouts_frame(rollouts).to_parquet(path)
-    import pandas as pd
-
     back = frame_rollouts(pd.read_parquet(path))
     assert len(back) == 3
     for a, b in zip(rollouts, back, strict=True):

@@ -25,7 +25,7 @@ from a2l.planning import (
     tabletop_repertoire,
     unmet,
 )
-from a2l.planning.planners import WORKER, PlannerWorker, write_task
+from a2l.planning.planners import WORKER
 
 REGIONS = TableRegions(center=(0.75, -0.15), size=(0.7, 1.2))
 PUSHES = ("left", "right", "close", "far")
@@ -160,28 +160,22 @@ def test_a_worker_gone_before_its_status_shows_it_is_restarted(tmp_path, monkeyp
     race a SIGKILL leaves: found once in make test, a BrokenPipeError out of ``solve``) is
     restarted and the request answered, not an error or an exception."""
     skills = repertoire()
-    dom, prob = write_task(tmp_path, domain_pddl(skills), problem_pddl(skills, state(), GOAL))
-    request = {"planner": "pyperplan", "domain": str(dom), "problem": str(prob),
-               "search": "astar", "heuristic": "lmcut"}
-    worker = PlannerWorker()
-    try:
-        assert worker.call(request, 60)[0] == "solved"
-        pid = worker.pid
-        assert pid is not None and worker.starts == 1
-        os.kill(pid, signal.SIGKILL)
-        deadline = time.perf_counter() + 10
-        while Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0] != "Z":
-            assert time.perf_counter() < deadline, "the killed worker did not exit"
-            time.sleep(0.01)
-        # gone (its pipes closed), not yet reaped: the next check still finds it alive
-        alive = iter([True])
-        real = worker._alive
-        monkeypatch.setattr(worker, "_alive", lambda: next(alive, False) or real())
-        status, payload = worker.call(request, 60)
-        assert status == "solved", payload
-        assert worker.starts == 2 and worker.pid not in (None, pid)
-    finally:
-        worker.close()
+    dom, prob = domain_pddl(skills), problem_pddl(skills, state(), GOAL)
+    assert solve(dom, prob, tmp_path, planner="pyperplan", time_limit=60).solved
+    starts, pid = WORKER.starts, WORKER.pid
+    assert pid is not None
+    os.kill(pid, signal.SIGKILL)
+    deadline = time.perf_counter() + 10
+    while Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0] != "Z":
+        assert time.perf_counter() < deadline, "the killed worker did not exit"
+        time.sleep(0.01)
+    # gone (its pipes closed), not yet reaped: the next check still finds it alive
+    alive = iter([True])
+    real = WORKER._alive
+    monkeypatch.setattr(WORKER, "_alive", lambda: next(alive, False) or real())
+    res = solve(dom, prob, tmp_path, planner="pyperplan", time_limit=60)
+    assert res.solved, res.report()
+    assert WORKER.starts == starts + 1 and WORKER.pid not in (None, pid)
 
 
 def test_bad_pddl_is_an_error_report(tmp_path) -> None:

@@ -59,8 +59,9 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     """Held-out start `start`'s offset from the object, shape (3,), or, when the arm cannot
     put its end-effector there (:class:`~a2l.errors.UnreachableError` at the scene's reset,
     e.g. Baxter's gripper pointing down 0.25 m beyond a box near the rim of its reach), the
-    first reachable of its redraws (:meth:`~a2l.framework.config.FrameworkConfig.heldout_redraw`): a
-    deterministic replacement from the same distribution, the same on every worker.
+    first reachable of its redraws
+    (:meth:`~a2l.framework.config.FrameworkConfig.heldout_redraw`): a deterministic
+    replacement from the same distribution, the same on every worker.
 
     Raises
     ------
