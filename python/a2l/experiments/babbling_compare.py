@@ -13,6 +13,7 @@ from a2l.atomic import atomic_write_text
 from a2l.experiments.babbling import record_babbling, run_babbling
 from a2l.experiments.babbling_plots import plot_progress, plot_visits, summary_table
 from a2l.experiments.babbling_world import WorldConfig
+from a2l.progress import print_tables
 from a2l.rundir import make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -87,7 +88,7 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
         "![moved share and distinct outcomes](progress.png)", ""]),
         seed_record("babbling-compare", seeds)))
     if not quiet:
-        print(table)
+        print_tables(table)
         print(f"run directory: {root}")
     return {"runs": {k: [m["totals"] for m in v] for k, v in runs.items()}, "table": table,
             "run_dir": str(root)}

@@ -13,6 +13,7 @@ import numpy as np
 from a2l.atomic import atomic_write_text
 from a2l.experiments.push import final_validation, record_validations, run_push_experiment
 from a2l.framework import FrameworkConfig
+from a2l.progress import print_tables
 from a2l.rundir import make_run_dir, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -80,6 +81,6 @@ def run_discretization_study(out: str | Path | None = None,
         f"Scene {base.scene}, {base.n_effects} effects, seed {base.seed}.\n\n"
         + "\n".join(table) + "\n", seed_record("discretization", [base.seed])))
     if not quiet:
-        print("\n".join(table))
+        print_tables("\n".join(table))
         print(f"selected: {json.dumps(selected)}; run directory: {run_dir}")
     return {"rows": rows, "selected": selected, "run_dir": str(run_dir)}

@@ -56,7 +56,7 @@ from a2l.lfd import DiffeoDS
 from a2l.lfd.fit import BETA_SCHEDULE, FIT_DIRECTIONS, MU_SCHEDULE, schedule
 from a2l.lfd.metrics import dtw_mean_distance
 from a2l.parallel import Executor
-from a2l.progress import progress_bar
+from a2l.progress import print_tables, progress_bar
 from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -349,7 +349,7 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
     atomic_write_text(run_dir / "report.md",
                       mark_report(report_markdown(metrics, cfg, command, plots=plots), seeds))
     if not quiet:
-        print(results_table(metrics))
+        print_tables(results_table(metrics))
         print(f"run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
 

@@ -21,7 +21,7 @@ import pandas as pd
 
 from a2l.errors import ConfigError
 from a2l.lfd.config import LfDConfig
-from a2l.progress import progress_bar
+from a2l.progress import print_tables, progress_bar
 
 __all__ = ["evaluate", "results_table", "run_lfd_skills", "trial_task"]
 
@@ -227,7 +227,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         "\n".join(lines) + "\n", seed_record("lfd-skills", seeds)))
     if not quiet:
         print(f"context: {CONTEXT_SOURCES[context_source]}")
-        print(lines[-1])
+        print_tables(lines[-1])
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
     return metrics
 

@@ -67,7 +67,7 @@ from a2l.experiments.perturbation_trials import (
     trial_task,
 )
 from a2l.lfd.config import LfDConfig
-from a2l.progress import progress_bar
+from a2l.progress import print_tables, progress_bar
 from a2l.rundir import command_line
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
@@ -252,6 +252,6 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         _record(record, rows, trajectories)
     text = write_report(run_dir, metrics, config, frame, trajectories, plots=plots)
     if not quiet:
-        print(text)
+        print_tables(text)
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, plots)")
     return metrics

@@ -41,7 +41,7 @@ from a2l.experiments.push_report import (
 )
 from a2l.framework import FrameworkConfig, IterationResult, run_framework
 from a2l.parallel import Executor
-from a2l.progress import ProgressBars
+from a2l.progress import ProgressBars, print_tables
 from a2l.rundir import command_line, make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -193,10 +193,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         report_markdown(cfg, result, run_dir, history, miss_lines=miss_lines),
         seed_record("push", [cfg.seed])))
     if not quiet:
-        from rich.console import Console
-        from rich.markdown import Markdown
-
-        Console().print(Markdown(results_table(history)))
+        print_tables(results_table(history))
         held, rate = result["heldout_score"], result["heldout_success"]
         print((f"held-out success {rate:.1%} ("
                + ", ".join(f"{e} {v:.0%}" for e, v in result["heldout_success_rate"].items())

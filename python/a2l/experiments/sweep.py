@@ -29,6 +29,7 @@ from a2l.atomic import atomic_write_text
 from a2l.experiments.push import final_validation, record_validations, run_push_experiment
 from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
+from a2l.progress import print_tables
 from a2l.rundir import make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -254,7 +255,7 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
         + (f"Command: `{command}`\n" if command else "") + "\n" + table + "\n",
         seed_record("sweep", seeds)))
     if not quiet:
-        print(table)
+        print_tables(table)
         print(f"sweep directory: {run_dir}")
     return {"rows": rows, "summary": summary, "run_dir": str(run_dir)}
 

@@ -59,7 +59,7 @@ from a2l.experiments.task_trials import (
     play_task,
     trial_task,
 )
-from a2l.progress import progress_bar
+from a2l.progress import print_tables, progress_bar
 
 __all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec",
            "learn_task_skills", "play_task", "record_task_trials", "run_tasks", "trial_task"]
@@ -169,7 +169,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     write_json(run_dir / "metrics.json", metrics)
     text = write_report(run_dir, metrics, config, frame, plots=plots)
     if not quiet:
-        print(text)
+        print_tables(text)
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, tasks.png)")
     return metrics
 
