@@ -6,6 +6,7 @@
 #                allocation guard, the Python tests (pytest) and the fuzzer; print the counts
 #   make bench   set up, then run the benchmarks and rewrite BENCHMARKS.md
 #   make lint    ruff + the import-layer contracts (lint-imports) + clang-format --dry-run
+#   make docs    set up, then build the API reference (Sphinx, docs/api) into build/docs
 # Variables: VENV (virtual environment, default .venv), BUILD (build tree, default build),
 # JOBS (parallel compile jobs).
 SHELL := /bin/bash
@@ -54,10 +55,10 @@ LAP = read t0 c0 < $(BUILD)/.clock-$(1) && echo "$(2): $$(( $$(date +%s) - t0 ))
   $$(( ($$($(CPU_TICKS)) - c0) / $$(getconf CLK_TCK) )) s)" >> $(BUILD)/times.log
 
 .PHONY: help setup demo results test test-clock test-layers test-cpp guard-build guard-run \
-  test-guarded test-python fuzz-build fuzz-run fuzz bench lint format clean
+  test-guarded test-python fuzz-build fuzz-run fuzz bench docs lint format clean
 
 help:
-	@sed -n '2,10p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,11p' Makefile | sed 's/^# \{0,1\}//'
 
 # --- set-up ---------------------------------------------------------------
 $(STAMP_APT):
@@ -230,6 +231,16 @@ bench: setup $(BUILD)/cpp/build.ninja
 	@$(MPLIB_VENV)/bin/pip install -q $$($(EXTRA) bench-mplib)
 	@A2L_BENCH_BIN=$(BUILD)/cpp A2L_MPLIB_PYTHON=$(abspath $(MPLIB_VENV))/bin/python \
 	  $(PY) benchmarks/run.py --out BENCHMARKS.md
+
+# --- API reference ----------------------------------------------------------
+# Sphinx (autodoc + numpydoc, the extra `docs`) from the package's docstrings: docs/api ->
+# $(BUILD)/docs/index.html. Every build reads every page again (-E): a warning fails it (-W),
+# also one of a page whose sources did not change since the last build.
+docs: setup
+	@$(PIP) install -q $$($(EXTRA) docs)
+	@$(VENV)/bin/sphinx-build -E -q -W --keep-going -b html -d $(BUILD)/docs-doctrees \
+	  docs/api $(BUILD)/docs
+	@echo "[docs] $(BUILD)/docs/index.html"
 
 # --- style ----------------------------------------------------------------
 lint: setup

@@ -7,20 +7,20 @@ plan step an OMPL transit and the learned skill through the C++ step (``grasp``,
 ``press``), or a scripted primitive (``open-gripper``, ``close-gripper``, ``place``: no place
 skill was demonstrated), perceive again, replan on a mismatch.
 
-==========================  =====  ==========================================================
-task                        skills  start -> goal; injected fault
-==========================  =====  ==========================================================
-``light-off-place-right``   3      light on, block mid-centre -> light off, block in the
-                                   right-hand area (mid-right); fault: the light is switched
-                                   back on right after the press
-``tidy-light-on``           5      light off, gripper closed, block close-right -> light on,
-                                   block mid-centre, gripper closed; fault: the block is
-                                   dropped right after the grasp (the gripper opens)
-``light-match``             3-4    light drawn, gripper closed, block mid-right -> light as
-                                   drawn for the goal, block close-centre; fault: after
-                                   planning (after the first step), the block is moved to
-                                   another region
-==========================  =====  ==========================================================
+==========================  ======  ==========================================================
+task                        skills   start -> goal; injected fault
+==========================  ======  ==========================================================
+``light-off-place-right``   3       light on, block mid-centre -> light off, block in the
+                                    right-hand area (mid-right); fault: the light is switched
+                                    back on right after the press
+``tidy-light-on``           5       light off, gripper closed, block close-right -> light on,
+                                    block mid-centre, gripper closed; fault: the block is
+                                    dropped right after the grasp (the gripper opens)
+``light-match``             3-4     light drawn, gripper closed, block mid-right -> light as
+                                    drawn for the goal, block close-centre; fault: after
+                                    planning (after the first step), the block is moved to
+                                    another region
+==========================  ======  ==========================================================
 
 A trial is one (task, seed, fault or not): the block's start (its region's centre
 ± :data:`JITTER` on each axis) and the drawn light values come from ``(seed, task)`` only, so

@@ -5,15 +5,15 @@ set of high-level states a segment was given under; each phase becomes a behavio
 pipeline (:func:`a2l.lfd.skill.learn_skill`: vector field -> dataset -> network -> compiled
 table -> bundle, the babbling path's learning) with its own rows (:func:`phase_rows`):
 
-========================  ==========================  ======================  ===========
-skill / phase             states (``when``)           ends with (action)      precise at
-========================  ==========================  ======================  ===========
-grasp: reach              gripper open                ``close``               grasp point
-grasp: lift               gripper closed              -                       grasp point
-press: press              any                         -                       press point
-grasp_light: reach, lift  light off, gripper as above as grasp                grasp point
-grasp_light: retreat      light on                    ``stay`` (wait)         retreat pose
-========================  ==========================  ======================  ===========
+========================  ===========================  ==================  ============
+skill / phase             states (``when``)            ends with (action)  precise at
+========================  ===========================  ==================  ============
+grasp: reach              gripper open                 ``close``           grasp point
+grasp: lift               gripper closed               -                   grasp point
+press: press              any                          -                   press point
+grasp_light: reach, lift  light off, gripper as above  as grasp            grasp point
+grasp_light: retreat      light on                     ``stay`` (wait)     retreat pose
+========================  ===========================  ==================  ============
 
 Each phase is also a **DS phase** of the bundle (:mod:`a2l.skills.phases`): the mean DS of
 its segments, applying under its states, with its end action (tolerance

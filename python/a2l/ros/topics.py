@@ -4,19 +4,21 @@ conversions between messages and the arrays a skill step reads (``docs/ros.md``)
 Topic names are relative, so a namespace (``--namespace``) or a remap (``--remap
 joint_states:=/robot/joint_states``) moves them:
 
-=========================  =============================  ==========================================
-topic                      type                           what
-=========================  =============================  ==========================================
-``joint_states``           ``sensor_msgs/JointState``     the arm's joints (by name; others ignored)
-``objects/<name>/pose``    ``geometry_msgs/PoseStamped``  one topic per object, in the base frame
-``states/<name>``          ``std_msgs/Bool``              one topic per high-level state
+=========================  ===================================  ====================================
+topic                      type                                 what
+=========================  ===================================  ====================================
+``joint_states``           ``sensor_msgs/JointState``           the arm's joints (by name; others
+                                                                ignored)
+``objects/<name>/pose``    ``geometry_msgs/PoseStamped``        one topic per object, in the base
+                                                                frame
+``states/<name>``          ``std_msgs/Bool``                    one topic per high-level state
 ``joint_trajectory``       ``trajectory_msgs/JointTrajectory``  the command, joint-level robots
-``target_pose``            ``geometry_msgs/PoseStamped``  the command, robots with their own
-                                                          Cartesian controller
-``gripper/command``        ``std_msgs/Bool``              an action: true closes, false opens
-``skill/trace``            ``std_msgs/String``            one JSON record per step (no fitting
-                                                          standard message exists)
-=========================  =============================  ==========================================
+``target_pose``            ``geometry_msgs/PoseStamped``        the command, robots with their own
+                                                                Cartesian controller
+``gripper/command``        ``std_msgs/Bool``                    an action: true closes, false opens
+``skill/trace``            ``std_msgs/String``                  one JSON record per step (no fitting
+                                                                standard message exists)
+=========================  ===================================  ====================================
 
 A high-level state is two-valued on the wire: :data:`BOOL_STATES` maps ``False``/``True`` to
 its value names (``light``: off/on, ``gripper``: open/closed).

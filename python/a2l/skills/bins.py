@@ -5,15 +5,15 @@ The bins follow ``docs/bundle_format.md`` to the letter: the learning side and t
 runtime (``a2l::Discretizer``) must agree bin for bin, so both call the same function. All
 vectors are expressed in the robot's base frame (x forward, y left, z up).
 
-========================  ================================================================
-variable                  bin
-========================  ================================================================
-``distance``              d = ‖object − eef‖; clamp(floor((d − low)/(high − low)·n), 0, n−1)
-``orientation``           θ = atan2(dy, dx) of (eef − object); w = 2π/n;
-                          floor(((θ + π + w/2) mod 2π)/w) mod n (bin k centred on −π + k·w)
-``inclination``           φ = atan2(√(dx² + dy²), dz) of (eef − object); min(floor(φ/π·n), n−1)
+==========================  ================================================================
+variable                    bin
+==========================  ================================================================
+``distance``                d = ‖object − eef‖; clamp(floor((d − low)/(high − low)·n), 0, n−1)
+``orientation``             θ = atan2(dy, dx) of (eef − object); w = 2π/n;
+                            floor(((θ + π + w/2) mod 2π)/w) mod n (bin k centred on −π + k·w)
+``inclination``             φ = atan2(√(dx² + dy²), dz) of (eef − object); min(floor(φ/π·n), n−1)
 ``offset_x``, ``offset_y``  dx (dy) of (eef − object), binned like the distance over [low, high]
-========================  ================================================================
+==========================  ================================================================
 
 A non-finite eef − object (NaN, inf, overflow) gives bin ``-1`` (the runtime's *unknown
 context*).

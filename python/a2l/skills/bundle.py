@@ -72,7 +72,7 @@ def bundle_bytes(
     Parameters
     ----------
     spec : SkillSpec
-        ``posterior`` of shape (*bins, n_moves) and ``argmax`` of shape (*bins,), in the
+        ``posterior`` of shape ``(*bins, n_moves)`` and ``argmax`` of shape ``(*bins,)``, in the
         axis order of ``spec.variables``.
     ds : DSArrays, optional
         A diffeomorphic DS stored beside the table (section ``ds``).
@@ -186,7 +186,7 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
     Returns
     -------
     SkillSpec
-        ``posterior`` float64 of shape (*bins, n_moves), ``argmax`` int32 of shape (*bins,),
+        ``posterior`` float64 of shape ``(*bins, n_moves)``, ``argmax`` int32 of shape ``(*bins,)``,
         ``directions`` int64 of shape (n_directions, 3), ``actions`` the actions' names
         (n_moves = n_directions + len(actions)).
 

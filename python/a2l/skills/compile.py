@@ -46,9 +46,9 @@ class PolicyTable:
         The evidence variables that matter, in axis order.
     states : dict of str to list
         Each evidence variable's states, in index order.
-    values : ndarray of float64, shape (*n_states, n_target_states)
+    values : ndarray of float64, shape ``(*n_states, n_target_states)``
         P(target | evidence); every row sums to 1.
-    argmax_indices : ndarray of int32, shape (*n_states,)
+    argmax_indices : ndarray of int32, shape ``(*n_states,)``
         Index of the most probable target state (lowest on ties within 1e-12), or -1 where
         the row is uniform within :attr:`uniform_tolerance`.
     ignored : list of str
@@ -86,7 +86,7 @@ class PolicyTable:
 
     @property
     def max_probability(self) -> np.ndarray:
-        """Probability of the argmax, ndarray of float64, shape (*n_states,)."""
+        """Probability of the argmax, ndarray of float64, shape ``(*n_states,)``."""
         return self.values.max(axis=-1)
 
     def index(self, evidence: Mapping[str, Hashable]) -> tuple[int, ...]:

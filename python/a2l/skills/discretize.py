@@ -3,18 +3,18 @@
 :class:`Discretizer` ties together the pieces, each in its own module, and turns a raw
 interaction dataset into the discrete dataset the learning reads:
 
-========================  ================================================================
-variable                  module
-========================  ================================================================
-``distance``              :mod:`a2l.skills.bins` (:class:`DistanceBins`)
-``orientation``           :mod:`a2l.skills.bins` (:class:`OrientationBins`)
-``inclination``           :mod:`a2l.skills.bins` (:class:`InclinationBins`)
+==========================  ================================================================
+variable                    module
+==========================  ================================================================
+``distance``                :mod:`a2l.skills.bins` (:class:`DistanceBins`)
+``orientation``             :mod:`a2l.skills.bins` (:class:`OrientationBins`)
+``inclination``             :mod:`a2l.skills.bins` (:class:`InclinationBins`)
 ``offset_x``, ``offset_y``  :mod:`a2l.skills.bins` (:class:`OffsetBins`)
-``move``                  :mod:`a2l.skills.repertoire` (:class:`MovementRepertoire`): signs
-                          of the end-effector step per axis, with a dead-band
-``effect``                :mod:`a2l.skills.effects` (:class:`EffectDiscretizer`)
-high-level state          :mod:`a2l.skills.states` (:class:`HighLevelState`)
-========================  ================================================================
+``move``                    :mod:`a2l.skills.repertoire` (:class:`MovementRepertoire`): signs
+                            of the end-effector step per axis, with a dead-band
+``effect``                  :mod:`a2l.skills.effects` (:class:`EffectDiscretizer`)
+high-level state            :mod:`a2l.skills.states` (:class:`HighLevelState`)
+==========================  ================================================================
 
 Every name of those modules is re-exported here, so ``from a2l.skills.discretize import X``
 keeps working.

@@ -54,8 +54,8 @@ def make_skill_spec(
     Returns
     -------
     SkillSpec
-        With ``posterior`` of shape (*bins, n_moves), float64, C-contiguous, and ``argmax``
-        of shape (*bins,), int32.
+        With ``posterior`` of shape ``(*bins, n_moves)``, float64, C-contiguous, and ``argmax``
+        of shape ``(*bins,)``, int32.
 
     Raises
     ------

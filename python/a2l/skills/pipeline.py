@@ -49,7 +49,7 @@ class LearnedBundle:
     table : a2l.skills.PolicyTable
         The compiled table (the bundle holds the same numbers).
     spec : a2l.skills.SkillSpec
-        The bundle's content (``posterior`` of shape (*bins, n_moves)).
+        The bundle's content (``posterior`` of shape ``(*bins, n_moves)``).
     rows : int
         Rows of the discrete dataset the network was learned from.
     timings : dict of str to float

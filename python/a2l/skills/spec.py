@@ -79,10 +79,10 @@ class SkillSpec:
         Evidence variables, in the axis order of `posterior`.
     directions : ndarray of int, shape (n_directions, 3)
         Movement repertoire's directions: signs in {-1, 0, 1}, not all zero.
-    posterior : ndarray of float64, shape (*bins, n_moves)
+    posterior : ndarray of float64, shape ``(*bins, n_moves)``
         P(move | evidence) for every evidence combination; n_moves = n_directions +
         len(actions), the actions last.
-    argmax : ndarray of int32, shape (*bins,)
+    argmax : ndarray of int32, shape ``(*bins,)``
         Most probable movement, or -1 where the posterior is uniform.
     step : float
         Movement length (m).

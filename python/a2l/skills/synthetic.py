@@ -165,7 +165,7 @@ class KnownStructure:
     cards : dict of str to int
         Number of states of every variable.
     cpts : dict of str to ndarray
-        P(variable | parents), shape (*parent cards, card), in the order of `parents`.
+        P(variable | parents), shape ``(*parent cards, card)``, in the order of `parents`.
     """
 
     parents: dict[str, tuple[str, ...]]
