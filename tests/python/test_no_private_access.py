@@ -1,4 +1,5 @@
-"""No module of ``python/a2l`` touches another module's private members.
+"""No module of ``python/a2l`` and no script of ``examples/`` touches another module's
+private members.
 
 A private member is a name with one leading underscore (not a dunder). The test reads
 every module's syntax tree and lists:
@@ -9,6 +10,9 @@ every module's syntax tree and lists:
 - an import of a private module ``pkg._mod`` from outside its package ``pkg`` (inside it,
   the package's own modules share it, as the ``private_modules`` import contract says).
 
+An example is a user's script: it is inside no package of a2l, so every private module
+of the package is another's.
+
 A justified exception goes in :data:`ALLOWED` with its reason.
 """
 
@@ -17,7 +21,9 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-PACKAGE = Path(__file__).resolve().parents[2] / "python" / "a2l"
+ROOT = Path(__file__).resolve().parents[2]
+PACKAGE = ROOT / "python" / "a2l"
+EXAMPLES = ROOT / "examples"
 
 #: (module path relative to python/a2l or "*", private name) -> why it is allowed.
 ALLOWED: dict[tuple[str, str], str] = {
@@ -59,14 +65,15 @@ def _own(value: ast.expr) -> bool:
             and value.func.id == "super")
 
 
-def _allowed(rel: str, name: str) -> bool:
+def _allowed(rel: str | None, name: str) -> bool:
     return (rel, name) in ALLOWED or ("*", name) in ALLOWED
 
 
-def _module_inside(rel: str, dotted: list[str]) -> bool:
+def _module_inside(rel: str | None, dotted: list[str]) -> bool:
     """Whether ``a2l.x...`` (`dotted`) is a module of the package the file `rel` is in or
-    below (a private module its own package may share)."""
-    if not dotted or dotted[0] != "a2l":
+    below (a private module its own package may share); `rel` None: a file outside the
+    package (an example), inside none of its packages."""
+    if rel is None or not dotted or dotted[0] != "a2l":
         return False
     *package, _ = dotted
     here = ["a2l", *rel.split("/")[:-1]]
@@ -74,7 +81,7 @@ def _module_inside(rel: str, dotted: list[str]) -> bool:
         and here[:len(package)] == package
 
 
-def _private_module(rel: str, dotted: list[str]) -> bool:
+def _private_module(rel: str | None, dotted: list[str]) -> bool:
     """Whether the module path `dotted` goes through a private module from outside its
     package (:data:`ALLOWED` names excepted)."""
     for i, part in enumerate(dotted):
@@ -84,30 +91,32 @@ def _private_module(rel: str, dotted: list[str]) -> bool:
     return False
 
 
-def private_accesses(root: Path = PACKAGE) -> list[str]:
+def private_accesses(root: Path = PACKAGE, in_package: bool = True) -> list[str]:
     """Every access to another module's private member under `root`, as
-    ``path:line: what``."""
+    ``path:line: what``; `in_package` false: the files are scripts outside the package
+    (``examples/``), which may import none of its private modules."""
     found: list[str] = []
     for path in sorted(root.rglob("*.py")):
-        rel = path.relative_to(root).as_posix()
+        name = path.relative_to(root).as_posix()
+        rel = name if in_package else None
         tree = ast.parse(path.read_text(), filename=str(path))
         own = _defined(tree)
         for node in ast.walk(tree):
             if isinstance(node, ast.Attribute) and _private(node.attr):
                 if _own(node.value) or node.attr in own or _allowed(rel, node.attr):
                     continue
-                found.append(f"{rel}:{node.lineno}: {ast.unparse(node)}")
+                found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
             elif isinstance(node, ast.ImportFrom):
                 module = node.module or ""
                 for alias in node.names:
                     if (_private_module(rel, module.split("."))
                             or _private(alias.name) and not _allowed(rel, alias.name)
                             and not _module_inside(rel, [*module.split("."), alias.name])):
-                        found.append(f"{rel}:{node.lineno}: from {module} import {alias.name}")
+                        found.append(f"{name}:{node.lineno}: from {module} import {alias.name}")
             elif isinstance(node, ast.Import):
                 for alias in node.names:
                     if _private_module(rel, alias.name.split(".")):
-                        found.append(f"{rel}:{node.lineno}: import {alias.name}")
+                        found.append(f"{name}:{node.lineno}: import {alias.name}")
     return found
 
 
@@ -115,6 +124,12 @@ def test_no_module_touches_another_modules_private_members() -> None:
     found = private_accesses()
     assert not found, ("private members of other modules are used (make them public, or add "
                        "a justified entry to ALLOWED):\n" + "\n".join(found))
+
+
+def test_no_example_touches_a_private_member() -> None:
+    found = private_accesses(EXAMPLES, in_package=False)
+    assert not found, ("examples use private members of a2l (an example uses the public "
+                       "API only):\n" + "\n".join(found))
 
 
 def test_the_check_sees_a_private_access(tmp_path: Path) -> None:
@@ -129,3 +144,15 @@ def test_the_check_sees_a_private_access(tmp_path: Path) -> None:
     assert private_accesses(tmp_path) == ["a.py:2: scene._tick",
                                           "b.py:1: from a2l.sim.scene import _PERTURB_PARAMS",
                                           "d.py:1: from a2l.sim._pybullet import p"]
+
+
+def test_the_check_sees_an_example_import_a_private_module(tmp_path: Path) -> None:
+    """A script outside the package is inside none of its packages: the private module a
+    module of ``a2l.sim`` may import is another's for an example at ``sim/x.py`` too."""
+    (tmp_path / "sim").mkdir()
+    (tmp_path / "sim" / "x.py").write_text("from a2l.sim._pybullet import p\n")
+    (tmp_path / "y.py").write_text("from a2l.framework.loop import _iteration\n"
+                                   "from a2l import _core\n")
+    assert private_accesses(tmp_path, in_package=False) == [
+        "sim/x.py:1: from a2l.sim._pybullet import p",
+        "y.py:1: from a2l.framework.loop import _iteration"]
