@@ -20,7 +20,7 @@
 
 Each part also writes what it printed as numbers into the run directory's ``demo.json``
 (:data:`SUMMARY_FILE`; read by :func:`a2l.experiments.demo_report.summary_table`, the
-``demo`` table of ``a2l results``).
+``demo`` table of ``a2l results``); the demo ends by printing that table, part by part.
 """
 
 from __future__ import annotations
@@ -316,6 +316,8 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
     workers : int, optional
         Worker processes for the rollouts (default: up to 2, one per core).
     """
+    from a2l.experiments.demo_report import summary_table
+    from a2l.progress import print_tables
     from a2l.rundir import make_run_dir, read_json, write_json
 
     workers = workers or max(1, min(2, os.cpu_count() or 1))
@@ -383,5 +385,6 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
           "(Baxter, PyBullet) ==", flush=True)
     rc = part("task", lambda rec: planned_task(run_dir / "task", gui=gui, summary=rec))
     print(f"\ndemo finished in {time.perf_counter() - t0:.0f} s; results in {run_dir}/ "
-          f"(report.md, metrics.json, {SUMMARY_FILE}, plots, skills/)")
+          f"(report.md, metrics.json, {SUMMARY_FILE}, plots, skills/); part by part:\n")
+    print_tables(summary_table(summary))
     return rc
