@@ -32,8 +32,8 @@ TITLE = "Iterative framework (push experiment: workers, Baxter iteration)"
 #: The Baxter run: 4 starts, 2 iterations (the second one extends the dataset), the
 #: scene's default budgets (a fresh config: ``directed_try_cap`` is per scene); 8 held-out
 #: starts (the default 32 would make held-out rollouts most of this short run).
-BAXTER = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 4, "max_iterations": 2,
-          "heldout_starts": 8}
+BAXTER = {"scene": "baxter", "seed": 0, "max_iterations": 2, "discretization": {"n_effects": 4},
+          "starts": {"n_starts": 4}, "heldout": {"n_starts": 8}}
 
 #: Seeds of the virtual scaling run (``a2l experiment sweep``, one push experiment each):
 #: about a minute with 1 worker on the idle machine. With 2 workers the sweep ends when its
@@ -141,8 +141,13 @@ def _seeds_run(workers: int, root: Path, tag: str) -> tuple[list[dict[str, Any]]
     a worker process of its own): (each seed's ``metrics.json``, total wall time, the
     worker processes' start included)."""
     t = time.perf_counter()
-    sweep = run_seed_sweep(FrameworkConfig(scene="virtual", n_effects=4), SCALING_SEEDS,
-                           out=root / f"sweep-{tag}", workers=workers, quiet=True)
+    sweep = run_seed_sweep(
+        FrameworkConfig(scene="virtual", discretization={"n_effects": 4}),
+        SCALING_SEEDS,
+        out=root / f"sweep-{tag}",
+        workers=workers,
+        quiet=True,
+    )
     wall = time.perf_counter() - t
     return [read_json(Path(sweep["run_dir"]) / f"seed_{s:03d}" / "metrics.json")
             for s in SCALING_SEEDS], wall
@@ -215,7 +220,7 @@ def _phases(ins: _Instrument) -> list[str]:
 
 
 def run() -> str:
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=0)
+    cfg = FrameworkConfig(scene="virtual", seed=0, discretization={"n_effects": 4})
     bcfg = FrameworkConfig(**BAXTER)
     with tempfile.TemporaryDirectory(prefix="a2l-bench-fw-") as tmp:
         root = Path(tmp)
@@ -234,7 +239,7 @@ def run() -> str:
         scenes = {"virtual, 4 effects, seed 0": _interleaved(one(cfg), "v"),
                   f"virtual sweep, seeds {SCALING_SEEDS[0]}-{SCALING_SEEDS[-1]}":
                   _interleaved(sweep, "s"),
-                  f"Baxter, 4 effects, {bcfg.n_starts} starts, seed 0":
+                  f"Baxter, 4 effects, {bcfg.starts.n_starts} starts, seed 0":
                   _interleaved(one(bcfg), "b")}
         # the phase breakdown: instrumented runs of their own, not in the ratios
         with _Instrument() as ins:
@@ -255,8 +260,8 @@ def run() -> str:
     lines = [
         "Whole push experiment (`run_push_experiment`: every iteration, bundles, plots, "
         "report), default `FrameworkConfig` (8 starts, at most 10 iterations) in the virtual "
-        f"scene; on Baxter {bcfg.n_starts} starts, {bcfg.max_iterations} iterations, "
-        f"{bcfg.heldout_starts} held-out starts; and `a2l experiment sweep --seeds "
+        f"scene; on Baxter {bcfg.starts.n_starts} starts, {bcfg.max_iterations} iterations, "
+        f"{bcfg.heldout.n_starts} held-out starts; and `a2l experiment sweep --seeds "
         f"{SCALING_SEEDS[0]}-{SCALING_SEEDS[-1]} --workers N` (`run_seed_sweep`: the same "
         "experiment per seed, without plots; with 2 workers two seeds run at once, each in a "
         "worker process of its own with its rollouts in that process, so one seed's serial "
@@ -306,9 +311,9 @@ def run() -> str:
         "main process stays busy too (learning, collecting results), so two workers on two "
         "cores cannot give twice the speed on the virtual scene's small tasks.",
         "",
-        f"**Baxter scene** (PyBullet, C++ IK), 4 effects, {bcfg.n_starts} starts, seed 0, "
+        f"**Baxter scene** (PyBullet, C++ IK), 4 effects, {bcfg.starts.n_starts} starts, seed 0, "
         f"1 worker, {len(mb['iterations'])} iterations, the scene's default budgets "
-        f"(`directed_try_cap` {bcfg.directed_try_cap}), {bcfg.heldout_starts} held-out "
+        f"(`directed.try_cap` {bcfg.directed.try_cap}), {bcfg.heldout.n_starts} held-out "
         "starts (their rollouts are the `validate_heldout` phase, not in the iteration's "
         "wall):",
         "",

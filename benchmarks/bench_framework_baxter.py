@@ -1,7 +1,7 @@
 """A whole Baxter push run, end to end: where its time goes, and its wall time on 1 and 2
 workers.
 
-The run is ``a2l experiment push --scene baxter --n_effects 4 --seed 0`` with the demo's
+The run is ``a2l experiment push --scene baxter --effects 4 --seed 0`` with the demo's
 budget (:data:`RUN`: 8 starts, 2 iterations, 32 held-out starts; the camera is the context
 source). One instrumented run with 1 worker splits its time into the framework's phases
 (acquire, extend, skill generation, validation, held-out validation, plots) and, across
@@ -11,8 +11,8 @@ start-up (imports, in a fresh process) is measured apart. Bare runs with 1 and 2
 give the wall and CPU times, and whether their metrics equal the instrumented run's.
 
 Standalone: ``python benchmarks/bench_framework_baxter.py [--max_iterations N] [--n_starts N]
-[--heldout_starts N] [--workers 1 2]`` prints the same Markdown (a shorter run to try a
-change; the section in BENCHMARKS.md is the full one).
+[--heldout_starts N] [--workers 1 2]`` (the training and held-out start counts) prints the
+same Markdown (a shorter run to try a change; the section in BENCHMARKS.md is the full one).
 """
 
 from __future__ import annotations
@@ -43,8 +43,8 @@ from a2l.sim.perception import Camera, Perception
 TITLE = "Iterative framework: a whole Baxter push run (where the time goes)"
 
 #: The run: the demo's push part (``a2l demo``), seed 0.
-RUN = {"scene": "baxter", "n_effects": 4, "seed": 0, "n_starts": 8, "max_iterations": 2,
-       "heldout_starts": 32}
+RUN = {"scene": "baxter", "seed": 0, "max_iterations": 2, "discretization.n_effects": 4,
+       "starts.n_starts": 8, "heldout.n_starts": 32}
 
 #: Framework phases, timed where :func:`a2l.framework.run_framework` calls them.
 PHASES = ("acquire", "extend", "generate_skill", "validate", "validate_heldout")
@@ -188,8 +188,9 @@ def startup_s() -> dict[str, float]:
 
 
 def report(run: dict[str, Any], workers: tuple[int, ...] = (1, 2)) -> str:
-    """Measure `run` (a :class:`FrameworkConfig`'s fields) and return the Markdown."""
-    cfg = FrameworkConfig(**run)
+    """Measure `run` (a :class:`FrameworkConfig`'s fields by their dotted names) and return
+    the Markdown."""
+    cfg = FrameworkConfig().with_(run)
     with tempfile.TemporaryDirectory(prefix="a2l-bench-fwb-") as tmp:
         root = Path(tmp)
         load0 = os.getloadavg()[0]
@@ -208,9 +209,10 @@ def report(run: dict[str, Any], workers: tuple[int, ...] = (1, 2)) -> str:
     learning = b.seconds["generate_skill"]
     rest = phases_s - parts_s - learning
     lines = [
-        f"`a2l experiment push --scene baxter --n_effects {cfg.n_effects} --seed {cfg.seed} "
-        f"--n_starts {cfg.n_starts} --max_iterations {cfg.max_iterations} --heldout_starts "
-        f"{cfg.heldout_starts}` (context from the camera); {moves:,} discrete movements in "
+        f"`a2l experiment push --scene baxter --effects {cfg.discretization.n_effects} "
+        f"--seed {cfg.seed} --starts {cfg.starts.n_starts} --max_iterations "
+        f"{cfg.max_iterations} --heldout.n_starts {cfg.heldout.n_starts}` (context from the "
+        f"camera); {moves:,} discrete movements in "
         f"all (`robot_movements_total`), final score {mi['final_score']:.1f}, held-out "
         f"success {mi['heldout_success']:.1%}.",
         "",
@@ -257,13 +259,14 @@ def run() -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    for name in ("n_starts", "max_iterations", "heldout_starts"):
-        parser.add_argument(f"--{name}", type=int, default=RUN[name])
+    fields = {"n_starts": "starts.n_starts", "max_iterations": "max_iterations",
+              "heldout_starts": "heldout.n_starts"}
+    for name, path in fields.items():
+        parser.add_argument(f"--{name}", type=int, default=RUN[path])
     parser.add_argument("--workers", type=int, nargs="*", default=[1, 2],
                         help="worker counts of the bare runs (none: only the breakdown)")
     args = parser.parse_args()
-    run_cfg = {**RUN, **{k: getattr(args, k) for k in ("n_starts", "max_iterations",
-                                                        "heldout_starts")}}
+    run_cfg = {**RUN, **{path: getattr(args, k) for k, path in fields.items()}}
     print(report(run_cfg, tuple(args.workers)))
     return 0
 

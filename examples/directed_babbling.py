@@ -15,7 +15,6 @@ Usage: ``python examples/directed_babbling.py [--scene virtual] [--tries 1000] [
 from __future__ import annotations
 
 import argparse
-from dataclasses import asdict
 from pathlib import Path
 
 import matplotlib
@@ -24,8 +23,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from a2l.framework import FrameworkConfig, _discretizers, directed_task  # noqa: E402
-from a2l.framework.loop import _seed  # noqa: E402
+from a2l.framework import DirectedTask, FrameworkConfig, directed_task, phase_seed  # noqa: E402
 
 MODES = ("random", "waypoints")
 
@@ -43,13 +41,14 @@ def hit_rates(scene: str, tries: int, seed: int) -> tuple[dict[str, np.ndarray],
     """
     rates, moves = {}, {}
     for mode in MODES:
-        cfg = FrameworkConfig(scene=scene, directed_mode=mode, seed=seed)
-        d = asdict(cfg)
-        counts = np.zeros((cfg.n_starts, cfg.n_effects + 1))
-        n_moves = np.zeros(cfg.n_starts)
-        for s in range(cfg.n_starts):
+        cfg = FrameworkConfig(scene=scene, seed=seed, directed={"mode": mode})
+        n_starts, n_effects = cfg.starts.n_starts, cfg.discretization.n_effects
+        counts = np.zeros((n_starts, n_effects + 1))
+        n_moves = np.zeros(n_starts)
+        for s in range(n_starts):
             for i in range(tries):
-                r = directed_task((d, s, _seed(cfg, 0, 2 + s, i), cfg.directed_steps))
+                r = directed_task(DirectedTask(cfg, s, phase_seed(cfg, 0, 2 + s, i),
+                                               cfg.directed.steps))
                 counts[s, r.effect] += 1        # effect -1 (none) lands in the last column
                 n_moves[s] += len(r.moves)
         rates[mode], moves[mode] = counts / tries, n_moves / tries
@@ -65,7 +64,7 @@ def main() -> int:
                                              / "directed_babbling.png"))
     args = parser.parse_args()
     rates, moves = hit_rates(args.scene, args.tries, args.seed)
-    names = _discretizers(FrameworkConfig(scene=args.scene)).effects.values
+    names = FrameworkConfig(scene=args.scene).discretization.discretizer().effects.values
     n_starts = rates[MODES[0]].shape[0]
     print(f"{args.scene} scene, {args.tries} tries per start and mode; hit rate % "
           f"(random / waypoints), movements per try")
@@ -90,9 +89,9 @@ def main() -> int:
         ax.set_yscale("symlog", linthresh=1.0)
         ax.set_xticks(x)
     np.atleast_1d(axes)[0].set_ylabel("tries that produce it (%)")
-    np.atleast_1d(axes)[0].legend(title="directed_mode")
+    np.atleast_1d(axes)[0].legend(title="directed.mode")
     fig.suptitle(f"Effect-directed babbling, {args.scene} scene: {args.tries} tries per start "
-                 f"(at most {FrameworkConfig().directed_steps} movements)")
+                 f"(at most {FrameworkConfig().directed.steps} movements)")
     fig.tight_layout()
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -16,30 +16,29 @@ from __future__ import annotations
 
 import argparse
 import json
-from dataclasses import asdict, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from a2l.framework import FrameworkConfig
-from a2l.framework.config import discretizers
 from a2l.framework.scoring import FALSE_POSITIVE, SUCCESS, score_of
-from a2l.framework.validation import heldout_task
+from a2l.framework.validation import ValidationTask, heldout_task
 from a2l.progress import progress_bar
 from a2l.rollout.env import scene_env
 
 
 def evaluate(cfg: FrameworkConfig, bundle: Path, quiet: bool = False) -> dict[str, object]:
     """Held-out rollouts of `bundle` under `cfg`; the outcomes as seen and as true."""
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     names = disc.effects.values
     env = scene_env(cfg)
     seen, true = [], []
-    cfg_d = asdict(cfg)
-    pairs = [(s, e) for s in range(cfg.heldout_starts) for e in range(cfg.n_effects)]
+    n_effects = cfg.discretization.n_effects
+    pairs = [(s, e) for s in range(cfg.heldout.n_starts) for e in range(n_effects)]
     with progress_bar(f"held-out ({cfg.context_source})", len(pairs), quiet) as bar:
         for k, (s, e) in enumerate(pairs):
-            r = heldout_task((cfg_d, str(bundle), s, e))
+            r = heldout_task(ValidationTask(cfg, str(bundle), s, e))
             moved = np.asarray(env.scene.ground_truth()["objects"][env.obj_name]) - env.home
             effect = disc.effects.classify(moved)
             t = replace(r, outcome=(SUCCESS if effect == e else FALSE_POSITIVE if effect >= 0
@@ -51,7 +50,7 @@ def evaluate(cfg: FrameworkConfig, bundle: Path, quiet: bool = False) -> dict[st
 
     def rates(rs: list) -> dict[str, float]:
         return {names[e]: float(np.mean([r.outcome == SUCCESS for r in rs if r.wanted == e]))
-                for e in range(cfg.n_effects)}
+                for e in range(n_effects)}
 
     return {
         "source": cfg.context_source,
@@ -59,8 +58,8 @@ def evaluate(cfg: FrameworkConfig, bundle: Path, quiet: bool = False) -> dict[st
         "true_rate": float(np.mean([r.outcome == SUCCESS for r in true])),
         "true_per_effect": rates(true),
         "true_false_positives": sum(r.outcome == FALSE_POSITIVE for r in true),
-        "seen_score": score_of(seen, cfg.n_effects, cfg.heldout_starts),
-        "true_score": score_of(true, cfg.n_effects, cfg.heldout_starts),
+        "seen_score": score_of(seen, n_effects, cfg.heldout.n_starts),
+        "true_score": score_of(true, n_effects, cfg.heldout.n_starts),
         "disagree": sum(a.outcome != b.outcome for a, b in zip(seen, true, strict=True)),
         "stops": {k: sum(r.stop == k for r in seen) for k in sorted({r.stop for r in seen})},
     }
@@ -79,13 +78,13 @@ def main() -> int:
     bundle = args.bundle or args.run / "skills" / "push.a2lb"
     print(f"run {args.run}, skill {bundle} (trained with context {base.context_source}, "
           f"seed {base.seed}), "
-          f"{base.heldout_starts} held-out starts x {base.n_effects} effects")
+          f"{base.heldout.n_starts} held-out starts x {base.discretization.n_effects} effects")
     print("| context at run time | success rate (truth) | per effect (truth) | false positives "
           "(truth) | score (truth) | success rate as the loop saw it | rollouts judged "
           "differently | stops |")
     print("|---|---|---|---|---|---|---|---|")
     for src in args.sources.split(","):
-        cfg = replace(base, context_source=src, scene_config={
+        cfg = base.with_(context_source=src, scene_config={
             k: v for k, v in base.scene_config.items() if k not in ("source", "context_source")})
         m = evaluate(cfg, bundle, args.quiet)
         per = ", ".join(f"{k} {v:.0%}" for k, v in m["true_per_effect"].items())

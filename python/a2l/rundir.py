@@ -121,15 +121,23 @@ def command_line(words: Sequence[Any], config: Any, skip: Sequence[str] = (),
                  prefix: str = "") -> str:
     """The command that reproduces a run (kept in its ``config.json``): `words`, then
     ``--<prefix>field VALUE`` for every field of the dataclass `config` (None: none) but
-    `skip` (VALUE as JSON where it is not a plain string): the options ``a2l`` makes of the
-    fields. Every field is
-    given, so the command does not depend on the defaults of the version that reads it."""
-    out = [str(w) for w in words]
+    `skip` (VALUE as JSON where it is not a plain string), a field that is a dataclass
+    itself (a part) as ``--<prefix>field.sub VALUE`` per field of it: the options ``a2l``
+    makes of the fields. Every field is given, so the command does not depend on the
+    defaults of the version that reads it."""
+    return shlex.join([str(w) for w in words] + _options(config, skip, prefix))
+
+
+def _options(config: Any, skip: Sequence[str], prefix: str) -> list[str]:
+    out: list[str] = []
     for f in dataclasses.fields(config) if config is not None else ():
         if not f.init or f.name in skip:
             continue
         value = getattr(config, f.name)
+        if dataclasses.is_dataclass(value):
+            out += _options(value, (), f"{prefix}{f.name}.")
+            continue
         text = value if isinstance(value, str) else json.dumps(
             list(value) if isinstance(value, tuple) else value)
         out += [f"--{prefix}{f.name}", text]
-    return shlex.join(out)
+    return out

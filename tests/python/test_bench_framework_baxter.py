@@ -26,8 +26,15 @@ def _bench():  # noqa: ANN202
 def test_breakdown_times_phases_physics_and_rendering(tmp_path: Path) -> None:
     bench = _bench()
     before = (loop.acquire, push.plot_scores, MotionMixin._sim_step, Camera.render)
-    cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=2, max_iterations=1, seed=0,
-                          try_cap=6, heldout_starts=0)
+    cfg = FrameworkConfig(
+        scene="baxter",
+        max_iterations=1,
+        seed=0,
+        discretization={"n_effects": 4},
+        starts={"n_starts": 2},
+        babbling={"try_cap": 6},
+        heldout={"n_starts": 0},
+    )
     with bench.breakdown() as b, bench.dropped() as count:
         run_push_experiment(cfg, tmp_path / "run", workers=1, quiet=True)
     assert (loop.acquire, push.plot_scores, MotionMixin._sim_step, Camera.render) == before

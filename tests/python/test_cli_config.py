@@ -1,13 +1,15 @@
-"""The ``a2l`` command made from the configurations: every FrameworkConfig field is an
-option of ``a2l experiment push`` (and a key of ``--config FILE``), names are checked
-before any run directory is made, and the command a run records reproduces its
-configuration."""
+"""The ``a2l`` command made from the configurations: every field of every part of
+FrameworkConfig is an option of ``a2l experiment push`` (``--part.field``, and a key of
+``--config FILE``), names are checked before any run directory is made (a name of the flat
+configuration of earlier versions with its name now), and the command a run records
+reproduces its configuration."""
 
 from __future__ import annotations
 
 import dataclasses
 import json
 import shlex
+import time
 from pathlib import Path
 
 import pytest
@@ -16,6 +18,7 @@ from a2l.cli import main, parse
 from a2l.cli.parser import config_from
 from a2l.experiments.lasa import LasaConfig
 from a2l.framework import FrameworkConfig
+from a2l.framework.config import field_paths
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.rundir import command_line
 
@@ -33,88 +36,130 @@ def test_push_help_lists_every_framework_config_field(
         main(["experiment", "push", "--help"])
     assert info.value.code == 0
     text = capsys.readouterr().out
-    missing = [f.name for f in dataclasses.fields(FrameworkConfig) if f"--{f.name} " not in text]
-    assert missing == []
-    # each with its description from FrameworkConfig's docstring
-    assert "Push effects to learn." in text and "context variables also fixed as" in text
+    missing = [p for p in field_paths(FrameworkConfig) if f"--{p} " not in text]
+    assert missing == [] and len(field_paths(FrameworkConfig)) == 46
+    # each with its description from its part's docstring
+    assert "Push effects of the effect variable." in text
+    assert "context variables also fixed as" in text
+    assert "Held-out start positions (0: no held-out evaluation)" in text
 
 
 @pytest.mark.parametrize("command", ["push", "discretization", "sweep"])
 def test_every_field_is_an_option(command: str) -> None:
     skip = {"seed"} if command == "sweep" else set()
-    cfg = FrameworkConfig(scene="baxter", n_effects=8, fixed_parents=("distance", "orientation"),
-                          structure="hand-coded", directed_try_cap=7, erase_loops=True,
-                          n_offset=3, step=0.04, scene_config={"gui": False})
+    cfg = FrameworkConfig(scene="baxter", scene_config={"gui": False},
+                          discretization={"n_effects": 8, "n_offset": 3, "step": 0.04},
+                          learning={"fixed_parents": ("distance", "orientation"),
+                                    "structure": "hand-coded"},
+                          directed={"try_cap": 7}, babbling={"erase_loops": True})
     argv = shlex.split(command_line(["experiment", command, "--out", "x"], cfg, skip=skip))
     path, ns, _ = parse(argv)
     assert path == ("experiment", command)
     assert config_from(ns, FrameworkConfig) == (
-        dataclasses.replace(cfg, seed=0) if skip else cfg)
+        cfg.with_(seed=0) if skip else cfg)
 
 
 def test_a_misspelt_option_is_refused_with_the_valid_names(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "run"
-    err = _refused(["experiment", "push", "--fixed_parnts", '["distance"]', "--out", str(out)],
-                   capsys)
-    assert "unrecognized arguments: --fixed_parnts" in err
-    assert "did you mean --fixed_parents" in err
-    assert all(f"--{f.name}" in err for f in dataclasses.fields(FrameworkConfig))
+    t0 = time.perf_counter()
+    err = _refused(["experiment", "push", "--learning.fixed_parnts", '["distance"]', "--out",
+                    str(out)], capsys)
+    assert "unrecognized arguments: --learning.fixed_parnts" in err
+    assert "did you mean --learning.fixed_parents" in err
+    assert all(f"--{p}" in err for p in field_paths(FrameworkConfig))
+    # a misspelt part too
+    err = _refused(["experiment", "push", "--discretisation.n_orient", "24"], capsys)
+    assert "did you mean --discretization.n_orient" in err
     assert not out.exists()
+    print(f"refused in {time.perf_counter() - t0:.2f} s")
+
+
+def test_an_option_of_the_flat_form_names_its_name_now(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    err = _refused(["experiment", "push", "--n_orient", "24"], capsys)
+    assert "argument --n_orient: renamed; it is --discretization.n_orient now" in err
+    err = _refused(["experiment", "sweep", "--seeds", "0", "--heldout-starts", "0"], capsys)
+    assert "renamed; it is --heldout.n_starts now" in err
+
+
+def test_a_list_option_takes_what_a_user_types() -> None:
+    for value in ("distance,orientation", "distance, orientation", "[distance,orientation]",
+                  '["distance", "orientation"]'):
+        _, ns, _ = parse(["experiment", "push", "--learning.fixed_parents", value])
+        assert config_from(ns, FrameworkConfig).learning.fixed_parents == (
+            "distance", "orientation"), value
+    _, ns, _ = parse(["experiment", "push", "--learning.fixed_parents=distance"])
+    assert config_from(ns, FrameworkConfig).learning.fixed_parents == ("distance",)
 
 
 def test_a_misspelt_variable_is_refused_before_any_run_directory(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "run"
-    err = _refused(["experiment", "push", "--fixed_parents", '["distance", "orientaton"]',
+    err = _refused(["experiment", "push", "--learning.fixed_parents", "distance,orientaton",
                     "--out", str(out)], capsys)
-    assert ("argument --fixed_parents: ['orientaton'] not context variables; they are "
-            "['distance', 'orientation']") in err
+    assert ("argument --learning.fixed_parents: ['orientaton'] not context variables; they "
+            "are ['distance', 'orientation']") in err
     assert not out.exists()
     # the same check for a sweep, and for a variable that only some configurations have
-    err = _refused(["experiment", "sweep", "--seeds", "0-1", "--fixed_parents", '["offset_x"]',
-                    "--out", str(out)], capsys)
+    err = _refused(["experiment", "sweep", "--seeds", "0-1", "--learning.fixed_parents",
+                    '["offset_x"]', "--out", str(out)], capsys)
     assert "['offset_x'] not context variables" in err
     assert not out.exists()
-    path, ns, _ = parse(["experiment", "push", "--n_offset", "3",
-                         "--fixed_parents", '["offset_x"]'])
-    config_from(ns, FrameworkConfig).validate()
+    path, ns, _ = parse(["experiment", "push", "--discretization.n_offset", "3",
+                         "--learning.fixed_parents", "offset_x"])
+    assert config_from(ns, FrameworkConfig).learning.fixed_parents == ("offset_x",)
 
 
 def test_config_file_sets_options_and_its_keys_are_checked(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     good = tmp_path / "good.yaml"
-    good.write_text("n_effects: 8\nfixed_parents: [distance, orientation]\nworkers: 2\n")
+    good.write_text("discretization:\n  n_effects: 8\nlearning:\n  fixed_parents: [distance, "
+                    "orientation]\nworkers: 2\n")
     _, ns, _ = parse(["experiment", "push", "--config", str(good), "--seed", "3"])
     assert config_from(ns, FrameworkConfig) == FrameworkConfig(
-        n_effects=8, fixed_parents=("distance", "orientation"), seed=3)
+        seed=3, discretization={"n_effects": 8},
+        learning={"fixed_parents": ("distance", "orientation")})
     assert ns.workers == 2
     bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps({"n_effects": 8, "fixed_parnts": []}))
+    bad.write_text(json.dumps({"discretization": {"n_effects": 8}, "learning": {
+        "fixed_parnts": []}}))
     out = tmp_path / "run"
     err = _refused(["experiment", "push", "--config", str(bad), "--out", str(out)], capsys)
-    assert "unknown key(s) ['fixed_parnts']" in err and "fixed_parents" in err
+    assert "unknown key(s) ['learning.fixed_parnts']" in err
+    assert "learning.fixed_parents" in err
     assert not out.exists()
+
+
+def test_a_config_file_of_the_flat_form_names_each_renamed_field(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps({"scene": "virtual", "n_effects": 8, "heldout_starts": 4}))
+    err = _refused(["experiment", "push", "--config", str(old)], capsys)
+    assert ("holds the flat form of an earlier version; renamed: n_effects is now "
+            "discretization.n_effects, heldout_starts is now heldout.n_starts") in err
 
 
 def test_earlier_option_names_still_work_and_are_named_in_messages(
         capsys: pytest.CaptureFixture[str]) -> None:
     _, ns, _ = parse(["experiment", "push", "--effects", "8", "--iterations", "3",
-                      "--starts", "4", "--heldout-starts", "0"])
+                      "--starts", "4", "--heldout.n-starts", "0"])
     assert config_from(ns, FrameworkConfig) == FrameworkConfig(
-        n_effects=8, max_iterations=3, n_starts=4, heldout_starts=0)
+        max_iterations=3, discretization={"n_effects": 8}, starts={"n_starts": 4},
+        heldout={"n_starts": 0})
     assert "argument --effects: must be 4 or 8" in _refused(
         ["experiment", "push", "--effects", "5"], capsys)
 
 
 def test_recorded_push_command_reproduces_the_configuration(tmp_path: Path) -> None:
     """What run_push_experiment writes: the parse of its command is its configuration."""
-    cfg = FrameworkConfig(seed=4, n_starts=2, fixed_parents=(), directed_per_pair=20,
-                          waypoint_aim=0.06, directed_try_cap=None)
+    cfg = FrameworkConfig(seed=4, starts={"n_starts": 2}, learning={"fixed_parents": ()},
+                          directed={"per_pair": 20, "waypoint_aim": 0.06, "try_cap": None})
     command = command_line(["a2l", "experiment", "push", "--out", tmp_path / "r"], cfg)
+    assert "--directed.per_pair 20" in command and "--learning.fixed_parents '[]'" in command
     path, ns, _ = parse(shlex.split(command)[1:])
     assert config_from(ns, FrameworkConfig) == FrameworkConfig.from_dict(
-        json.loads(json.dumps(dataclasses.asdict(cfg))))
+        json.loads(json.dumps(cfg.to_dict()))) == cfg
     assert ns.out == str(tmp_path / "r")
 
 

@@ -31,14 +31,16 @@ def test_parse_seeds() -> None:
 
 
 def test_parse_overrides() -> None:
-    assert parse_overrides(["directed_per_pair=20", "waypoint_aim=0.06",
-                            "directed_mode=random", "directed_try_cap=null"]) == {
-        "directed_per_pair": 20, "waypoint_aim": 0.06, "directed_mode": "random",
-        "directed_try_cap": None}
-    with pytest.raises(ValueError, match="no field 'per_pair'.*directed_per_pair"):
+    assert parse_overrides(["directed.per_pair=20", "directed.waypoint_aim=0.06",
+                            "directed.mode=random", "directed.try_cap=null"]) == {
+        "directed.per_pair": 20, "directed.waypoint_aim": 0.06, "directed.mode": "random",
+        "directed.try_cap": None}
+    with pytest.raises(ValueError, match="no field 'per_pair'.*directed.per_pair"):
         parse_overrides(["per_pair=3"])
+    with pytest.raises(ValueError, match="is renamed: it is 'directed.per_pair' now"):
+        parse_overrides(["directed_per_pair=3"])
     with pytest.raises(ValueError, match="FIELD=VALUE"):
-        parse_overrides(["directed_per_pair"])
+        parse_overrides(["directed.per_pair"])
     with pytest.raises(ValueError, match="--seeds"):
         parse_overrides(["seed=3"])
 
@@ -63,13 +65,14 @@ def test_iterations_to_full_score_and_summary() -> None:
 def test_sweep_writes_the_table_and_resumes(tmp_path: Path,
                                             capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "sweep"
-    args = ["experiment", "sweep", *SMALL, "--seeds", "0-1", "--set", "directed_per_pair=20",
+    args = ["experiment", "sweep", *SMALL, "--seeds", "0-1", "--set", "directed.per_pair=20",
             "--out", str(out)]
     assert main(args) == 0
     cfg = json.loads((out / "config.json").read_text())
-    assert cfg["seeds"] == [0, 1] and cfg["overrides"] == {"directed_per_pair": 20}
-    assert cfg["framework"]["directed_per_pair"] == 20 and cfg["framework"]["n_starts"] == 2
-    assert "--set directed_per_pair=20" in cfg["command"]
+    assert cfg["seeds"] == [0, 1] and cfg["overrides"] == {"directed.per_pair": 20}
+    assert cfg["framework"]["directed"]["per_pair"] == 20
+    assert cfg["framework"]["starts"]["n_starts"] == 2
+    assert "--set directed.per_pair=20" in cfg["command"]
     m = json.loads((out / "metrics.json").read_text())
     assert [r["seed"] for r in m["rows"]] == [0, 1]
     for row in m["rows"]:
@@ -84,7 +87,7 @@ def test_sweep_writes_the_table_and_resumes(tmp_path: Path,
     assert m["summary"]["runs"] == 2
     report = (out / "report.md").read_text()
     assert "| seed | held-out success | iterations to 100 |" in report
-    assert "directed_per_pair = 20" in report
+    assert "directed.per_pair = 20" in report
     for row in m["rows"]:  # the final skill's held-out success rate, as its run has it
         run = json.loads((out / f"seed_{row['seed']:03d}" / "metrics.json").read_text())
         assert row["heldout_success"] == run["heldout_success"]
@@ -105,7 +108,8 @@ def test_sweep_writes_the_table_and_resumes(tmp_path: Path,
 @pytest.mark.parametrize(("args", "message"), [
     (["--seeds", "x"], "--seeds"),
     (["--set", "nope=1"], "no field 'nope'"),
-    (["--set", "directed_per_pair=-3"], "--set"),
+    (["--set", "directed.per_pair=-3"], "--set"),
+    (["--set", "directed_per_pair=3"], "is renamed: it is 'directed.per_pair' now"),
 ])
 def test_sweep_bad_arguments(args: list[str], message: str, tmp_path: Path,
                              capsys: pytest.CaptureFixture[str]) -> None:

@@ -19,9 +19,16 @@ def _config() -> FrameworkConfig:
     # 2 starts, 2 iterations, few tries: small, but every phase runs (babbling, learning,
     # validation, extension and effect-directed babbling). Rollouts read the simulator's
     # truth; the scene is told so and renders no camera frame.
-    return FrameworkConfig(scene="baxter", n_effects=4, n_starts=2, max_iterations=2, seed=0,
-                           try_cap=40, directed_try_cap=8,
-                           scene_config={"context_source": "ground_truth"})
+    return FrameworkConfig(
+        scene="baxter",
+        max_iterations=2,
+        seed=0,
+        scene_config={"context_source": "ground_truth"},
+        discretization={"n_effects": 4},
+        starts={"n_starts": 2},
+        babbling={"try_cap": 40},
+        directed={"try_cap": 8},
+    )
 
 
 def _outcome(run_dir: Path) -> dict[str, Any]:
@@ -43,9 +50,9 @@ def test_baxter_run_same_results_with_one_and_two_workers(tmp_path: Path) -> Non
         assert m["workers"] == workers
         runs[workers] = _outcome(out)
     one, two = runs[1], runs[2]
-    assert len(json.loads(one["iterations"])) == 2
-    assert len(one["dataset"]) > 0 and one["final_score"] > 0  # the box was pushed
-    assert one["iterations"] == two["iterations"]
-    assert one["final_score"] == two["final_score"]
-    assert one["bundle"] == two["bundle"]
-    pd.testing.assert_frame_equal(one["dataset"], two["dataset"], check_exact=True)
+    assert len(json.loads(one.iterations)) == 2
+    assert len(one.dataset) > 0 and one.final_score > 0  # the box was pushed
+    assert one.iterations == two.iterations
+    assert one.final_score == two.final_score
+    assert one.bundle == two.bundle
+    pd.testing.assert_frame_equal(one.dataset, two.dataset, check_exact=True)

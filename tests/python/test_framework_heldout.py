@@ -4,7 +4,6 @@ of effect-directed pairs and the ground-truth scene of :func:`make_env`."""
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +12,7 @@ import pytest
 from a2l.acquisition.protocol import drive, drive_ahead
 from a2l.errors import ConfigError
 from a2l.framework import FrameworkConfig, run_framework
-from a2l.framework.loop import _seed
+from a2l.framework.loop import phase_seed
 from a2l.framework.validation import heldout_task
 from a2l.framework.waypoints import (
     EffectDirected,
@@ -26,7 +25,7 @@ from a2l.rollout.env import make_env
 
 
 def test_heldout_offsets_lie_in_their_ring_at_uniform_angles() -> None:
-    cfg = FrameworkConfig(heldout_starts=2000, heldout_r_low=0.10, heldout_r_high=0.25)
+    cfg = FrameworkConfig(heldout={"n_starts": 2000, "r_low": 0.10, "r_high": 0.25})
     off = cfg.heldout_offsets()
     assert off.shape == (2000, 3)
     assert np.all(off[:, 2] == 0.0)
@@ -47,7 +46,7 @@ def test_heldout_offsets_are_seeded_and_apart_from_the_training_starts() -> None
     assert np.array_equal(off, FrameworkConfig(seed=3).heldout_offsets())
     assert not np.allclose(off, FrameworkConfig(seed=4).heldout_offsets())
     # the same positions whatever the training parameters (their own stream)...
-    other = replace(cfg, n_starts=12, max_iterations=3, directed_per_pair=5)
+    other = cfg.with_({"starts.n_starts": 12, "max_iterations": 3, "directed.per_pair": 5})
     assert np.array_equal(other.heldout_offsets(), off)
     # ...and none of them is a training start
     train = cfg.start_offsets()
@@ -59,59 +58,60 @@ def test_heldout_offsets_are_seeded_and_apart_from_the_training_starts() -> None
 
 
 @pytest.mark.parametrize(("field", "value"), [
-    ("heldout_starts", -1), ("heldout_starts", 2.5), ("heldout_r_low", 0.0),
-    ("heldout_r_high", float("nan")), ("heldout_r_high", float("inf")),
+    ("n_starts", -1), ("n_starts", 2.5), ("r_low", 0.0),
+    ("r_high", float("nan")), ("r_high", float("inf")),
 ])
 def test_heldout_config_names_the_bad_field(field: str, value: object) -> None:
-    cfg = replace(FrameworkConfig(), **{field: value})
-    with pytest.raises(ValueError, match=field):
-        cfg.validate()
+    with pytest.raises(ValueError, match=f"^heldout.{field}:"):
+        FrameworkConfig().with_({f"heldout.{field}": value})
 
 
 def test_heldout_ring_must_not_be_reversed() -> None:
-    with pytest.raises(ValueError, match="heldout_r_low, heldout_r_high"):
-        FrameworkConfig(heldout_r_low=0.3, heldout_r_high=0.2).validate()
+    with pytest.raises(ValueError, match=r"^heldout.r_low, r_high:"):
+        FrameworkConfig(heldout={"r_low": 0.3, "r_high": 0.2})
 
 
 def test_heldout_task_refuses_a_start_out_of_range(tmp_path: Path) -> None:
-    from dataclasses import asdict
+    from a2l.framework import ValidationTask
 
-    cfg = FrameworkConfig(heldout_starts=4)
+    cfg = FrameworkConfig(heldout={"n_starts": 4})
     with pytest.raises(ValueError, match="held-out start 4 out of range"):
-        heldout_task((asdict(cfg), str(tmp_path / "none.a2lb"), 4, 0))
+        heldout_task(ValidationTask(cfg, str(tmp_path / "none.a2lb"), 4, 0))
 
 
 def test_heldout_rollouts_decide_nothing(tmp_path: Path) -> None:
     """A run with held-out starts and one without give the same training metrics and
     dataset: held-out rollouts take no training draw, accept nothing, stick no pair."""
-    base = FrameworkConfig(scene="virtual", n_effects=4, seed=1, max_iterations=2)
+    base = FrameworkConfig(
+        scene="virtual", seed=1, max_iterations=2, discretization={"n_effects": 4}
+    )
     with Executor(workers=1) as ex:
-        off = run_framework(replace(base, heldout_starts=0), tmp_path / "off", ex)
-        on = run_framework(replace(base, heldout_starts=6), tmp_path / "on", ex)
-    strip = [{k: v for k, v in it.items() if k != "wall_s"} for it in off["iterations"]]
-    assert [{k: v for k, v in it.items() if k != "wall_s"} for it in on["iterations"]] == strip
-    assert off["dataset"].equals(on["dataset"])
+        off = run_framework(base.with_({"heldout.n_starts": 0}), tmp_path / "off", ex)
+        on = run_framework(base.with_({"heldout.n_starts": 6}), tmp_path / "on", ex)
+    strip = [{k: v for k, v in it.items() if k != "wall_s"} for it in off.iterations]
+    assert [{k: v for k, v in it.items() if k != "wall_s"} for it in on.iterations] == strip
+    assert off.dataset.equals(on.dataset)
     # (the skill is learnt from the dataset alone; the bundles differ in the config they
     # record, heldout_starts)
-    assert off["heldout"] == [] and off["heldout_score"] is None
-    assert [h["iteration"] for h in on["heldout"]] == [0, 1]
-    assert all(0.0 <= h["heldout_score"] <= 100.0 for h in on["heldout"])
-    kept = max(it["iteration"] for it in on["iterations"] if it["accepted"])
-    assert on["heldout_score"] == on["heldout"][kept]["heldout_score"]
-    assert len(on["heldout_validation"]) == 6 * 4
+    assert off.heldout == [] and off.heldout_score is None
+    assert [h["iteration"] for h in on.heldout] == [0, 1]
+    assert all(0.0 <= h["heldout_score"] <= 100.0 for h in on.heldout)
+    kept = max(it["iteration"] for it in on.iterations if it["accepted"])
+    assert on.heldout_score == on.heldout[kept]["heldout_score"]
+    assert len(on.heldout_validation) == 6 * 4
 
 
 def test_resumed_run_keeps_its_heldout_history(tmp_path: Path) -> None:
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=1, max_iterations=2,
-                          heldout_starts=4)
+    cfg = FrameworkConfig(scene="virtual", seed=1, max_iterations=2,
+                          discretization={"n_effects": 4}, heldout={"n_starts": 4})
     with Executor(workers=1) as ex:
         whole = run_framework(cfg, tmp_path / "whole", ex)
-        run_framework(replace(cfg, max_iterations=1), tmp_path / "split", ex)
+        run_framework(cfg.with_(max_iterations=1), tmp_path / "split", ex)
         resumed = run_framework(cfg, tmp_path / "split", ex)
-    strip = [{k: v for k, v in h.items() if k != "heldout_wall_s"} for h in whole["heldout"]]
+    strip = [{k: v for k, v in h.items() if k != "heldout_wall_s"} for h in whole.heldout]
     assert [{k: v for k, v in h.items() if k != "heldout_wall_s"}
-            for h in resumed["heldout"]] == strip
-    assert resumed["heldout_score"] == whole["heldout_score"]
+            for h in resumed.heldout] == strip
+    assert resumed.heldout_score == whole.heldout_score
 
 
 class _Ready:
@@ -135,21 +135,21 @@ class _Later:
 
 
 def _drive_together(strategies: list, evaluate, batch: int, ahead: int = 0) -> None:  # noqa: ANN001
-    """The framework's way: pairs (candidate, wanted effect) evaluated in rounds."""
+    """The framework's way: candidates (each naming its wanted effect) evaluated in rounds."""
     if ahead == 0:
-        submit = lambda pairs: _Ready(evaluate([(c, s.effect) for s, c in pairs]))  # noqa: E731
+        submit = lambda pairs: _Ready(evaluate([c for _, c in pairs]))  # noqa: E731
     else:
         submit = lambda pairs: _Later(lambda p: evaluate([p])[0],  # noqa: E731
-                                      [(c, s.effect) for s, c in pairs])
+                                      [c for _, c in pairs])
     drive_ahead(strategies, submit, batch, ahead=ahead)
 
 
 def test_directed_pairs_driven_together_find_what_they_find_one_by_one() -> None:
-    cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, seed=2)
+    cfg = FrameworkConfig(scene="virtual", seed=2, directed={"per_pair": 3})
     pairs = [(4, 2), (0, 1), (6, 3)]
 
     def strategies() -> list[EffectDirected]:
-        return [EffectDirected(cfg, s, e, lambda i, j=j: _seed(cfg, 1, 2 + j, i),
+        return [EffectDirected(cfg, s, e, lambda i, j=j: phase_seed(cfg, 1, 2 + j, i),
                                want=5, cap=70) for j, (s, e) in enumerate(pairs)]
 
     calls: list[int] = []
@@ -164,7 +164,7 @@ def test_directed_pairs_driven_together_find_what_they_find_one_by_one() -> None
     n_alone = len(calls)
     calls.clear()
     together = strategies()
-    _drive_together(together, lambda pairs: evaluate([t for t, _ in pairs]), batch=8)
+    _drive_together(together, evaluate, batch=8)
     for a, t in zip(alone, together, strict=True):
         assert a.tried == t.tried
         assert [r.moves for r in a.found] == [r.moves for r in t.found]
@@ -194,11 +194,11 @@ def test_rounds_asked_ahead_end_as_rounds_one_by_one(ahead: int) -> None:
     """Rounds submitted before the previous ones are told (as on workers) are dropped past
     the point where a strategy is done: every strategy ends as driven one round at a time,
     whatever the number of rounds in advance."""
-    cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, seed=2)
+    cfg = FrameworkConfig(scene="virtual", seed=2, directed={"per_pair": 3})
     pairs = [(4, 2), (0, 1), (6, 3), (2, 0)]
 
     def strategies() -> list[EffectDirected]:
-        return [EffectDirected(cfg, s, e, lambda i, j=j: _seed(cfg, 1, 2 + j, i),
+        return [EffectDirected(cfg, s, e, lambda i, j=j: phase_seed(cfg, 1, 2 + j, i),
                                want=w, cap=70) for j, ((s, e), w) in
                 enumerate(zip(pairs, (5, 1, 3, 200), strict=True))]
 
@@ -261,7 +261,7 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     from a2l.framework.validation import reachable_heldout
     from a2l.rollout.env import scene_env
 
-    cfg = FrameworkConfig(scene="baxter", n_effects=4, seed=1)
+    cfg = FrameworkConfig(scene="baxter", seed=1, discretization={"n_effects": 4})
     raw = cfg.heldout_offsets()
     env = scene_env(cfg)
     with pytest.raises(UnreachableError, match="unreachable"):
@@ -310,11 +310,11 @@ def test_rounds_given_up_on_workers_change_nothing() -> None:
     """On worker processes the parts of the rounds in flight that belong to strategies done
     meanwhile are given up (:meth:`a2l.parallel.Pending.drop`): every strategy ends as
     driven one round at a time."""
-    cfg = FrameworkConfig(scene="virtual", directed_per_pair=3, seed=2)
+    cfg = FrameworkConfig(scene="virtual", seed=2, directed={"per_pair": 3})
     pairs = [(4, 2), (0, 1), (6, 3), (2, 0)]
 
     def strategies() -> list[EffectDirected]:
-        return [EffectDirected(cfg, s, e, lambda i, j=j: _seed(cfg, 1, 2 + j, i),
+        return [EffectDirected(cfg, s, e, lambda i, j=j: phase_seed(cfg, 1, 2 + j, i),
                                want=4, cap=60) for j, (s, e) in enumerate(pairs)]
 
     alone = strategies()
@@ -323,7 +323,7 @@ def test_rounds_given_up_on_workers_change_nothing() -> None:
     together = strategies()
     with Executor(workers=2) as ex:
         drive_ahead(together, lambda got: ex.submit(
-            directed_outcome_task, [(c, s.effect) for s, c in got], batches=2 * len(got)),
+            directed_outcome_task, [c for _, c in got], batches=2 * len(got)),
             batch=4, ahead=2)
     for a, t in zip(alone, together, strict=True):
         assert a.tried == t.tried

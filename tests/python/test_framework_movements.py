@@ -19,8 +19,9 @@ from a2l.rollout.env import SceneEnv
 
 #: A short virtual run: iteration 0 (acquisition) and 1 (extension with effect-directed
 #: babbling for the stuck pairs), with held-out starts.
-CFG = dict(scene="virtual", n_effects=4, seed=0, n_starts=2, max_iterations=2,
-           heldout_starts=4)
+CFG = FrameworkConfig(scene="virtual", seed=0, max_iterations=2,
+                      discretization={"n_effects": 4}, starts={"n_starts": 2},
+                      heldout={"n_starts": 4})
 
 
 class _SceneCount:
@@ -52,12 +53,12 @@ class _SceneCount:
 
 
 def _records(result: dict[str, Any]) -> list[dict[str, Any]]:
-    return result["movements"]
+    return result.movements
 
 
 def test_movements_are_those_the_scene_executed_with_one_and_two_workers(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    cfg = FrameworkConfig(**CFG)
+    cfg = CFG
     with monkeypatch.context() as mp:
         count = _SceneCount(mp)
         with Executor(workers=1) as ex:
@@ -74,18 +75,20 @@ def test_movements_are_those_the_scene_executed_with_one_and_two_workers(
     assert [r["robot_movements_training"] for r in got][-1] == count.total - sum(
         r["robot_movements"]["validate_heldout"] for r in got)
     # validation plays every (start, effect) pair: at least one movement each
-    assert got[0]["robot_movements"]["validate"] >= cfg.n_starts * cfg.n_effects
+    assert (
+        got[0]["robot_movements"]["validate"] >= cfg.starts.n_starts * cfg.discretization.n_effects
+    )
     # two worker processes: rollouts elsewhere, rounds asked ahead; the same counts
     with Executor(workers=2) as ex:
         two = run_framework(cfg, tmp_path / "two", ex)
     assert _records(two) == got
-    assert [m["score"] for m in two["iterations"]] == [m["score"] for m in one["iterations"]]
+    assert [m["score"] for m in two.iterations] == [m["score"] for m in one.iterations]
 
 
 def test_first_acquisition_movements_are_recorded(tmp_path: Path) -> None:
     """A first acquisition (NovEB with ``--acquisition noveb``) reports its own movements,
     the tries it threw away included: they are iteration 0's ``acquire``."""
-    cfg = FrameworkConfig(**{**CFG, "max_iterations": 1, "heldout_starts": 0})
+    cfg = CFG.with_({"max_iterations": 1, "heldout.n_starts": 0})
 
     def first(cfg_: FrameworkConfig, ex: Executor, it: int, progress: Any) -> Interactions:
         got = loop.acquire(cfg_, ex, it, progress)
@@ -94,14 +97,14 @@ def test_first_acquisition_movements_are_recorded(tmp_path: Path) -> None:
     with Executor(workers=1) as ex:
         base = run_framework(cfg, tmp_path / "base", ex)
         other = run_framework(cfg, tmp_path / "other", ex, first_acquisition=first)
-    a, b = base["movements"][0], other["movements"][0]
+    a, b = base.movements[0], other.movements[0]
     assert b["robot_movements"]["acquire"] == a["robot_movements"]["acquire"] + 1000
     assert b["robot_movements_total"] == a["robot_movements_total"] + 1000
     assert b["robot_movements"]["validate_heldout"] == 0
 
 
 def test_metrics_report_and_table_show_the_movements(tmp_path: Path) -> None:
-    cfg = FrameworkConfig(**CFG)
+    cfg = CFG
     m = run_push_experiment(cfg, tmp_path / "run", quiet=True, plots=False)
     on_disk = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert on_disk["iterations"] == json.loads(json.dumps(m["iterations"]))

@@ -53,7 +53,8 @@ def test_config_holds_everything_to_rerun(run: Path) -> None:
     assert cfg["experiment"] == "push"
     assert set(cfg["framework"]) == {f.name for f in fields(FrameworkConfig)}
     assert FrameworkConfig.from_dict(cfg["framework"]) == FrameworkConfig(
-        scene="virtual", n_effects=4, seed=0)
+        scene="virtual", seed=0, discretization={"n_effects": 4}
+    )
     assert "--seed 0" in cfg["command"] and "--scene virtual" in cfg["command"]
 
 
@@ -75,7 +76,7 @@ def test_metrics_iterations(metrics: dict[str, Any]) -> None:
             100 * (4 * successes + it["false_positives"]) / 128)
         if successes:
             # The C++ step stops the skill after step_cap movements (+1: the last can push).
-            assert 1.0 <= it["mean_movements"] <= FrameworkConfig().step_cap + 1
+            assert 1.0 <= it["mean_movements"] <= FrameworkConfig().skill.step_cap + 1
         else:
             assert math.isnan(it["mean_movements"])
         assert isinstance(it["dataset_size"], int) and it["dataset_size"] > 0
@@ -137,7 +138,8 @@ def test_final_bundle_loads_and_reproduces_the_final_score(run: Path,
     with Executor(workers=1) as ex:
         rollouts = validate(cfg, ex, bundle)
     assert len(rollouts) == 32
-    assert score_of(rollouts, cfg.n_effects, cfg.n_starts) == metrics["final_score"]
+    assert score_of(rollouts, cfg.discretization.n_effects,
+                    cfg.starts.n_starts) == metrics["final_score"]
 
 
 def test_heldout_metrics_beside_the_training_ones(run: Path, metrics: dict[str, Any]) -> None:
@@ -145,7 +147,7 @@ def test_heldout_metrics_beside_the_training_ones(run: Path, metrics: dict[str, 
     score, and the final held-out score is the accepted skill's: scoring the final bundle
     again from the held-out starts gives it."""
     cfg = FrameworkConfig.from_dict(json.loads((run / "config.json").read_text())["framework"])
-    assert cfg.heldout_starts == 32
+    assert cfg.heldout.n_starts == 32
     assert metrics["heldout"] == {"starts": 32, "r_low": 0.10, "r_high": 0.25}
     for it in metrics["iterations"]:
         assert list(it["heldout_success_rate"]) == EFFECTS
@@ -170,7 +172,8 @@ def test_heldout_metrics_beside_the_training_ones(run: Path, metrics: dict[str, 
     assert len(rollouts) == 4 * 32
     assert [(r.start, r.wanted) for r in rollouts] == [(s, e) for s in range(32)
                                                        for e in range(4)]
-    assert score_of(rollouts, cfg.n_effects, cfg.heldout_starts) == metrics["heldout_score"]
+    assert score_of(rollouts, cfg.discretization.n_effects,
+                    cfg.heldout.n_starts) == metrics["heldout_score"]
     # The rollouts start from the held-out positions, not from the training circle.
     first = [r.eef[0] - r.obj[0] for r in rollouts[::4]]
     assert np.allclose([f[:2] for f in first], cfg.heldout_offsets()[:, :2], atol=1e-9)

@@ -85,7 +85,7 @@ EXPECTED_SMOOTHING: dict[int, list[dict[str, Any]]] = {
 
 #: The training starts and the step's answer in a cell without data before issue 27: every
 #: start on the 0.2 m circle, no fallback (the step stops with ``unknown_context``).
-CIRCLE: dict[str, Any] = {"start_layout": "circle", "fallback": "none"}
+CIRCLE: dict[str, Any] = {"starts.layout": "circle", "skill.fallback": "none"}
 
 
 #: The defaults from commit 54a7e03 to issue 27: the same with ``distance -> move`` fixed
@@ -126,33 +126,38 @@ EXPECTED_OFFSETS = [
 def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
     from a2l.skills import load_bundle
 
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=1, n_offset=3, structure="hc-k2",
-                          smoothing=False, fixed_parents=(), **CIRCLE)
+    cfg = FrameworkConfig(scene="virtual", seed=1, discretization={"n_effects": 4, "n_offset": 3},
+                          learning={"structure": "hc-k2", "fixed_parents": ()},
+                          skill={"smoothing": False}).with_(CIRCLE)
     with Executor(workers=1) as executor:
         result = run_framework(cfg, tmp_path, executor)
-    got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
+    got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result.iterations]
     assert json.dumps(got, sort_keys=True) == json.dumps(EXPECTED_OFFSETS, sort_keys=True)
-    kinds = [v.kind for v in load_bundle(result["bundle"]).variables]
+    kinds = [v.kind for v in load_bundle(result.bundle).variables]
     assert "offset_x" in kinds
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path: Path) -> None:
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, structure="hc-k2",
-                          smoothing=False, fixed_parents=(), **CIRCLE)
+    cfg = FrameworkConfig(scene="virtual", seed=seed, discretization={"n_effects": 4},
+                          learning={"structure": "hc-k2", "fixed_parents": ()},
+                          skill={"smoothing": False}).with_(CIRCLE)
     _assert_metrics(cfg, tmp_path, EXPECTED[seed])
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_with_smoothing_alone(seed: int, tmp_path: Path) -> None:
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, fixed_parents=(), **CIRCLE)
+    cfg = FrameworkConfig(scene="virtual", seed=seed, discretization={"n_effects": 4},
+                          learning={"fixed_parents": ()}).with_(CIRCLE)
     _assert_metrics(cfg, tmp_path, EXPECTED_SMOOTHING[seed])
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_with_the_defaults_of_54a7e03(seed: int, tmp_path: Path) -> None:
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, **CIRCLE)
-    assert (cfg.structure, cfg.smoothing, cfg.fixed_parents) == ("hc-k2", True, ("distance",))
+    cfg = FrameworkConfig(scene="virtual", seed=seed, discretization={"n_effects": 4}
+                          ).with_(CIRCLE)
+    assert (cfg.learning.structure, cfg.skill.smoothing, cfg.learning.fixed_parents) == (
+        "hc-k2", True, ("distance",))
     _assert_metrics(cfg, tmp_path, EXPECTED_DEFAULT[seed])
 
 
@@ -160,7 +165,7 @@ def _assert_metrics(cfg: FrameworkConfig, tmp_path: Path,
                     expected: list[dict[str, Any]]) -> None:
     with Executor(workers=1) as executor:
         result = run_framework(cfg, tmp_path, executor)
-    got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result["iterations"]]
+    got = [{k: v for k, v in it.items() if k != "wall_s"} for it in result.iterations]
     # JSON text: exact floats, and NaN (no success) equal to NaN
     assert json.dumps(got, sort_keys=True) == json.dumps(expected, sort_keys=True)
-    assert result["final_score"] == 100.0
+    assert result.final_score == 100.0

@@ -81,8 +81,8 @@ def test_reference_run_is_complete_and_rerunnable(reference: Path) -> None:
     path, ns, _ = parse(shlex.split(cfg["command"])[1:])
     framework = FrameworkConfig.from_dict(cfg["framework"])
     assert path == ("experiment", "push") and config_from(ns, FrameworkConfig) == framework
-    assert (framework.scene, framework.n_effects, framework.seed, framework.max_iterations,
-            framework.n_starts) == ("virtual", 4, 0, 2, 2)
+    assert (framework.scene, framework.discretization.n_effects, framework.seed,
+            framework.max_iterations, framework.starts.n_starts) == ("virtual", 4, 0, 2, 2)
 
 
 def test_killed_mid_iteration_and_resumed_ends_as_uninterrupted(reference: Path,
@@ -152,16 +152,15 @@ def test_dask_worker_threads_do_not_share_a_scene(tmp_path: Path) -> None:
     rollouts of one process (each thread has its own scene and skill state)."""
     from dask.distributed import LocalCluster
 
-    from a2l.acquisition.rollout import rollouts_to_frame
-    from a2l.framework import _discretizers as discretizers
+    from a2l.acquisition.rollout import interaction_rows
     from a2l.framework import acquire, generate_skill, validate
     from a2l.parallel import Executor
 
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=3)
+    cfg = FrameworkConfig(scene="virtual", seed=3, discretization={"n_effects": 4})
     bundle = tmp_path / "iter_000.a2lb"
     with Executor(workers=1) as local:
         babbled = acquire(cfg, local, 0).rollouts
-        generate_skill(cfg, rollouts_to_frame(babbled, discretizers(cfg)), bundle)
+        generate_skill(cfg, interaction_rows(babbled, cfg.discretization.discretizer()), bundle)
         validated = validate(cfg, local, bundle)
     cluster = LocalCluster(n_workers=1, threads_per_worker=2, processes=True,
                            host="127.0.0.1", dashboard_address=None)

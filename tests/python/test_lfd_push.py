@@ -89,12 +89,13 @@ def test_grid_stays_around_the_demonstrations():
 
 
 def test_dataset_goes_through_the_babbling_discretizer():
-    from a2l.framework.config import FrameworkConfig, discretizers
+    from a2l.framework.config import FrameworkConfig
 
     cfg = DEFAULT
     disc = skill_discretizer(cfg)
-    babbling = discretizers(FrameworkConfig(n_effects=4, planar=True, step=cfg.step,
-                                            n_orient=cfg.n_orient, n_dist=cfg.n_dist))
+    babbling = FrameworkConfig(discretization={
+        "n_effects": 4, "planar": True, "step": cfg.step, "n_orient": cfg.n_orient,
+        "n_dist": cfg.n_dist}).discretization.discretizer()
     assert disc is babbling  # the very same object, from the same function
     demos = PushDemonstrator("left").demonstrations(2, seed=1)
     rows = vector_field_rows(fit_fields(demos, cfg.with_(maps=20)), demos, "left", cfg,

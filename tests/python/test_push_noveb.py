@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from a2l.acquisition import rollouts_to_frame
+from a2l.acquisition import interaction_rows
 from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
-from a2l.framework import FrameworkConfig, discretizers
+from a2l.framework import FrameworkConfig
 from a2l.framework.noveb_rollouts import noveb_acquire
 from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
@@ -18,7 +18,9 @@ from a2l.rollout.env import scene_env
 
 def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved(
         monkeypatch: pytest.MonkeyPatch) -> None:
-    cfg = FrameworkConfig(scene="baxter", n_effects=4, seed=0, n_starts=4)
+    cfg = FrameworkConfig(
+        scene="baxter", seed=0, discretization={"n_effects": 4}, starts={"n_starts": 4}
+    )
     scene = scene_env(cfg).scene        # the scene the tasks of this thread play in
     executed = []
     orig = type(scene).execute
@@ -31,7 +33,7 @@ def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved(
     # scene executed
     assert movements == len(executed) > 8
     assert rollouts, "no NovEB trajectory moved the box (at push height, most do)"
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     for r in rollouts:
         assert r.moved and r.stop == "moved"
         assert len(r.eef) == len(r.obj) == len(r.moves) + 1
@@ -39,7 +41,7 @@ def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved(
         assert int(disc.effects.discretize(r.obj[-1] - r.obj[0])[0]) == r.effect
         if len(r.moves) > 1:
             assert int(disc.effects.discretize(r.obj[-2] - r.obj[0])[0]) == -1
-    frame = rollouts_to_frame(rollouts, disc)
+    frame = interaction_rows(rollouts, disc)
     assert len(frame) == sum(len(r.moves) for r in rollouts)
     assert not frame[[*EEF_COLUMNS, *OBJECT_COLUMNS, *MOVE_COLUMNS]].isna().any().any()
     assert len(disc.discretize(frame)) == len(frame)

@@ -75,7 +75,9 @@ def test_discretization_records_every_cell(tmp_path: Path) -> None:
     from a2l.experiments.discretization import run_discretization_study
     from a2l.framework import FrameworkConfig
 
-    base = FrameworkConfig(scene="virtual", n_effects=4, n_starts=2, max_iterations=1)
+    base = FrameworkConfig(
+        scene="virtual", max_iterations=1, discretization={"n_effects": 4}, starts={"n_starts": 2}
+    )
     res = run_discretization_study(tmp_path / "study", base, orientations=(8,),
                                    distances=(3, 4), quiet=True,
                                    record=tmp_path / "study.rrd")

@@ -80,8 +80,14 @@ def test_a_push_run_on_a_tuning_seed_says_so_in_its_report(tmp_path: Path, seed:
     from a2l.experiments.push import run_push_experiment
     from a2l.framework import FrameworkConfig
 
-    cfg = FrameworkConfig(scene="virtual", n_effects=4, seed=seed, n_starts=2,
-                          max_iterations=1, heldout_starts=0)
+    cfg = FrameworkConfig(
+        scene="virtual",
+        seed=seed,
+        max_iterations=1,
+        discretization={"n_effects": 4},
+        starts={"n_starts": 2},
+        heldout={"n_starts": 0},
+    )
     run_push_experiment(cfg, tmp_path / "run", quiet=True, plots=False)
     config = json.loads((tmp_path / "run" / "config.json").read_text())
     report = (tmp_path / "run" / "report.md").read_text()

@@ -5,20 +5,23 @@ from __future__ import annotations
 
 import dataclasses
 
-from a2l.framework import FrameworkConfig, discretizers
+from a2l.framework import FrameworkConfig
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.dataset import skill_discretizer
 from a2l.skills.discretization import DiscretizationConfig
 
 
-def test_framework_config_hands_its_fields_over() -> None:
-    cfg = FrameworkConfig(n_effects=8, n_orient=24, n_dist=4, n_incl=3, n_offset=3, step=0.03)
+def test_framework_config_holds_the_one_discretization_part() -> None:
+    cfg = FrameworkConfig(discretization={"n_effects": 8, "n_orient": 24, "n_dist": 4,
+                                          "n_incl": 3, "n_offset": 3, "step": 0.03})
     d = cfg.discretization
     assert d == DiscretizationConfig(n_effects=8, n_orient=24, n_dist=4, n_incl=3, n_offset=3,
                                      step=0.03)
-    assert {f.name for f in dataclasses.fields(d)} <= {
+    # no field of the part is declared again in the composed configuration
+    assert not {f.name for f in dataclasses.fields(d)} & {
         f.name for f in dataclasses.fields(FrameworkConfig)}
-    assert discretizers(cfg) is d.discretizer()  # built once per set of values
+    assert DiscretizationConfig(n_effects=8, n_orient=24, n_dist=4, n_incl=3, n_offset=3,
+                                step=0.03).discretizer() is d.discretizer()  # built once
     assert d.context_names() == ["distance", "orientation", "inclination", "offset_x",
                                  "offset_y"]
 
@@ -29,6 +32,7 @@ def test_lfd_config_uses_the_same_configuration() -> None:
                                      n_dist=DEFAULT.n_dist, dist_low=DEFAULT.dist_low,
                                      dist_high=DEFAULT.dist_high)
     # the LfD discretizer is the framework's of the same values, the very same object
-    fw = FrameworkConfig(step=DEFAULT.step, n_orient=DEFAULT.n_orient, n_dist=DEFAULT.n_dist,
-                         dist_low=DEFAULT.dist_low, dist_high=DEFAULT.dist_high)
-    assert skill_discretizer(DEFAULT) is discretizers(fw)
+    fw = FrameworkConfig(discretization={
+        "step": DEFAULT.step, "n_orient": DEFAULT.n_orient, "n_dist": DEFAULT.n_dist,
+        "dist_low": DEFAULT.dist_low, "dist_high": DEFAULT.dist_high})
+    assert skill_discretizer(DEFAULT) is fw.discretization.discretizer()

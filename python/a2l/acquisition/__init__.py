@@ -37,7 +37,7 @@ _EXPORTS: dict[str, str] = {
     "effect_of": "a2l.acquisition.rollout",
     "erase_loops": "a2l.acquisition.rollout",
     "play": "a2l.acquisition.rollout",
-    "rollouts_to_frame": "a2l.acquisition.rollout",
+    "interaction_rows": "a2l.acquisition.rollout",
     "WaypointEncoding": "a2l.acquisition.trajectory",
     "follow_waypoints": "a2l.acquisition.trajectory",
 }
@@ -60,7 +60,7 @@ __all__ = [
     "image_descriptor",
     "novelty",
     "play",
-    "rollouts_to_frame",
+    "interaction_rows",
 ]
 
 

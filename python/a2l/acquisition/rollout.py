@@ -1,8 +1,8 @@
 """Rollouts: one end-effector trajectory played in a scene (:func:`play`), its record
 (:class:`Rollout`), loop erasure, the conversion of rollouts that moved the object into
-the interaction dataset's rows (:func:`rollouts_to_frame`, :mod:`a2l.data.schema`), and a
-table of whole rollouts, one per row, to store and read back (:func:`rollouts_frame`,
-:func:`frame_rollouts`: a checkpoint's validation and held-out rollouts).
+the interaction dataset's rows (:func:`interaction_rows`, :mod:`a2l.data.schema`), and a
+table of whole rollouts, one per row, to store and read back (:func:`rollouts_table`,
+:func:`rollouts_from_table`: a checkpoint's validation and held-out rollouts).
 
 Every acquisition strategy's trajectories end up here; the framework's validation plays the
 skills' trajectories the same way.
@@ -10,6 +10,7 @@ skills' trajectories the same way.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -21,8 +22,8 @@ from a2l.data.schema import EEF_COLUMNS, EFFECT_DISPLACEMENT_COLUMNS, MOVE_COLUM
 from a2l.rollout.env import SceneEnv
 from a2l.rollout.loop import Decision, closed_loop
 
-__all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "frame_rollouts", "play",
-           "rollouts_frame", "rollouts_to_frame"]
+__all__ = ["Interactions", "Rollout", "effect_of", "erase_loops", "interaction_rows", "play",
+           "rollouts_from_table", "rollouts_table"]
 
 
 @dataclass
@@ -189,13 +190,12 @@ def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:
         keep_e.append(p)
         keep_o.append(r.obj[k + 1])
         keep_m.append(r.moves[k])
-    return Rollout(r.start, keep_m, np.array(keep_e), np.array(keep_o), effect=r.effect,
-                   wanted=r.wanted, outcome=r.outcome, stop=r.stop, executed=r.executed)
+    return dataclasses.replace(r, moves=keep_m, eef=np.array(keep_e), obj=np.array(keep_o))
 
 
 
-def rollouts_to_frame(rollouts: Sequence[Rollout], disc: Any, first_episode: int = 0
-                      ) -> pd.DataFrame:
+def interaction_rows(rollouts: Sequence[Rollout], disc: Any, first_episode: int = 0
+                     ) -> pd.DataFrame:
     """Raw dataset rows (:mod:`a2l.data.schema`) of rollouts that moved the object.
 
     Every step of a trajectory is labelled with the trajectory's observed effect (the
@@ -230,7 +230,7 @@ def rollouts_to_frame(rollouts: Sequence[Rollout], disc: Any, first_episode: int
     return pd.DataFrame(data, columns=cols)
 
 
-def rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
+def rollouts_table(rollouts: Sequence[Rollout]) -> pd.DataFrame:
     """Validation rollouts as a table (one row per rollout; positions as lists): the
     columns of a checkpoint's ``validation.parquet`` and ``heldout.parquet``."""
     return pd.DataFrame({
@@ -244,8 +244,8 @@ def rollouts_frame(rollouts: Sequence[Rollout]) -> pd.DataFrame:
     })
 
 
-def frame_rollouts(df: pd.DataFrame) -> list[Rollout]:
-    """The rollouts of a table :func:`rollouts_frame` wrote (a checkpoint's
+def rollouts_from_table(df: pd.DataFrame) -> list[Rollout]:
+    """The rollouts of a table :func:`rollouts_table` wrote (a checkpoint's
     ``validation.parquet``, ``heldout.parquet``), in its row order."""
     out = []
     for row in df.itertuples(index=False):

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import dataclasses
 import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from a2l.errors import ConfigError
-from a2l.framework.config import FrameworkConfig
+from a2l.framework.config import FLAT_NAMES, FrameworkConfig, field_paths
 
 
 class UsageError(ConfigError):
@@ -83,25 +82,29 @@ def parse_seeds(text: str) -> list[int]:
 
 
 def parse_overrides(items: Sequence[str]) -> dict[str, Any]:
-    """``FIELD=VALUE`` strings as FrameworkConfig fields; VALUE is read as JSON (numbers,
-    ``true``, ``null``), else kept as text.
+    """``FIELD=VALUE`` strings as FrameworkConfig fields by their dotted names
+    (``directed.per_pair=20``); VALUE is read as JSON (numbers, ``true``, ``null``), else
+    kept as text.
 
     Raises
     ------
     UsageError
         An item without ``=``, or a field FrameworkConfig does not have (the message lists
-        its fields), or one the sweep sets itself (``seed``).
+        its fields; a field of the flat form of earlier versions names its name now), or one
+        the sweep sets itself (``seed``).
     """
-    fields = {f.name for f in dataclasses.fields(FrameworkConfig)}
+    fields = set(field_paths(FrameworkConfig))
     out: dict[str, Any] = {}
     for item in items:
         name, sep, value = item.partition("=")
         name = name.strip()
         if not sep or not name:
             raise UsageError("--set", f"expected FIELD=VALUE, got {item!r}")
+        if name in FLAT_NAMES:
+            raise UsageError("--set", f"{name!r} is renamed: it is {FLAT_NAMES[name]!r} now")
         if name not in fields:
             raise UsageError("--set", f"FrameworkConfig has no field {name!r}; its fields: "
-                             f"{', '.join(sorted(fields))}")
+                             f"{', '.join(field_paths(FrameworkConfig))}")
         if name == "seed":
             raise UsageError("--set", "'seed' is set by --seeds")
         try:

@@ -4,9 +4,12 @@ the command path of a parse.
 
 Every field of a configuration dataclass becomes a flag ``--field`` (``--field-name`` is
 accepted too) through :meth:`jsonargparse.ArgumentParser.add_class_arguments`, which also
-checks each value's type; ``--config FILE`` (JSON or YAML) sets any flag of the command. A
-misspelt flag or config-file key is refused with the list of valid names before any work
-starts.
+checks each value's type; a field that is itself a dataclass (a part of a composed
+configuration) gives one flag per field of it, ``--part.field``. A list option takes
+``a,b`` as well as ``[a,b]``. ``--config FILE`` (JSON or YAML; parts as nested mappings)
+sets any flag of the command. A misspelt flag or config-file key is refused with the list of
+valid names before any work starts, and a name of an earlier version (``Parser.renamed``)
+with its name now.
 """
 
 from __future__ import annotations
@@ -14,8 +17,10 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import inspect
+import json
 import re
-from collections.abc import Sequence
+import typing
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -36,6 +41,16 @@ class Parser(ArgumentParser):
     #: The options as the user spelt them, by their canonical spelling (set by
     #: :func:`normalize_argv`): messages name an option the way it was given.
     spelled: dict[str, str] = {}
+
+    #: Earlier spellings of aliases still accepted (``--effects``), by their option now.
+    aliases: dict[str, str] = {}
+
+    #: Options of an earlier version that are gone, with the option now
+    #: (``--n_orient``: ``--discretization.n_orient``): refused with that name.
+    renamed: dict[str, str] = {}
+
+    #: The options whose value is a list (set by :func:`add_config_fields`).
+    list_options: set[str] = set()
 
     def error(self, message: str, ex: Exception | None = None) -> NoReturn:
         """Print the usage and `message` (with the valid options after an unknown one) and
@@ -71,17 +86,38 @@ def option_names(parser: ArgumentParser) -> list[str]:
 
 def add_config_fields(parser: ArgumentParser, cls: type, skip: set[str] | None = None,
                       nested_key: str | None = None) -> None:
-    """Add one flag per field of the dataclass `cls` (``--field``, or ``--<nested_key>.field``)
-    and, once per parser, ``--config FILE``."""
+    """Add one flag per field of the dataclass `cls` (``--field``, or ``--<nested_key>.field``;
+    a dataclass field gives ``--field.sub`` per field of its own), each with its description
+    from the classes' numpydoc ``Attributes``, and, once per parser, ``--config FILE``."""
     add_config_option(parser)
     parser.add_class_arguments(cls, nested_key=nested_key, as_group=True, skip=skip,
                                instantiate=False)
-    docs = attribute_docs(cls)
     prefix = f"{nested_key}." if nested_key else ""
+    docs, lists = _field_docs(cls, prefix)
+    if isinstance(parser, Parser):
+        parser.list_options = parser.list_options | lists
     for action in parser._actions:
-        name = action.dest[len(prefix):] if action.dest.startswith(prefix) else None
-        if name in docs and not action.help:
-            action.help = docs[name].replace("``", "")
+        if action.dest in docs and not action.help:
+            action.help = docs[action.dest].replace("``", "")
+
+
+def _field_docs(cls: type, prefix: str) -> tuple[dict[str, str], set[str]]:
+    """The description of each field of `cls` by its dotted destination (parts recursed
+    into), and the options of the fields whose value is a list."""
+    hints = typing.get_type_hints(cls)
+    docs: dict[str, str] = {}
+    lists: set[str] = set()
+    for name, text in attribute_docs(cls).items():
+        docs[prefix + name] = text
+    for f in dataclasses.fields(cls):
+        hint = hints.get(f.name)
+        if dataclasses.is_dataclass(hint):
+            sub_docs, sub_lists = _field_docs(hint, f"{prefix}{f.name}.")
+            docs.update(sub_docs)
+            lists |= sub_lists
+        elif typing.get_origin(hint) in (tuple, list):
+            lists.add(f"--{prefix}{f.name}")
+    return docs, lists
 
 
 def attribute_docs(cls: type) -> dict[str, str]:
@@ -114,41 +150,70 @@ def add_config_option(parser: ArgumentParser) -> None:
 
 
 def config_from(ns: Namespace, cls: type) -> Any:
-    """The `cls` instance of the fields in `ns` (the flags of :func:`add_config_fields`)."""
-    names = [f.name for f in dataclasses.fields(cls) if f.init]
-    return cls(**{n: ns[n] for n in names if n in ns})
+    """The `cls` instance of the fields in `ns` (the flags of :func:`add_config_fields`;
+    a part of a composed configuration from its own namespace)."""
+    hints = typing.get_type_hints(cls)
+    values: dict[str, Any] = {}
+    for f in dataclasses.fields(cls):
+        if not f.init or f.name not in ns:
+            continue
+        value = ns[f.name]
+        if dataclasses.is_dataclass(hints.get(f.name)) and isinstance(value, Namespace):
+            value = config_from(value, hints[f.name])
+        values[f.name] = value
+    return cls(**values)
 
 
 def normalize_argv(argv: Sequence[str], parser: ArgumentParser,
                    aliases: dict[str, str] | None = None) -> list[str]:
     """`argv` with ``--field-name`` spelt ``--field_name`` where only that one is an option
-    of `parser`, the `aliases` replaced, and the keys of ``--config FILE`` checked.
+    of `parser`, the `aliases` replaced, a list option's ``a,b`` written ``["a", "b"]``,
+    and the keys of ``--config FILE`` checked.
 
     Raises
     ------
     SystemExit
-        A config file key that is no option (through :meth:`Parser.error`, with the valid
-        names).
+        An option of an earlier version (``Parser.renamed``: the message names the option
+        now), or a config file key that is no option (through :meth:`Parser.error`, with
+        the valid names).
     """
     valid = set(option_names(parser))
+    renamed = parser.renamed if isinstance(parser, Parser) else {}
+    lists = parser.list_options if isinstance(parser, Parser) else set()
     spelled: dict[str, str] = {}
     out: list[str] = []
     words = list(argv)
     for i, word in enumerate(words):
         flag, eq, value = word.partition("=")
-        if flag.startswith("--") and flag not in valid:
-            if aliases and flag in aliases:
-                flag = aliases[flag]
-            elif "--" + flag[2:].replace("-", "_") in valid:
+        if aliases and flag in aliases:  # before the options: ``--starts`` is a part's too
+            flag = aliases[flag]
+            spelled[flag] = word.partition("=")[0]
+        elif flag.startswith("--") and flag not in valid:
+            if "--" + flag[2:].replace("-", "_") in valid:
                 flag = "--" + flag[2:].replace("-", "_")
+            elif flag in renamed or "--" + flag[2:].replace("-", "_") in renamed:
+                old = flag if flag in renamed else "--" + flag[2:].replace("-", "_")
+                parser.error(f"argument {flag}: renamed; it is {renamed[old]} now")
             if flag != word.partition("=")[0]:
                 spelled[flag] = word.partition("=")[0]
         if flag == "--config" and (eq or i + 1 < len(words)):
             _check_config_keys(Path(value if eq else words[i + 1]), valid, parser)
         out.append(flag + eq + value)
+        if i and out[i - 1] in lists and not eq:  # the value of a list option
+            out[i] = list_value(out[i])
+        elif flag in lists and eq:
+            out[i] = flag + eq + list_value(value)
     if isinstance(parser, Parser):
         parser.spelled = spelled
     return out
+
+
+def list_value(text: str) -> str:
+    """A list option's value as JSON: ``a,b`` (or ``a, b``) becomes ``["a", "b"]``; a value
+    already in brackets (``[a,b]``, JSON or YAML) is kept."""
+    if text.lstrip().startswith("["):
+        return text
+    return json.dumps([x.strip() for x in text.split(",") if x.strip()])
 
 
 def _check_config_keys(path: Path, valid: set[str], parser: ArgumentParser) -> None:
@@ -161,10 +226,29 @@ def _check_config_keys(path: Path, valid: set[str], parser: ArgumentParser) -> N
     if not isinstance(data, dict):
         parser.error(f"argument --config: '{path}' must hold a mapping of option names")
     names = sorted(v[2:].replace("-", "_") for v in valid)
-    unknown = sorted(k for k in data if str(k).replace("-", "_") not in names)
+    renamed = parser.renamed if isinstance(parser, Parser) else {}
+    old = {k: renamed[f"--{k}"][2:] for k in data if f"--{k}" in renamed
+           and str(k).replace("-", "_") not in names}
+    if old:
+        parser.error(f"argument --config: '{path}' holds the flat form of an earlier version; "
+                     "renamed: " + ", ".join(f"{k} is now {v}" for k, v in old.items()))
+    unknown = sorted(_config_keys(data, set(names)))
     if unknown:
         parser.error(f"argument --config: unknown key(s) {unknown} in '{path}'; valid "
                      f"keys: {', '.join(names)}")
+
+
+def _config_keys(data: Mapping[str, Any], names: set[str], prefix: str = "") -> list[str]:
+    """The keys of a config file's mapping that are no option (a part's keys, nested or
+    dotted, checked against its fields)."""
+    bad: list[str] = []
+    for k, v in data.items():
+        key = prefix + str(k).replace("-", "_")
+        if isinstance(v, Mapping) and any(n.startswith(key + ".") for n in names):
+            bad += _config_keys(v, names, key + ".")
+        elif key not in names:
+            bad.append(key)
+    return bad
 
 
 def command_path(ns: Namespace) -> tuple[tuple[str, ...], Namespace]:

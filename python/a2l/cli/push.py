@@ -1,14 +1,14 @@
 """``a2l experiment push``, ``discretization`` and ``sweep``: the framework on the push effects.
 
-Every :class:`a2l.framework.FrameworkConfig` field is a flag of the three commands
-(``--n_effects 8``, ``--fixed_parents '["distance", "orientation"]'``; ``sweep`` sets
-``seed`` itself), or a key of ``--config FILE``; the configuration is validated, variable
-names included, before any run directory is made.
+Every field of every part of :class:`a2l.framework.FrameworkConfig` is a flag of the three
+commands (``--discretization.n_effects 8``, ``--learning.fixed_parents distance,orientation``;
+``sweep`` sets ``seed`` itself), or a key of ``--config FILE``; the configuration is
+validated, variable names included, before any run directory is made. A flag of the flat
+configuration of earlier versions (``--n_orient``) is refused with its name now.
 """
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -17,19 +17,29 @@ from jsonargparse.typing import PositiveInt
 
 from a2l.cli.args import UsageError, check_cluster, check_record, parse_overrides, parse_seeds
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
-from a2l.framework.config import FALLBACK_RULES, FrameworkConfig
+from a2l.framework.config import FALLBACK_RULES, FLAT_NAMES, FrameworkConfig, field_paths
 from a2l.rundir import command_line
 
-#: The earlier names of some FrameworkConfig flags, still accepted.
-ALIASES = {"--effects": "--n_effects", "--iterations": "--max_iterations",
-           "--starts": "--n_starts"}
+#: Short names of some FrameworkConfig flags, still accepted.
+ALIASES = {"--effects": "--discretization.n_effects", "--iterations": "--max_iterations",
+           "--starts": "--starts.n_starts"}
+
+#: The flags of the flat configuration of earlier versions, by their name now.
+RENAMED = {f"--{old}": f"--{new}" for old, new in FLAT_NAMES.items()}
 
 
 def framework_config(ns: Namespace) -> FrameworkConfig:
     """The validated FrameworkConfig of a command's flags (ConfigError naming the field)."""
-    cfg = config_from(ns, FrameworkConfig)
-    cfg.validate()
-    return cfg
+    return config_from(ns, FrameworkConfig)
+
+
+def changed_fields(cfg: FrameworkConfig, base: FrameworkConfig) -> list[str]:
+    """The dotted names of the fields whose value differs between `cfg` and `base`."""
+    def value(c: FrameworkConfig, path: str) -> Any:
+        head, _, rest = path.partition(".")
+        return getattr(getattr(c, head), rest) if rest else getattr(c, head)
+
+    return [p for p in field_paths(FrameworkConfig) if value(cfg, p) != value(base, p)]
 
 
 def _check_out(out: Path | None, resume_hint: bool = False) -> None:
@@ -48,9 +58,8 @@ def _cmd_push(ns: Namespace) -> int:
     from a2l.experiments.push import run_push_experiment
 
     if ns.resume is not None:
-        default, given = FrameworkConfig(), config_from(ns, FrameworkConfig)
-        changed = [f"--{f.name}" for f in dataclasses.fields(FrameworkConfig)
-                   if getattr(given, f.name) != getattr(default, f.name)]
+        changed = [f"--{p}" for p in changed_fields(config_from(ns, FrameworkConfig),
+                                                     FrameworkConfig())]
         changed += [o for o, v in (("--out", ns.out), ("--acquisition", ns.acquisition),
                                    ("--record", ns.record)) if v is not None]
         if changed:
@@ -102,7 +111,7 @@ def _cmd_sweep(ns: Namespace) -> int:
     overrides = parse_overrides(ns.set)
     cfg = framework_config(ns)
     try:
-        dataclasses.replace(cfg, **overrides).validate()
+        cfg.with_(overrides)
     except (TypeError, ValueError) as exc:
         raise UsageError("--set", str(exc)) from None
     out = Path(ns.out) if ns.out is not None else None
@@ -128,8 +137,9 @@ def _push_parser() -> Parser:
         "generation, closed-loop validation through the C++ step) and write the run "
         "directory: config.json, metrics.json, dataset.parquet, skills/push.a2lb, plots, "
         "report.md. Checkpoints after every iteration; --resume DIR continues an "
-        "interrupted run. Every FrameworkConfig field is an option (--effects, "
-        "--iterations, --starts: --n_effects, --max_iterations, --n_starts)."))
+        "interrupted run. Every field of every part of FrameworkConfig is an option, "
+        "--part.field (--effects, --iterations, --starts: --discretization.n_effects, "
+        "--max_iterations, --starts.n_starts)."))
     add_config_fields(p, FrameworkConfig)
     p.add_argument("--out", metavar="DIR", default=None,
                    help="run directory (default runs/push-<scene>-<timestamp>)")
@@ -156,8 +166,8 @@ def _discretization_parser() -> Parser:
     p = Parser(prog="a2l experiment discretization", description=(
         "Run the push experiment for orientation bins {8, 16, 24, 32} x distance bins "
         "{3, 4, 5}; write a table of final score, iterations and movements per action, and "
-        "the default it selects. Every FrameworkConfig field is an option (the base "
-        "configuration)."))
+        "the default it selects. Every field of every part of FrameworkConfig is an option "
+        "(the base configuration)."))
     add_config_fields(p, FrameworkConfig)
     p.add_argument("--out", metavar="DIR", required=True, help="study directory")
     p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
@@ -175,12 +185,13 @@ def _sweep_parser() -> Parser:
         "iterations (iteration 0 included) each seed needed to reach score 100: "
         "metrics.json, report.md (the table of docs/framework.md) and one run directory "
         "per seed. Run again with the same --out to continue an interrupted sweep. Every "
-        "FrameworkConfig field but seed is an option (the base configuration)."))
+        "field of every part of FrameworkConfig but seed is an option (the base "
+        "configuration)."))
     add_config_fields(p, FrameworkConfig, skip={"seed"})
     p.add_argument("--seeds", default="0-29", metavar="LIST",
                    help="seeds, e.g. 0-29 or 0,3,7 (default 0-29)")
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
-                   help="change a FrameworkConfig field, e.g. directed_per_pair=20; recorded "
+                   help="change a FrameworkConfig field, e.g. directed.per_pair=20; recorded "
                    "as the sweep's overrides (repeatable; VALUE read as JSON, else as text)")
     p.add_argument("--out", metavar="DIR", default=None,
                    help="sweep directory (default runs/sweep-<timestamp>)")
@@ -247,7 +258,8 @@ def add_push_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
             ("sweep", _sweep_parser, _cmd_sweep,
              "the push experiment over many seeds: iterations to reach 100")):
         parser = make()
-        parser.aliases = ALIASES  # type: ignore[attr-defined]
+        parser.aliases = ALIASES
+        parser.renamed = RENAMED
         add_config_option(parser)
         exps.add_subcommand(name, parser, help=help_)
         commands[("experiment", name)] = (parser, handler)

@@ -347,9 +347,9 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
         from a2l.framework import FrameworkConfig
 
         # held-out starts in proportion to the training ones (the default 32 with 8 starts)
-        cfg = FrameworkConfig(scene="baxter", n_effects=4, n_starts=starts,
-                              max_iterations=iterations, seed=seed,
-                              heldout_starts=4 * starts)
+        cfg = FrameworkConfig(scene="baxter", discretization={"n_effects": 4},
+                              starts={"n_starts": starts}, max_iterations=iterations,
+                              seed=seed, heldout={"n_starts": 4 * starts})
         result = run_push_experiment(cfg, out=run_dir, workers=workers)
         rec.update(scores=[it["score"] for it in result["iterations"]],
                    success=result.get("final_success"),

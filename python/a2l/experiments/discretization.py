@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -43,7 +42,7 @@ def run_discretization_study(out: str | Path | None = None,
     base = base or FrameworkConfig()
     run_dir = make_run_dir("discretization", out)
     write_json(run_dir / "config.json", {"experiment": "discretization",
-                                         "framework": asdict(base),
+                                         "framework": base.to_dict(),
                                          "orientations": list(orientations),
                                          "distances": list(distances),
                                          "seed_use": seed_record("discretization",
@@ -51,7 +50,7 @@ def run_discretization_study(out: str | Path | None = None,
     rows = []
     for o in orientations:
         for d in distances:
-            cfg = replace(base, n_orient=o, n_dist=d)
+            cfg = base.with_({"discretization.n_orient": o, "discretization.n_dist": d})
             sub = run_push_experiment(cfg, run_dir / f"o{o}-d{d}", workers=workers,
                                       quiet=True, plots=False)
             last_ok = [m for m in sub["iterations"] if m["accepted"]][-1]
@@ -78,7 +77,7 @@ def run_discretization_study(out: str | Path | None = None,
     write_json(run_dir / "metrics.json", {"rows": rows, "selected": selected})
     atomic_write_text(run_dir / "report.md", mark_report(
         "# Discretization study\n\n"
-        f"Scene {base.scene}, {base.n_effects} effects, seed {base.seed}.\n\n"
+        f"Scene {base.scene}, {base.discretization.n_effects} effects, seed {base.seed}.\n\n"
         + "\n".join(table) + "\n", seed_record("discretization", [base.seed])))
     if not quiet:
         print_tables("\n".join(table))

@@ -16,7 +16,6 @@ import contextlib
 import shutil
 import time
 from collections.abc import Mapping
-from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -122,7 +121,6 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         noveb_evaluations = int(acq.get("evaluations", noveb_evaluations))
     else:
         cfg = cfg or FrameworkConfig()
-        cfg.validate()
         if acquisition not in ("random", "noveb"):
             raise ValueError(f"acquisition: unknown {acquisition!r}; choose 'random' or "
                              "'noveb'")
@@ -130,7 +128,7 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
             raise ValueError(f"noveb_evaluations: must be >= 1, got {noveb_evaluations}")
         run_dir = make_run_dir(f"push-{cfg.scene}", out)
         write_json(run_dir / "config.json", {
-            "experiment": "push", "framework": asdict(cfg),
+            "experiment": "push", "framework": cfg.to_dict(),
             **({"acquisition": {"method": acquisition, "evaluations": noveb_evaluations}}
                if acquisition != "random" else {}),
             "command": command_line(
@@ -150,24 +148,24 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                                on_iteration=lambda m: _iteration_done(bars, m),
                                robot=_robot_entry(cfg), first_acquisition=first)
     final = run_dir / "skills" / "push.a2lb"
-    shutil.copyfile(result["bundle"], final)
-    result["dataset"].to_parquet(run_dir / "dataset.parquet", index=False)
-    history = with_heldout(result["iterations"], result["heldout"], result["movements"])
+    shutil.copyfile(result.bundle, final)
+    result.dataset.to_parquet(run_dir / "dataset.parquet", index=False)
+    history = with_heldout(result.iterations, result.heldout, result.movements)
     miss_lines, table = None, None
-    if result["heldout_score"] is not None:  # every held-out miss with its cause
-        table = miss_table(cfg, result["heldout_validation"], final)
+    if result.heldout_score is not None:  # every held-out miss with its cause
+        table = miss_table(cfg, result.heldout_validation, final)
         atomic_write_text(run_dir / "heldout_misses.csv", table.to_csv(index=False))
-        miss_lines = misses_markdown(table, len(result["heldout_validation"]),
+        miss_lines = misses_markdown(table, len(result.heldout_validation),
                                      figure=plots)
     metrics = {
-        "experiment": "push", "scene": cfg.scene, "n_effects": cfg.n_effects,
+        "experiment": "push", "scene": cfg.scene, "n_effects": cfg.discretization.n_effects,
         "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
-        "heldout_success": result["heldout_success"],
-        "heldout_success_rate": result["heldout_success_rate"],
+        "heldout_success": result.heldout_success,
+        "heldout_success_rate": result.heldout_success_rate,
         "final_success": next(m.get("success") for m in reversed(history) if m["accepted"]),
-        "final_score": result["final_score"], "heldout_score": result["heldout_score"],
-        "heldout": {"starts": cfg.heldout_starts, "r_low": cfg.heldout_r_low,
-                    "r_high": cfg.heldout_r_high},
+        "final_score": result.final_score, "heldout_score": result.heldout_score,
+        "heldout": {"starts": cfg.heldout.n_starts, "r_low": cfg.heldout.r_low,
+                    "r_high": cfg.heldout.r_high},
         **({"heldout_miss_causes": miss_causes(table)} if table is not None else {}),
         "bundle": str(final.relative_to(run_dir)),
         "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
@@ -176,29 +174,29 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
     }
     write_json(run_dir / "metrics.json", metrics)
     if record is not None:
-        record_validations(record, {"": (result["validation"], final)},
+        record_validations(record, {"": (result.validation, final)},
                            name="a2l experiment push")
     if plots:
         plot_scores(history, run_dir / "score.png")
-        plot_trajectories(cfg, result["validation"], run_dir / "trajectories.png")
-        if result["heldout_score"] is not None:
-            plot_trajectories(cfg, result["heldout_validation"],
+        plot_trajectories(cfg, result.validation, run_dir / "trajectories.png")
+        if result.heldout_score is not None:
+            plot_trajectories(cfg, result.heldout_validation,
                               run_dir / "heldout_trajectories.png",
                               title="Held-out trajectories")
         plot_policy(cfg, final, run_dir / "policy.png")
         if table is not None and not table.empty:
-            plot_misses(cfg, result["heldout_validation"], table,
+            plot_misses(cfg, result.heldout_validation, table,
                         run_dir / "heldout_misses.png")
     atomic_write_text(run_dir / "report.md", mark_report(
         report_markdown(cfg, result, run_dir, history, miss_lines=miss_lines),
         seed_record("push", [cfg.seed])))
     if not quiet:
         print_tables(results_table(history))
-        held, rate = result["heldout_score"], result["heldout_success"]
+        held, rate = result.heldout_score, result.heldout_success
         print((f"held-out success {rate:.1%} ("
-               + ", ".join(f"{e} {v:.0%}" for e, v in result["heldout_success_rate"].items())
+               + ", ".join(f"{e} {v:.0%}" for e, v in result.heldout_success_rate.items())
                + "); " if rate is not None else "")
-              + f"final score {result['final_score']:.1f}"
+              + f"final score {result.final_score:.1f}"
               + (f" (held-out {held:.1f})" if held is not None else "")
               + f"; context: {context_label(cfg)}"
               + f"; run directory: {run_dir}")
@@ -221,7 +219,7 @@ def record_validations(path: str | Path, runs: Mapping[str, tuple[pd.DataFrame, 
                        name: str) -> Path:
     """Push runs' validation rollouts as one Rerun recording (:mod:`a2l.rollout.recording`,
     ``a2l view``): per run (its group, e.g. ``seed/3``; ``""`` for one run alone), one
-    rollout per row of its table (:func:`a2l.acquisition.rollout.rollouts_frame`), its
+    rollout per row of its table (:func:`a2l.acquisition.rollout.rollouts_table`), its
     movements, bins and effect names read from its bundle.
 
     Parameters

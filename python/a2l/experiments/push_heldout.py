@@ -4,18 +4,17 @@ on one skill, and its misses explained (:mod:`a2l.experiments.push_misses`).
 
 The rollouts are the framework's held-out validation
 (:func:`a2l.framework.validation.validate_heldout`) on a copy of the run's bundle whose
-``execution.fallback`` is replaced; the run directory itself is not written to.
+``skill.fallback`` is replaced; the run directory itself is not written to.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import time
 from pathlib import Path
 from typing import Any
 
-from a2l.acquisition.rollout import rollouts_frame
+from a2l.acquisition.rollout import rollouts_table
 from a2l.atomic import atomic_write_text
 from a2l.errors import ConfigError
 from a2l.experiments.push import record_validations
@@ -69,8 +68,7 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     if not src.is_file():
         raise ConfigError("iteration", f"'{src}' does not exist")
     if fallback is not None:
-        cfg = dataclasses.replace(cfg, fallback=fallback)
-        cfg.validate()  # names an unknown rule
+        cfg = cfg.with_({"skill.fallback": fallback})  # names an unknown rule
     out.mkdir(parents=True, exist_ok=True)
     bundle = out / "skill.a2lb"
     spec = bundle_with_fallback(src, bundle, fallback)
@@ -78,7 +76,7 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     with Executor(workers=workers) as ex:
         held = validate_heldout(cfg, ex, bundle)
     wall = time.perf_counter() - t0
-    frame = rollouts_frame(held)
+    frame = rollouts_table(held)
     frame.to_parquet(out / "heldout.parquet", index=False)
     if record is not None:
         record_validations(record, {"": (frame, bundle)}, name="a2l experiment heldout")
@@ -94,8 +92,9 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     rates = ", ".join(f"{e} {v:.1%}" for e, v in metrics["heldout_success_rate"].items())
     text = "\n".join([
         f"# Held-out starts again: {src} (fallback `{spec.fallback}`)", "",
-        f"Run `{run_dir}` ({cfg.scene} scene, {cfg.n_effects} effects, seed {cfg.seed}); "
-        f"{cfg.heldout_starts} held-out starts x {cfg.n_effects} effects.", "",
+        f"Run `{run_dir}` ({cfg.scene} scene, {cfg.discretization.n_effects} effects, "
+        f"seed {cfg.seed}); "
+        f"{cfg.heldout.n_starts} held-out starts x {cfg.discretization.n_effects} effects.", "",
         f"Success rate from the held-out starts: **{metrics['heldout_success']:.1%}** "
         f"({rates}); held-out score {metrics['heldout_score']:.1f}; {wall:.0f} s.", "",
         *misses_markdown(table, len(frame)),

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.config import FrameworkConfig
 
 __all__ = ["CAUSES", "miss_causes", "miss_table", "misses_markdown", "plot_misses",
            "run_misses_markdown"]
@@ -111,7 +111,7 @@ def miss_table(cfg: FrameworkConfig, heldout: pd.DataFrame, bundle: str | Path
     """
     from a2l.skills.runner import CppSkillRunner
 
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     names = disc.effects.values
     directions = np.asarray(disc.movements.directions, dtype=float)
     directions = directions / np.maximum(np.linalg.norm(directions, axis=1, keepdims=True),
@@ -185,7 +185,7 @@ def plot_misses(cfg: FrameworkConfig, heldout: pd.DataFrame, table: pd.DataFrame
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    names = discretizers(cfg).effects.values
+    names = cfg.discretization.discretizer().effects.values
     colours = dict(zip(CAUSES, plt.get_cmap("tab10").colors, strict=False))
     missed = heldout[heldout["outcome"] != "success"].reset_index(drop=True)
     n = len(names)

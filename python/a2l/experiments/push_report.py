@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from a2l.framework import FrameworkConfig
+from a2l.framework import FrameworkConfig, FrameworkResult
 
 __all__ = [
     "context_label",
@@ -183,9 +183,7 @@ def plot_trajectories(cfg: FrameworkConfig, validation: Any, path: Path,
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.framework import discretizers as _discretizers
-
-    names = _discretizers(cfg).effects.values
+    names = cfg.discretization.discretizer().effects.values
     n = len(names)
     cols = 4
     rows = (n + cols - 1) // cols
@@ -225,10 +223,9 @@ def plot_policy(cfg: FrameworkConfig, bundle: Path, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from a2l.framework import discretizers as _discretizers
     from a2l.skills.runner import CppSkillRunner
 
-    disc = _discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     runner = CppSkillRunner(str(bundle))
     names = disc.effects.values
     g = np.linspace(-0.24, 0.24, 13)
@@ -279,12 +276,12 @@ def context_label(cfg: FrameworkConfig) -> str:
     return "camera (perceived)" if src == "perceived" else "ground truth (the simulator's)"
 
 
-def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
+def report_markdown(cfg: FrameworkConfig, result: FrameworkResult, run_dir: Path,
                     history: list[dict[str, Any]], miss_lines: list[str] | None = None) -> str:
     """The run directory's ``report.md``: final and held-out scores, the iterations' table,
     the robot movements per phase, the plots and, when given, the held-out misses' section
     (`miss_lines`, :func:`a2l.experiments.push_misses.misses_markdown`)."""
-    held = result.get("heldout_score")
+    held = result.heldout_score
     final = next((m for m in history if m["iteration"] == _accepted_iteration(history)), {})
     rate = final.get("heldout_success")
     per_effect = ", ".join(f"{e} {_pct(v)}"
@@ -295,22 +292,23 @@ def report_markdown(cfg: FrameworkConfig, result: dict[str, Any], run_dir: Path,
            f"({per_effect}; a false positive is a failure)"
            + (f"; misses: {_misses_text(misses)}" if misses else "") + ". "]
           if rate is not None else []),
-        f"Held-out score: **{held:.1f}**, from {cfg.heldout_starts} "
+        f"Held-out score: **{held:.1f}**, from {cfg.heldout.n_starts} "
         f"start positions no phase of training used (uniform angle, distance "
-        f"{cfg.heldout_r_low:.2f}-{cfg.heldout_r_high:.2f} m from the object, their own "
-        f"seed stream); the score above is from the {cfg.n_starts} training starts the "
-        "skill was validated and extended from "
-        + (f"(at {cfg.start_r_low:.2f}-{cfg.start_r_high:.2f} m)." if cfg.start_layout == "ring"
-           else f"(on the {cfg.start_radius:.2f} m circle)."),
+        f"{cfg.heldout.r_low:.2f}-{cfg.heldout.r_high:.2f} m from the object, their own "
+        f"seed stream); the score above is from the {cfg.starts.n_starts} training starts "
+        "the skill was validated and extended from "
+        + (f"(at {cfg.starts.r_low:.2f}-{cfg.starts.r_high:.2f} m)."
+           if cfg.starts.layout == "ring" else f"(on the {cfg.starts.radius:.2f} m circle)."),
         "",
     ]
     return "\n".join([
-        f"# A2L push experiment ({cfg.scene} scene, {cfg.n_effects} effects, seed {cfg.seed})",
+        f"# A2L push experiment ({cfg.scene} scene, {cfg.discretization.n_effects} effects, "
+        f"seed {cfg.seed})",
         "",
         f"Context: {context_label(cfg)}.",
         "",
-        f"Final score: **{result['final_score']:.1f}** after {len(result['iterations'])} "
-        f"iteration(s); final skill `{Path(result['bundle']).relative_to(run_dir)}` "
+        f"Final score: **{result.final_score:.1f}** after {len(result.iterations)} "
+        f"iteration(s); final skill `{Path(result.bundle).relative_to(run_dir)}` "
         "(copied to `skills/push.a2lb`).",
         "",
         *heldout_lines,

@@ -17,9 +17,9 @@ depend on the number of workers), so the rows are those of the seeds run one by 
 
 from __future__ import annotations
 
-import dataclasses
 import json
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +33,7 @@ from a2l.progress import print_tables
 from a2l.rundir import make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
-__all__ = ["headline_table", "iterations_to_full_score", "run_seed_sweep",
+__all__ = ["SeedJob", "headline_table", "iterations_to_full_score", "run_seed_sweep",
            "seed_run", "summarize_sweep"]
 
 
@@ -121,17 +121,40 @@ def _rate(x: float | None) -> str:
     return "—" if x is None else f"{x:.0%}"
 
 
-#: One seed of a sweep: ``(configuration as a dict, seed, run directory, workers, executor,
-#: announce)``.
-SeedJob = tuple[dict[str, Any], int, str, int, Executor | None, bool]
+@dataclass(frozen=True)
+class SeedJob:
+    """One seed of a sweep, as :func:`seed_run` runs it.
+
+    Attributes
+    ----------
+    config : FrameworkConfig
+        The sweep's configuration (its seed is replaced by `seed`).
+    seed : int
+        The run's seed.
+    run_dir : str
+        The run's directory.
+    workers : int
+        Local worker processes for its rollouts, without `executor`.
+    executor : a2l.parallel.Executor or None
+        Where its rollouts run, shared with the other seeds.
+    announce : bool
+        Print a line when the run ends.
+    """
+
+    config: FrameworkConfig
+    seed: int
+    run_dir: str
+    workers: int = 1
+    executor: Executor | None = None
+    announce: bool = False
 
 
 def seed_run(job: SeedJob) -> dict[str, Any]:
-    """One seed of a sweep (:data:`SeedJob`): its run directory's ``metrics.json`` read
-    back when it is finished, the run resumed when it was started, else run (quietly,
-    without plots) on `executor` when one is given, else on `workers` local worker
-    processes; with `announce`, a line saying how it ended is printed (by the process that
-    ran it, as it ends).
+    """One seed of a sweep: its run directory's ``metrics.json`` read back when it is
+    finished, the run resumed when it was started, else run (quietly, without plots) on
+    ``job.executor`` when one is given, else on ``job.workers`` local worker processes;
+    with ``job.announce``, a line saying how it ended is printed (by the process that ran
+    it, as it ends).
 
     Returns
     -------
@@ -140,8 +163,8 @@ def seed_run(job: SeedJob) -> dict[str, Any]:
         ``heldout_success`` (the final skill's success rate from the held-out starts),
         ``iterations_run``, ``wall_s``.
     """
-    cfg_d, seed, sub_s, workers, executor, announce = job
-    sub = Path(sub_s)
+    seed, executor, workers, announce = job.seed, job.executor, job.workers, job.announce
+    sub = Path(job.run_dir)
     opts: dict[str, Any] = {"quiet": True, "plots": False}
     opts.update({"executor": executor} if executor is not None else {"workers": workers})
     if (sub / "metrics.json").is_file():
@@ -149,8 +172,7 @@ def seed_run(job: SeedJob) -> dict[str, Any]:
     elif (sub / "config.json").is_file():
         m = run_push_experiment(resume=sub, **opts)
     else:
-        cfg = FrameworkConfig.from_dict({**cfg_d, "seed": seed})
-        m = run_push_experiment(cfg, out=sub, **opts)
+        m = run_push_experiment(job.config.with_(seed=seed), out=sub, **opts)
     row = {"seed": seed, "iterations_to_100": iterations_to_full_score(m["iterations"]),
            "final_score": float(m["final_score"]), "iterations_run": len(m["iterations"]),
            "heldout_success": m.get("heldout_success"),
@@ -207,37 +229,35 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     seeds = list(seeds)
     if not seeds:
         raise ValueError("seeds: no seed to run")
-    cfg0 = dataclasses.replace(base or FrameworkConfig(), **(overrides or {}))
-    cfg0.validate()
+    cfg0 = (base or FrameworkConfig()).with_(overrides or {})
     run_dir = make_run_dir("sweep", out)
-    config = {"experiment": "sweep", "framework": dataclasses.asdict(cfg0),
+    config = {"experiment": "sweep", "framework": cfg0.to_dict(),
               "overrides": overrides or {}, "seeds": seeds, "command": command,
               "seed_use": seed_record("sweep", seeds)}
     if (run_dir / "config.json").is_file():
         old = read_json(run_dir / "config.json")
-        # compared as JSON: config.json holds lists where the config holds tuples
+        # compared as JSON (what config.json holds)
         framework = json.loads(json.dumps(config["framework"]))
         if (old.get("framework"), old.get("seeds")) != (framework, seeds):
             raise ValueError(f"'{run_dir}' holds a sweep of another configuration or other "
                              "seeds; choose another --out")
     else:
         write_json(run_dir / "config.json", config)
-    cfg_d = dataclasses.asdict(cfg0)
     subs = {seed: str(run_dir / f"seed_{seed:03d}") for seed in seeds}
     todo = [seed for seed in seeds if not (Path(subs[seed]) / "metrics.json").is_file()]
     at_once = max(1, min(workers, len(todo)))
     if at_once == 1:
         # one run at a time in this process, all on one pool of `workers` rollout workers
         with Executor(workers=workers) as executor:
-            rows = [seed_run((cfg_d, seed, subs[seed], workers, executor, not quiet))
+            rows = [seed_run(SeedJob(cfg0, seed, subs[seed], workers, executor, not quiet))
                     for seed in seeds]
     else:
         # `at_once` runs at a time, each in a worker process of its own (one seed per task)
         per_run = max(1, workers // at_once)
-        by_seed = {seed: seed_run((cfg_d, seed, subs[seed], 1, None, not quiet))
+        by_seed = {seed: seed_run(SeedJob(cfg0, seed, subs[seed], 1, None, not quiet))
                    for seed in seeds if seed not in todo}
         with Executor(workers=at_once) as pool:
-            ran = pool.map(seed_run, [(cfg_d, seed, subs[seed], per_run, None, not quiet)
+            ran = pool.map(seed_run, [SeedJob(cfg0, seed, subs[seed], per_run, None, not quiet)
                                       for seed in todo], batches=len(todo))
         by_seed.update(zip(todo, ran, strict=True))
         rows = [by_seed[seed] for seed in seeds]
@@ -250,7 +270,8 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     changed = ", ".join(f"`{k} = {v}`" for k, v in (overrides or {}).items()) or "none"
     atomic_write_text(run_dir / "report.md", mark_report(
         "# Seed sweep of the push experiment\n\n"
-        f"Scene {cfg0.scene}, {cfg0.n_effects} effects, {cfg0.n_starts} starts, at most "
+        f"Scene {cfg0.scene}, {cfg0.discretization.n_effects} effects, "
+        f"{cfg0.starts.n_starts} starts, at most "
         f"{cfg0.max_iterations} iterations; changed from the defaults: {changed}.\n"
         + (f"Command: `{command}`\n" if command else "") + "\n" + table + "\n",
         seed_record("sweep", seeds)))

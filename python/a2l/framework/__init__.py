@@ -23,7 +23,8 @@ Every random draw comes from a generator seeded by ``(seed, iteration, phase, in
 run is reproducible, independent of the number of workers, and resumable from the
 checkpoint written after each iteration.
 
-The modules: :mod:`~a2l.framework.config` (:class:`FrameworkConfig`),
+The modules: :mod:`~a2l.framework.config` (:class:`FrameworkConfig`, composed of the parts
+of :mod:`~a2l.framework.parts`), :mod:`~a2l.framework.result` (:class:`FrameworkResult`),
 :mod:`~a2l.framework.starts` (where training and held-out rollouts start),
 :mod:`~a2l.framework.validation` (each effect from each start through the C++ step,
 :class:`a2l.skills.CppSkillRunner`, in the scene of :mod:`a2l.rollout.env`),
@@ -43,18 +44,29 @@ __all__ = [
     "FAIL",
     "FALSE_POSITIVE",
     "SUCCESS",
+    "BabbleTask",
+    "BabblingConfig",
+    "DirectedConfig",
+    "DirectedTask",
+    "ExtensionConfig",
     "FrameworkConfig",
+    "FrameworkResult",
+    "HeldoutConfig",
     "IterationResult",
+    "LearningConfig",
+    "SkillConfig",
+    "StartsConfig",
+    "ValidationTask",
     "acquire",
     "babble_task",
     "directed_task",
-    "discretizers",
     "extend",
     "generate_skill",
     "heading_chooser",
     "heldout_metrics",
     "heldout_task",
     "iteration_metrics",
+    "phase_seed",
     "random_waypoints",
     "run_framework",
     "score_of",
@@ -63,13 +75,22 @@ __all__ = [
     "validate_task",
 ]
 
-#: Where each re-exported name lives (``_discretizers`` is the name the module had before
-#: it became a package).
+#: Where each re-exported name lives.
 _HOME = {
     "DIRECTED_TRY_CAP": "a2l.framework.config",
     "FrameworkConfig": "a2l.framework.config",
-    "discretizers": "a2l.framework.config",
-    "_discretizers": ("a2l.framework.config", "discretizers"),
+    "BabblingConfig": "a2l.framework.parts",
+    "DirectedConfig": "a2l.framework.parts",
+    "ExtensionConfig": "a2l.framework.parts",
+    "HeldoutConfig": "a2l.framework.parts",
+    "LearningConfig": "a2l.framework.parts",
+    "SkillConfig": "a2l.framework.parts",
+    "StartsConfig": "a2l.framework.parts",
+    "FrameworkResult": "a2l.framework.result",
+    "BabbleTask": "a2l.framework.random_babbling",
+    "DirectedTask": "a2l.framework.waypoints",
+    "ValidationTask": "a2l.framework.validation",
+    "phase_seed": "a2l.framework.loop",
     "FAIL": "a2l.framework.scoring",
     "FALSE_POSITIVE": "a2l.framework.scoring",
     "SUCCESS": "a2l.framework.scoring",

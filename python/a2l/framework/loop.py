@@ -2,7 +2,7 @@
 validate it, extend the dataset, repeat; a checkpoint after each iteration.
 
 Every random draw comes from a generator seeded by ``(seed, iteration, phase, index)``
-(:func:`_seed`), so a run is reproducible, independent of the number of workers, and
+(:func:`phase_seed`), so a run is reproducible, independent of the number of workers, and
 resumable from its newest checkpoint.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -22,12 +22,13 @@ from a2l.acquisition.protocol import drive_ahead
 from a2l.acquisition.rollout import (
     Interactions,
     Rollout,
-    frame_rollouts,
-    rollouts_frame,
-    rollouts_to_frame,
+    interaction_rows,
+    rollouts_from_table,
+    rollouts_table,
 )
-from a2l.framework.config import FrameworkConfig, discretizers
-from a2l.framework.random_babbling import RandomBabbling, babble_task
+from a2l.framework.config import FrameworkConfig
+from a2l.framework.random_babbling import BabbleTask, RandomBabbling, babble_task
+from a2l.framework.result import FrameworkResult
 from a2l.framework.scoring import (
     FALSE_POSITIVE,
     SUCCESS,
@@ -42,10 +43,12 @@ from a2l.parallel import Executor
 from a2l.rundir import latest_checkpoint, save_checkpoint
 
 if TYPE_CHECKING:
+    from a2l.skills.compile import PolicyTable
     from a2l.skills.spec import SkillSpec
 
-__all__ = ["MOVEMENT_PHASES", "acquire", "bundle_with_fallback", "extend", "generate_skill",
-           "import_learning_ahead", "run_framework", "training_bundle"]
+__all__ = ["MOVEMENT_PHASES", "FirstAcquisition", "acquire", "bundle_with_fallback", "extend",
+           "generate_skill", "import_learning_ahead", "phase_seed", "run_framework",
+           "training_bundle"]
 
 #: The phases of an iteration that move the robot, as ``metrics.json`` names them
 #: (``robot_movements``).
@@ -71,9 +74,9 @@ def import_learning_ahead(executor: Executor) -> threading.Thread | None:
     return thread
 
 
-def _seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
+def phase_seed(cfg: FrameworkConfig, iteration: int, phase: int, index: int) -> int:
     """The seed of draw `index` of `phase` (0: acquisition, 1: extension, 2 + j: the j-th
-    stuck pair) in iteration `iteration`."""
+    stuck pair) in iteration `iteration` of the run configured by `cfg` (its ``seed``)."""
     ss = np.random.SeedSequence([cfg.seed, iteration, phase, index])
     return int(ss.generate_state(1, dtype=np.uint64)[0] >> 1)
 
@@ -87,8 +90,9 @@ def acquire(cfg: FrameworkConfig, executor: Executor, iteration: int,
     same for any number of workers. The movements are those of every try of the rounds
     told (rounds of ``max(16, 8 · workers)`` tries: the same count with 1 and 2 workers).
     """
-    target = cfg.n_starts * cfg.n_effects
-    babbling = RandomBabbling(cfg, lambda i: _seed(cfg, iteration, 0, i), target, cfg.try_cap)
+    target = cfg.starts.n_starts * cfg.discretization.n_effects
+    babbling = RandomBabbling(cfg, lambda i: phase_seed(cfg, iteration, 0, i), target,
+                              cfg.babbling.try_cap)
 
     def report() -> None:
         if progress:
@@ -129,44 +133,42 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
     """New trajectories for iteration `iteration` (the dataset extension, ``docs/method.md``).
 
     - successful and false-positive validation trajectories (themselves, with
-      ``keep_validation``), and cut back 1 to ``extension_cut`` steps and extended with
-      random movements (at most ``max_extensions``);
-    - for each (start, effect) pair failed ``stuck_after`` iterations in a row, up to
-      ``directed_per_pair`` effect-directed trajectories: random trajectories from that
-      start (:func:`directed_task`; at most ``directed_steps`` movements), kept only when
+      ``extension.keep_validation``), and cut back 1 to ``extension.cut`` steps and
+      extended with random movements (at most ``extension.max_extensions``);
+    - for each (start, effect) pair failed ``directed.stuck_after`` iterations in a row, up
+      to ``directed.per_pair`` effect-directed trajectories: random trajectories from that
+      start (:func:`directed_task`; at most ``directed.steps`` movements), kept only when
       they produce that effect. The budget of a pair stuck for ``stuck_after + k``
       iterations is ``k + 1`` times that (trajectories and tries), at most
-      ``directed_growth`` times: a pair whose failing context cells are outvoted by the
+      ``directed.growth`` times: a pair whose failing context cells are outvoted by the
       rest of the dataset gets more votes each iteration.
 
     The movements are those of the extensions and of every effect-directed try told (the
     validation trajectories reused are not played again).
     """
-    cfg_d = asdict(cfg)
+    ext, dr = cfg.extension, cfg.directed
     tasks = []
     moved = [v for v in validation if v.outcome in (SUCCESS, FALSE_POSITIVE)]
-    cut_rng = np.random.default_rng(_seed(cfg, iteration, 1, -1 % 2**31))
-    for i in range(min(cfg.max_extensions, len(moved) * cfg.extension_cut)):
+    cut_rng = np.random.default_rng(phase_seed(cfg, iteration, 1, -1 % 2**31))
+    for i in range(min(ext.max_extensions, len(moved) * ext.cut)):
         r = moved[i % len(moved)]
-        cut = int(cut_rng.integers(1, cfg.extension_cut + 1))
-        prefix = r.moves[: max(0, len(r.moves) - cut)]
-        tasks.append((cfg_d, r.start, prefix, _seed(cfg, iteration, 1, i),
-                      cfg.max_babble_steps))
-    out = list(moved) if cfg.keep_validation else []
+        cut = int(cut_rng.integers(1, ext.cut + 1))
+        prefix = tuple(r.moves[: max(0, len(r.moves) - cut)])
+        tasks.append(BabbleTask(cfg, r.start, prefix, phase_seed(cfg, iteration, 1, i),
+                                cfg.babbling.max_steps))
+    out = list(moved) if ext.keep_validation else []
     extended = executor.map(babble_task, tasks)
     movements = sum(r.executed for r in extended)
     out += [r for r in extended if r.moved]
-    pairs = sorted(p for p, n in stuck.items() if n >= cfg.stuck_after)
+    pairs = sorted(p for p, n in stuck.items() if n >= dr.stuck_after)
     directed = []
     for j, (start, effect) in enumerate(pairs):
-        grow = min(stuck[(start, effect)] - cfg.stuck_after + 1, cfg.directed_growth)
+        grow = min(stuck[(start, effect)] - dr.stuck_after + 1, dr.growth)
         directed.append(EffectDirected(cfg, start, effect,
-                                       lambda i, j=j: _seed(cfg, iteration, 2 + j, i),
-                                       want=cfg.directed_per_pair * grow,
-                                       cap=cfg.directed_try_cap * grow))
+                                       lambda i, j=j: phase_seed(cfg, iteration, 2 + j, i),
+                                       want=dr.per_pair * grow, cap=dr.try_cap * grow))
     drive_ahead(directed, lambda pairs: executor.submit(
-        directed_outcome_task, [(c, s.effect) for s, c in pairs],
-        batches=_pair_batches(executor, pairs)),
+        directed_outcome_task, [c for _, c in pairs], batches=_pair_batches(executor, pairs)),
         batch=DIRECTED_BATCH, ahead=_ahead(executor))
     for d in directed:
         out.extend(d.found)
@@ -175,7 +177,7 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
 
 
 def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Path,
-                   robot: dict[str, str] | None = None) -> Any:
+                   robot: dict[str, str] | None = None) -> PolicyTable:
     """Learn the network from `dataset`, compile it, and save the skill bundle
     (:func:`a2l.skills.pipeline.learn_bundle`, with the structure, fixed edges, step cap and
     smoothing of `cfg`).
@@ -188,23 +190,24 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     Raises
     ------
     ValueError
-        A ``fixed_parents`` name that is no dataset column (``cfg.validate()`` refuses it
-        first), or a dataset with no usable row.
+        A ``learning.fixed_parents`` name that is no dataset column (the configuration
+        refuses it first), or a dataset with no usable row.
     """
     # imported here: the pipeline loads pgmpy (seconds), which `a2l experiment push --help`
     # and the configuration checks do not need (with workers, run_framework has it imported
     # in the background meanwhile: import_learning_ahead)
     from a2l.skills.pipeline import learn_bundle
 
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
+    learning, skill = cfg.learning, cfg.skill
     constraints: dict[str, Any] = {}
-    if cfg.structure == "hc-k2":  # cfg.validate() checked the names
-        constraints["fixed_parents"] = (([disc.effects.name] if cfg.effect_parent else [])
-                                        + list(cfg.fixed_parents))
-    learned = learn_bundle(dataset, disc, bundle_path, name="push", structure=cfg.structure,
-                           constraints=constraints, robot=robot, step_cap=cfg.step_cap,
-                           smoothing=cfg.smoothing, fallback=cfg.fallback,
-                           extra={"framework": asdict(cfg)})
+    if learning.structure == "hc-k2":  # the configuration checked the names
+        constraints["fixed_parents"] = (([disc.effects.name] if learning.effect_parent else [])
+                                        + list(learning.fixed_parents))
+    learned = learn_bundle(dataset, disc, bundle_path, name="push",
+                           structure=learning.structure, constraints=constraints, robot=robot,
+                           step_cap=skill.step_cap, smoothing=skill.smoothing,
+                           fallback=skill.fallback, extra={"framework": cfg.to_dict()})
     return learned.table
 
 
@@ -222,12 +225,12 @@ def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None) -> Skill
 
 def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     """The skill the training validation runs: `bundle` itself, or, when
-    ``cfg.train_fallback`` differs from its ``cfg.fallback``, a copy beside it
+    ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback``, a copy beside it
     (``<name>.train.a2lb``) with the training rule (the same table otherwise)."""
-    if cfg.train_fallback == cfg.fallback:
+    if cfg.skill.train_fallback == cfg.skill.fallback:
         return bundle
     out = bundle.with_suffix(".train.a2lb")
-    bundle_with_fallback(bundle, out, cfg.train_fallback)
+    bundle_with_fallback(bundle, out, cfg.skill.train_fallback)
     return out
 
 
@@ -236,11 +239,56 @@ FirstAcquisition = Callable[[FrameworkConfig, Executor, int,
                              Callable[[str, int, int], None] | None], Interactions]
 
 
+@dataclass
+class _RunState:
+    """What a run carries from one iteration to the next (and what a checkpoint holds)."""
+
+    dataset: pd.DataFrame | None = None
+    best_val: list[Rollout] = field(default_factory=list)
+    history: list[dict[str, Any]] = field(default_factory=list)
+    best_score: float = -1.0
+    stuck: dict[tuple[int, int], int] = field(default_factory=dict)
+    heldout: list[dict[str, Any]] = field(default_factory=list)
+    best_held: list[Rollout] = field(default_factory=list)
+    #: None: resumed from a checkpoint written before movements were counted
+    movement_log: list[dict[str, Any]] | None = field(default_factory=list)
+    next_iteration: int = 0
+
+    @classmethod
+    def resume(cls, run_dir: Path) -> _RunState:
+        """The state after the newest checkpoint in `run_dir` (a fresh one without)."""
+        ck = latest_checkpoint(run_dir)
+        if ck is None:
+            return cls()
+        last, state, frames = ck
+        history = state["iterations"]
+        return cls(
+            dataset=frames["dataset"], best_val=rollouts_from_table(frames["validation"]),
+            history=history, best_score=float(state["best_score"]),
+            stuck={(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
+                   for k, v in state["stuck"].items()},
+            heldout=state.get("heldout", []),
+            best_held=(rollouts_from_table(frames["heldout"]) if "heldout" in frames
+                       else []),
+            movement_log=state.get("movements", None if history else []),
+            next_iteration=last + 1)
+
+    def save(self, run_dir: Path, iteration: int) -> None:
+        """Write the checkpoint of iteration `iteration`."""
+        save_checkpoint(run_dir, iteration, {
+            "iterations": self.history, "best_score": self.best_score,
+            "stuck": {f"{s},{e}": n for (s, e), n in self.stuck.items()},
+            "heldout": self.heldout,
+            **({"movements": self.movement_log} if self.movement_log is not None else {}),
+        }, {"dataset": self.dataset, "validation": rollouts_table(self.best_val),
+            "heldout": rollouts_table(self.best_held)})
+
+
 def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
                   progress: Callable[[str, int, int], None] | None = None,
                   on_iteration: Callable[[IterationResult], None] | None = None,
                   robot: dict[str, str] | None = None,
-                  first_acquisition: FirstAcquisition | None = None) -> dict[str, Any]:
+                  first_acquisition: FirstAcquisition | None = None) -> FrameworkResult:
     """The whole iterative loop; resumes from the newest checkpoint in `run_dir`.
 
     Parameters
@@ -264,109 +312,83 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
 
     Returns
     -------
-    dict
-        ``{"iterations": [...], "final_score": float, "bundle": str, "validation":
-        DataFrame of the accepted iteration's rollouts, "heldout": [...],
-        "heldout_score": float or None, "heldout_success": float or None,
-        "heldout_success_rate": {effect: rate} or None, "heldout_validation": DataFrame,
-        "movements": [...]}``.
-        ``heldout`` holds each iteration's held-out metrics (:func:`heldout_metrics`,
-        plus ``heldout_wall_s``), apart from ``iterations``: the held-out rollouts
-        (``cfg.heldout_starts`` starts, :func:`validate_heldout`) run after the
-        iteration's own metrics are taken and decide nothing (no acceptance, no stuck
-        pair, no draw of training). ``heldout_score``, ``heldout_success`` (the success rate,
-        a false positive a failure), ``heldout_success_rate`` and ``heldout_validation`` are
-        those of the accepted skill (None and an empty table without held-out starts).
-        ``movements`` holds, apart from ``iterations`` too, each iteration's robot
-        movements (:func:`_movement_record`): the discrete movements the scene executed in
-        each phase (:data:`MOVEMENT_PHASES`), counted from the rollouts told to the run
-        (:attr:`a2l.acquisition.Interactions.movements`), so the same with 1 and 2 workers,
-        and the cumulative totals.
+    FrameworkResult
+        The iterations' metrics, the accepted skill, its dataset and validation, the
+        held-out metrics (``cfg.heldout.n_starts`` starts, :func:`validate_heldout`: they
+        decide nothing) and the robot movements per iteration and phase
+        (:data:`MOVEMENT_PHASES`).
     """
-    cfg.validate()
     skills_dir = run_dir / "skills"
     skills_dir.mkdir(parents=True, exist_ok=True)
-    disc = discretizers(cfg)
-    ck = latest_checkpoint(run_dir)
-    if ck is not None:
-        last, state, frames = ck
-        dataset = frames["dataset"]
-        best_val = frame_rollouts(frames["validation"])
-        history = state["iterations"]
-        heldout = state.get("heldout", [])
-        # None: a checkpoint written before movements were counted (totals unknown)
-        movement_log = state.get("movements", None if history else [])
-        best_held = frame_rollouts(frames["heldout"]) if "heldout" in frames else []
-        best_score = float(state["best_score"])
-        stuck = {(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
-                 for k, v in state["stuck"].items()}
-        start_it = last + 1
-    else:
-        dataset, best_val, history, best_score, stuck, start_it = None, [], [], -1.0, {}, 0
-        heldout, best_held = [], []
-        movement_log = []
-    if start_it < cfg.max_iterations and best_score < 100.0:
+    st = _RunState.resume(run_dir)
+    if st.next_iteration < cfg.max_iterations and st.best_score < 100.0:
         import_learning_ahead(executor)
-    for it in range(start_it, cfg.max_iterations):
-        if best_score >= 100.0:
+    for it in range(st.next_iteration, cfg.max_iterations):
+        if st.best_score >= 100.0:
             break
-        t0 = time.perf_counter()
-        phase_moves = dict.fromkeys(MOVEMENT_PHASES, 0)
-        if dataset is None:
-            first = first_acquisition or acquire
-            got = first(cfg, executor, it, progress)
-            phase_moves["acquire"] = got.movements
-            candidate = rollouts_to_frame(got.rollouts, disc)
-        else:
-            extra = extend(cfg, executor, it, best_val, stuck)
-            phase_moves["extend"] = extra.movements
-            first = int(dataset["episode"].max()) + 1 if len(dataset) else 0
-            candidate = pd.concat([dataset, rollouts_to_frame(extra.rollouts, disc, first)],
-                                  ignore_index=True)
-        bundle = skills_dir / f"iter_{it:03d}.a2lb"
-        generate_skill(cfg, candidate, bundle, robot)
-        val = validate(cfg, executor, training_bundle(cfg, bundle), progress)
-        phase_moves["validate"] = sum(r.executed for r in val)
-        score = score_of(val, cfg.n_effects, cfg.n_starts)
-        accepted = score >= best_score
-        if accepted:
-            dataset, best_val, best_score = candidate, val, score
-            (skills_dir / "accepted.txt").write_text(bundle.name + "\n")
-        for r in val:
-            key = (r.start, r.wanted)
-            stuck[key] = 0 if r.outcome == SUCCESS else stuck.get(key, 0) + 1
-        m = iteration_metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0)
-        history.append(asdict(m))
-        if cfg.heldout_starts:
-            t1 = time.perf_counter()
-            held = validate_heldout(cfg, executor, bundle, progress)
-            phase_moves["validate_heldout"] = sum(r.executed for r in held)
-            heldout.append({**heldout_metrics(cfg, it, held),
-                            "heldout_wall_s": time.perf_counter() - t1})
-            if accepted:
-                best_held = held
-        if movement_log is not None:
-            movement_log.append(_movement_record(it, phase_moves,
-                                                 movement_log[-1] if movement_log else None))
-        save_checkpoint(run_dir, it, {
-            "iterations": history, "best_score": best_score,
-            "stuck": {f"{s},{e}": n for (s, e), n in stuck.items()}, "heldout": heldout,
-            **({"movements": movement_log} if movement_log is not None else {}),
-        }, {"dataset": dataset, "validation": rollouts_frame(best_val),
-            "heldout": rollouts_frame(best_held)})
+        m = _iteration(cfg, executor, it, st, skills_dir / f"iter_{it:03d}.a2lb", robot,
+                       progress, first_acquisition or acquire)
+        st.save(run_dir, it)
         if on_iteration:
             on_iteration(m)
     accepted_name = (skills_dir / "accepted.txt").read_text().strip()
-    last_accepted = max(h["iteration"] for h in history if h["accepted"])
-    final_held = [h for h in heldout if h["iteration"] == last_accepted]
-    return {"iterations": history, "final_score": best_score,
-            "bundle": str(skills_dir / accepted_name), "dataset": dataset,
-            "validation": rollouts_frame(best_val), "heldout": heldout,
-            "heldout_score": final_held[0]["heldout_score"] if final_held else None,
-            "heldout_success": final_held[0].get("heldout_success") if final_held else None,
-            "heldout_success_rate": (final_held[0].get("heldout_success_rate")
-                                     if final_held else None),
-            "heldout_validation": rollouts_frame(best_held), "movements": movement_log or []}
+    last_accepted = max(h["iteration"] for h in st.history if h["accepted"])
+    final = next((h for h in st.heldout if h["iteration"] == last_accepted), None)
+    return FrameworkResult(
+        iterations=st.history, final_score=st.best_score,
+        bundle=str(skills_dir / accepted_name), dataset=st.dataset,
+        validation=rollouts_table(st.best_val), heldout=st.heldout,
+        heldout_score=final["heldout_score"] if final else None,
+        heldout_success=final.get("heldout_success") if final else None,
+        heldout_success_rate=final.get("heldout_success_rate") if final else None,
+        heldout_validation=rollouts_table(st.best_held), movements=st.movement_log or [])
+
+
+def _iteration(cfg: FrameworkConfig, executor: Executor, it: int, st: _RunState,
+               bundle: Path, robot: dict[str, str] | None,
+               progress: Callable[[str, int, int], None] | None,
+               first: FirstAcquisition) -> IterationResult:
+    """One iteration: acquire (or extend), learn the skill `bundle`, validate it, accept it
+    if its score did not drop, run the held-out starts; `st` updated in place."""
+    t0 = time.perf_counter()
+    disc = cfg.discretization.discretizer()
+    phase_moves = dict.fromkeys(MOVEMENT_PHASES, 0)
+    if st.dataset is None:
+        got = first(cfg, executor, it, progress)
+        phase_moves["acquire"] = got.movements
+        candidate = interaction_rows(got.rollouts, disc)
+    else:
+        extra = extend(cfg, executor, it, st.best_val, st.stuck)
+        phase_moves["extend"] = extra.movements
+        first_episode = int(st.dataset["episode"].max()) + 1 if len(st.dataset) else 0
+        candidate = pd.concat([st.dataset, interaction_rows(extra.rollouts, disc,
+                                                            first_episode)],
+                              ignore_index=True)
+    generate_skill(cfg, candidate, bundle, robot)
+    val = validate(cfg, executor, training_bundle(cfg, bundle), progress)
+    phase_moves["validate"] = sum(r.executed for r in val)
+    score = score_of(val, cfg.discretization.n_effects, cfg.starts.n_starts)
+    accepted = score >= st.best_score
+    if accepted:
+        st.dataset, st.best_val, st.best_score = candidate, val, score
+        (bundle.parent / "accepted.txt").write_text(bundle.name + "\n")
+    for r in val:
+        key = (r.start, r.wanted)
+        st.stuck[key] = 0 if r.outcome == SUCCESS else st.stuck.get(key, 0) + 1
+    m = iteration_metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0)
+    st.history.append(asdict(m))
+    if cfg.heldout.n_starts:
+        t1 = time.perf_counter()
+        held = validate_heldout(cfg, executor, bundle, progress)
+        phase_moves["validate_heldout"] = sum(r.executed for r in held)
+        st.heldout.append({**heldout_metrics(cfg, it, held),
+                           "heldout_wall_s": time.perf_counter() - t1})
+        if accepted:
+            st.best_held = held
+    if st.movement_log is not None:
+        st.movement_log.append(_movement_record(
+            it, phase_moves, st.movement_log[-1] if st.movement_log else None))
+    return m
 
 
 def _movement_record(it: int, phases: dict[str, int], last: dict[str, Any] | None

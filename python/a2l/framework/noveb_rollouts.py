@@ -11,7 +11,7 @@ and labelled with the observed effect), which feed the framework's iteration 0.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import asdict
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -21,12 +21,12 @@ from a2l.acquisition.noveb import NovEB, NovEBConfig
 from a2l.acquisition.protocol import drive
 from a2l.acquisition.rollout import Rollout, effect_of
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
-from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.config import FrameworkConfig
 from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
 from a2l.skills.repertoire import default_directions
 
-__all__ = ["NOVEB_START", "NOVEB_WORKSPACE", "noveb_acquire", "noveb_task"]
+__all__ = ["NOVEB_START", "NOVEB_WORKSPACE", "NovebTask", "noveb_acquire", "noveb_task"]
 
 #: Where NovEB's trajectories start (x, y; at the push height) (m).
 NOVEB_START = (0.42, -0.25)
@@ -38,8 +38,27 @@ NOVEB_WORKSPACE = ((0.40, -0.72), (0.78, 0.12))
 NovebResult = tuple[NDArray[np.float64], Rollout | None, int]
 
 
-def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]) -> NovebResult:
-    """Play one genotype in the framework's scene: ``(config, genotype, max_moves)``.
+@dataclass(frozen=True)
+class NovebTask:
+    """One NovEB genotype, as a worker plays it (:func:`noveb_task`).
+
+    Attributes
+    ----------
+    config : FrameworkConfig
+        The run's configuration (its scene).
+    genotype : ndarray, shape (3 k,)
+        The waypoints' encoding (:class:`a2l.acquisition.trajectory.WaypointEncoding`).
+    max_moves : int
+        Most movements of the trajectory.
+    """
+
+    config: FrameworkConfig
+    genotype: NDArray[np.float64]
+    max_moves: int
+
+
+def noveb_task(task: NovebTask) -> NovebResult:
+    """Play one genotype in the framework's scene.
 
     Returns
     -------
@@ -51,10 +70,9 @@ def noveb_task(task: tuple[dict[str, Any], NDArray[np.float64], int]) -> NovebRe
     movements : int
         Robot movements tried (the arm is put back at the start without moving).
     """
-    cfg_d, genotype, max_moves = task
-    cfg = FrameworkConfig(**cfg_d)
+    cfg, genotype, max_moves = task.config, task.genotype, task.max_moves
     env = scene_env(cfg)
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     z = float(env.home[2])
     (x0, y0), (x1, y1) = NOVEB_WORKSPACE
     points = WaypointEncoding((x0, y0, z), (x1, y1, z), len(genotype) // 3).decode(genotype)
@@ -105,7 +123,6 @@ def noveb_acquire(cfg: FrameworkConfig, executor: Executor, evaluations: int,
                          "none; use scene 'baxter'")
     noveb = NovEB(9, cfg.seed, evaluations,
                   NovEBConfig(mu=generation_size, lambda_=generation_size))
-    cfg_d = asdict(cfg)
     kept: list[Rollout] = []
     count = {"done": 0, "movements": 0}
 
@@ -116,7 +133,8 @@ def noveb_acquire(cfg: FrameworkConfig, executor: Executor, evaluations: int,
         if progress:
             progress("noveb", count["done"], evaluations)
 
-    drive(noveb, lambda asked: executor.map(noveb_task, [(cfg_d, g, max_moves) for g in asked]),
+    drive(noveb, lambda asked: executor.map(noveb_task, [NovebTask(cfg, g, max_moves)
+                                                          for g in asked]),
           generation_size, told=lambda results: np.array([d for d, _, _ in results]),
           on_batch=record)
     return kept, noveb, count["movements"]

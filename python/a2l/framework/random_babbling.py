@@ -9,36 +9,52 @@ kept.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import asdict
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout, erase_loops, play
-from a2l.framework.config import FrameworkConfig, discretizers, task_config
+from a2l.framework.config import FrameworkConfig
 from a2l.rollout.env import scene_env
 
 __all__ = ["BabbleTask", "RandomBabbling", "babble_task", "random_walk"]
 
-#: One babbling trajectory: ``(config as a dict, start index, prefix movements, seed,
-#: most random movements)``.
-BabbleTask = tuple[dict[str, Any], int, list[int], int, int]
+
+@dataclass(frozen=True)
+class BabbleTask:
+    """One babbling trajectory, as a worker plays it (:func:`babble_task`).
+
+    Attributes
+    ----------
+    config : FrameworkConfig
+        The run's configuration (scene, starts, discretization).
+    start : int
+        Training start index (:meth:`FrameworkConfig.start_offsets`).
+    prefix : tuple of int
+        Movements played first (an extension's cut trajectory; empty for babbling).
+    seed : int
+        Seed of the random movements.
+    steps : int
+        Most random movements after the prefix.
+    """
+
+    config: FrameworkConfig
+    start: int
+    prefix: tuple[int, ...]
+    seed: int
+    steps: int
 
 
 def babble_task(task: BabbleTask) -> Rollout:
-    """One babbling trajectory: ``(config, start, prefix, seed, steps)``.
-
-    Uniformly random movements after `prefix`, at most `steps` of them, until
-    the object moves.
-    """
-    cfg_d, start, prefix, seed, steps = task
-    return random_walk(task_config(cfg_d), start, prefix, seed, steps)
+    """Play one babbling trajectory: uniformly random movements after ``task.prefix``, at
+    most ``task.steps`` of them, until the object moves."""
+    return random_walk(task.config, task.start, task.prefix, task.seed, task.steps)
 
 
 def random_walk(cfg: FrameworkConfig, start: int, prefix: Sequence[int], seed: int,
                 steps: int) -> Rollout:
     """`prefix`, then at most `steps` uniformly random movements from start `start`."""
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     rng = np.random.default_rng(seed)
     n = disc.movements.n_moves
 
@@ -47,13 +63,13 @@ def random_walk(cfg: FrameworkConfig, start: int, prefix: Sequence[int], seed: i
 
     offset = cfg.start_offsets()[start]
     r = play(scene_env(cfg), disc, start, offset, prefix, choose, len(prefix) + steps)
-    return erase_loops(r) if cfg.erase_loops else r
+    return erase_loops(r) if cfg.babbling.erase_loops else r
 
 
 class RandomBabbling:
     """Random babbling until `target` trajectories moved the object or `try_cap` were tried.
 
-    Candidates are :data:`BabbleTask` tuples (evaluate them with :func:`babble_task`);
+    Candidates are :class:`BabbleTask` records (evaluate them with :func:`babble_task`);
     the i-th one starts at start ``i mod n_starts`` with seed ``seed_of(i)``. Outcomes are
     told in ask order and cut where the target is reached, so the kept trajectories do not
     depend on the batch size or on where the tasks ran.
@@ -76,7 +92,6 @@ class RandomBabbling:
     def __init__(self, cfg: FrameworkConfig, seed_of: Callable[[int], int], target: int,
                  try_cap: int) -> None:
         self.cfg = cfg
-        self._cfg_d = asdict(cfg)
         self.seed_of = seed_of
         self.target = int(target)
         self.try_cap = int(try_cap)
@@ -100,8 +115,9 @@ class RandomBabbling:
         first = self.asked
         n = max(0, min(n, self.try_cap - first))
         self.asked += n
-        return [(self._cfg_d, (first + i) % self.cfg.n_starts, [],
-                 self.seed_of(first + i), self.cfg.max_babble_steps) for i in range(n)]
+        return [BabbleTask(self.cfg, (first + i) % self.cfg.starts.n_starts, (),
+                           self.seed_of(first + i), self.cfg.babbling.max_steps)
+                for i in range(n)]
 
     def tell(self, asked: Sequence[BabbleTask], outcomes: Sequence[Rollout]) -> None:
         """Keep, in order, the trajectories that moved the object (up to the target); count

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout
-from a2l.framework.config import FrameworkConfig, discretizers
+from a2l.framework.config import FrameworkConfig
 
 __all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "heldout_metrics",
            "iteration_metrics", "miss_counts", "outcome_of", "score_of", "success_of"]
@@ -84,7 +84,7 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
     moves = [len(r.moves) for r in val if r.outcome == SUCCESS]
     return IterationResult(
         iteration=it, success=success_of(val),
-        score=score_of(val, cfg.n_effects, cfg.n_starts), success_rate=rate,
+        score=score_of(val, cfg.discretization.n_effects, cfg.starts.n_starts), success_rate=rate,
         false_positives=sum(r.outcome == FALSE_POSITIVE for r in val),
         mean_movements=float(np.mean(moves)) if moves else float("nan"),
         dataset_size=size, accepted=accepted, wall_s=wall)
@@ -92,20 +92,20 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
 
 def heldout_metrics(cfg: FrameworkConfig, it: int, held: Sequence[Rollout]) -> dict[str, Any]:
     """The held-out metrics of iteration `it` from its rollouts `held` from the
-    ``cfg.heldout_starts`` held-out starts: ``{"iteration", "heldout_success" (overall
+    ``cfg.heldout.n_starts`` held-out starts: ``{"iteration", "heldout_success" (overall
     success rate, :func:`success_of`), "heldout_success_rate": {effect: rate},
     "heldout_score", "heldout_false_positives", "heldout_misses"}`` (the score as
     :func:`score_of`, over the held-out starts; the misses as :func:`miss_counts`)."""
     return {"iteration": it,
             "heldout_success": success_of(held),
             "heldout_success_rate": _success_rates(cfg, held),
-            "heldout_score": score_of(held, cfg.n_effects, cfg.heldout_starts),
+            "heldout_score": score_of(held, cfg.discretization.n_effects, cfg.heldout.n_starts),
             "heldout_false_positives": sum(r.outcome == FALSE_POSITIVE for r in held),
             "heldout_misses": miss_counts(held)}
 
 
 def _success_rates(cfg: FrameworkConfig, rollouts: Sequence[Rollout]) -> dict[str, float]:
     """Share of the rollouts wanting each effect that produced it, by effect name."""
-    names = discretizers(cfg).effects.values
+    names = cfg.discretization.discretizer().effects.values
     return {names[e]: float(np.mean([r.outcome == SUCCESS for r in rollouts if r.wanted == e]))
-            for e in range(cfg.n_effects)}
+            for e in range(cfg.discretization.n_effects)}

@@ -5,7 +5,7 @@ with another effect) or fail."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -13,41 +13,61 @@ import numpy as np
 
 from a2l.acquisition.rollout import Rollout, play
 from a2l.errors import UnreachableError
-from a2l.framework.config import FrameworkConfig, discretizers, task_config
+from a2l.framework.config import FrameworkConfig
 from a2l.framework.scoring import SUCCESS, outcome_of
 from a2l.framework.starts import HELDOUT_REDRAWS
 from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
 from a2l.skills.runner import CppSkillRunner
 
-__all__ = ["heldout_task", "reachable_heldout", "validate", "validate_heldout", "validate_task"]
+__all__ = ["ValidationTask", "heldout_task", "reachable_heldout", "validate",
+           "validate_heldout", "validate_task"]
 
 #: Reachable held-out offsets already probed in this process (:func:`reachable_heldout`),
 #: by (scene, seed, held-out starts, ring radii, start).
 _REACHABLE: dict[tuple[Any, ...], np.ndarray] = {}
 
-#: One validation rollout: ``(config as a dict, bundle path, start index, wanted effect)``.
-ValidationTask = tuple[dict[str, Any], str, int, int]
+@dataclass(frozen=True)
+class ValidationTask:
+    """One validation rollout, as a worker runs it (:func:`validate_task`,
+    :func:`heldout_task`).
+
+    Attributes
+    ----------
+    config : FrameworkConfig
+        The run's configuration.
+    bundle : str
+        Path of the skill bundle to run.
+    start : int
+        Start index: a training start (:meth:`FrameworkConfig.start_offsets`) or a held-out
+        one (:meth:`FrameworkConfig.heldout_offsets`).
+    wanted : int
+        The effect index asked of the skill.
+    """
+
+    config: FrameworkConfig
+    bundle: str
+    start: int
+    wanted: int
 
 
 def validate_task(task: ValidationTask) -> Rollout:
-    """One validation rollout: ``(config, bundle_path, start, wanted_effect)``, from the
-    training start ``start`` (:meth:`FrameworkConfig.start_offsets`).
+    """One validation rollout from the training start ``task.start``
+    (:meth:`FrameworkConfig.start_offsets`).
 
     The skill runs in closed loop through the C++ step until the object moves (success if
     with the wanted effect, else false positive), or the step returns a stop status (step
     cap, unknown context: fail).
     """
-    cfg_d, bundle, start, wanted = task
-    cfg = task_config(cfg_d)
-    return _closed_loop(cfg, bundle, start, cfg.start_offsets()[start], wanted)
+    cfg = task.config
+    return _closed_loop(cfg, task.bundle, task.start, cfg.start_offsets()[task.start],
+                        task.wanted)
 
 
 def heldout_task(task: ValidationTask) -> Rollout:
-    """As :func:`validate_task`, from the held-out start ``start``
+    """As :func:`validate_task`, from the held-out start ``task.start``
     (:meth:`FrameworkConfig.heldout_offsets`; ``Rollout.start`` is its index there)."""
-    cfg_d, bundle, start, wanted = task
-    cfg = task_config(cfg_d)
+    cfg, bundle, start, wanted = task.config, task.bundle, task.start, task.wanted
     offsets = cfg.heldout_offsets()
     if not 0 <= start < len(offsets):
         raise ValueError(f"held-out start {start} out of range: the config has "
@@ -68,8 +88,7 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     UnreachableError
         None of the start and its :data:`HELDOUT_REDRAWS` redraws is reachable.
     """
-    key = (cfg.scene, cfg.seed, cfg.heldout_starts, cfg.heldout_r_low, cfg.heldout_r_high,
-           start)
+    key = (cfg.scene, cfg.seed, cfg.heldout, start)
     if key in _REACHABLE:  # probed once per process: every effect starts from it
         return _REACHABLE[key].copy()
     offset = cfg.heldout_offsets()[start]
@@ -91,7 +110,7 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
                  wanted: int) -> Rollout:
     """The skill of `bundle` for effect `wanted` from `offset` (shape (3,)) off the object,
     recorded as start `start`."""
-    disc = discretizers(cfg)
+    disc = cfg.discretization.discretizer()
     runner = CppSkillRunner.cached(bundle)
     if tuple(runner.labels) != tuple(disc.movements.labels):
         raise ValueError(f"skill bundle '{bundle}' has movements {runner.labels}, the "
@@ -108,7 +127,7 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
         fallbacks[0] += out.fallback
         return out.movement
 
-    r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.step_cap + 1)
+    r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.skill.step_cap + 1)
     r.wanted = wanted
     r.fallbacks = fallbacks[0]
     # Judged by what happened (the object's true displacement), not by what the robot saw:
@@ -123,9 +142,8 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
 def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
              progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
     """Run the skill for every (start, effect) pair; results in (start, effect) order."""
-    cfg_d = asdict(cfg)
-    tasks = [(cfg_d, str(bundle_path), s, e)
-             for s in range(cfg.n_starts) for e in range(cfg.n_effects)]
+    tasks = [ValidationTask(cfg, str(bundle_path), s, e)
+             for s in range(cfg.starts.n_starts) for e in range(cfg.discretization.n_effects)]
     total = len(tasks)
     return executor.map(validate_task, tasks,
                         on_done=(lambda k: progress("validate", k, total)) if progress else None)
@@ -135,12 +153,11 @@ def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
 def validate_heldout(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
                      progress: Callable[[str, int, int], None] | None = None
                      ) -> list[Rollout]:
-    """Run the skill for every (held-out start, effect) pair (``cfg.heldout_starts`` starts,
-    :meth:`FrameworkConfig.heldout_offsets`); results in (start, effect) order, empty
+    """Run the skill for every (held-out start, effect) pair (``cfg.heldout.n_starts``
+    starts, :meth:`FrameworkConfig.heldout_offsets`); results in (start, effect) order, empty
     without held-out starts."""
-    cfg_d = asdict(cfg)
-    tasks = [(cfg_d, str(bundle_path), s, e)
-             for s in range(cfg.heldout_starts) for e in range(cfg.n_effects)]
+    tasks = [ValidationTask(cfg, str(bundle_path), s, e)
+             for s in range(cfg.heldout.n_starts) for e in range(cfg.discretization.n_effects)]
     if not tasks:
         return []
     total = len(tasks)

@@ -7,21 +7,44 @@ its skill keeps failing (:class:`EffectDirected`).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import asdict
+from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from a2l.acquisition.rollout import Rollout, erase_loops, play
-from a2l.framework.config import FrameworkConfig, discretizers, task_config
+from a2l.framework.config import FrameworkConfig
 from a2l.framework.random_babbling import random_walk
 from a2l.rollout.env import scene_env
 
 __all__ = ["DirectedTask", "EffectDirected", "Missed", "directed_outcome_task", "directed_task",
            "heading_chooser", "random_waypoints"]
 
-#: One effect-directed trajectory: ``(config as a dict, start index, seed, most movements)``.
-DirectedTask = tuple[dict[str, Any], int, int, int]
+
+@dataclass(frozen=True)
+class DirectedTask:
+    """One effect-directed trajectory, as a worker plays it (:func:`directed_task`).
+
+    Attributes
+    ----------
+    config : FrameworkConfig
+        The run's configuration (``directed.mode``, the scene, the starts).
+    start : int
+        Training start index.
+    seed : int
+        Seed of its random draws.
+    steps : int
+        Most movements.
+    wanted : int
+        The effect index it is tried for (-1: none; :func:`directed_outcome_task` needs
+        one).
+    """
+
+    config: FrameworkConfig
+    start: int
+    seed: int
+    steps: int
+    wanted: int = -1
 
 
 def random_waypoints(rng: np.random.Generator, home: np.ndarray, n_max: int, r_low: float,
@@ -86,26 +109,27 @@ def heading_chooser(points: np.ndarray, disc: Any, start: np.ndarray
 
 
 def directed_task(task: DirectedTask) -> Rollout:
-    """One effect-directed babbling trajectory: ``(config, start, seed, steps)``.
+    """Play one effect-directed babbling trajectory.
 
-    ``directed_mode == "random"``: uniformly random movements (as :func:`babble_task`);
-    ``"waypoints"``: a random waypoint trajectory (:func:`random_waypoints`,
-    :func:`heading_chooser`) with via-points between ``dist_low`` and
-    the outer start radius + ``step`` from the object. At most `steps` movements, until the object
-    moves.
+    ``directed.mode == "random"``: uniformly random movements (as
+    :func:`~a2l.framework.random_babbling.babble_task`); ``"waypoints"``: a random waypoint
+    trajectory (:func:`random_waypoints`, :func:`heading_chooser`) with via-points between
+    ``discretization.dist_low`` and the outer start radius + ``discretization.step`` from
+    the object. At most ``task.steps`` movements, until the object moves.
     """
-    cfg_d, start, seed, steps = task
-    cfg = task_config(cfg_d)
-    if cfg.directed_mode == "random":
+    cfg, start, seed, steps = task.config, task.start, task.seed, task.steps
+    if cfg.directed.mode == "random":
         return random_walk(cfg, start, [], seed, steps)
-    disc = discretizers(cfg)
+    d = cfg.discretization
+    disc = d.discretizer()
     env = scene_env(cfg)
     offset = cfg.start_offsets()[start]
-    points = random_waypoints(np.random.default_rng(seed), env.home, cfg.waypoints_max,
-                              cfg.dist_low, cfg.outer_start_radius() + cfg.step, cfg.waypoint_aim)
+    points = random_waypoints(np.random.default_rng(seed), env.home, cfg.directed.waypoints_max,
+                              d.dist_low, cfg.starts.outer_radius + d.step,
+                              cfg.directed.waypoint_aim)
     choose = heading_chooser(points, disc, env.home + offset)
     r = play(env, disc, start, offset, [], choose, steps)
-    return erase_loops(r) if cfg.erase_loops else r
+    return erase_loops(r) if cfg.babbling.erase_loops else r
 
 
 class Missed(NamedTuple):
@@ -118,29 +142,31 @@ class Missed(NamedTuple):
     movements: int
 
 
-def directed_outcome_task(task: tuple[DirectedTask, int]) -> Rollout | Missed:
-    """:func:`directed_task` for a wanted effect: ``(directed task, wanted effect)``.
+def directed_outcome_task(task: DirectedTask) -> Rollout | Missed:
+    """:func:`directed_task` for its wanted effect (``task.wanted``).
 
     Returns the rollout only when it produced the wanted effect, else just its effect index
     and movement count (:class:`Missed`): all :meth:`EffectDirected.tell` needs, so a worker
     does not send back the many trajectories that are thrown away.
     """
-    t, wanted = task
-    r = directed_task(t)
-    return r if r.effect == wanted else Missed(r.effect, r.executed)
+    if task.wanted < 0:
+        raise ValueError("directed_outcome_task: the task names no wanted effect")
+    r = directed_task(task)
+    return r if r.effect == task.wanted else Missed(r.effect, r.executed)
 
 
 class EffectDirected:
     """Effect-directed trajectories from one start until `want` produced `effect` or `cap`
     were tried.
 
-    Candidates are :data:`DirectedTask` tuples (evaluate them with :func:`directed_task`),
-    the i-th with seed ``seed_of(i)``; outcomes are told in ask order and cut at `want`.
+    Candidates are :class:`DirectedTask` records for `effect` (evaluate them with
+    :func:`directed_outcome_task`), the i-th with seed ``seed_of(i)``; outcomes are told in
+    ask order and cut at `want`.
 
     Parameters
     ----------
     cfg : FrameworkConfig
-        Scene, trajectory mode and length (``directed_steps``).
+        Scene, trajectory mode and length (``directed.steps``).
     start : int
         Start index.
     effect : int
@@ -157,7 +183,6 @@ class EffectDirected:
     def __init__(self, cfg: FrameworkConfig, start: int, effect: int,
                  seed_of: Callable[[int], int], want: int, cap: int) -> None:
         self.cfg = cfg
-        self._cfg_d = asdict(cfg)
         self.start, self.effect = int(start), int(effect)
         self.seed_of = seed_of
         self.want, self.cap = int(want), int(cap)
@@ -181,8 +206,8 @@ class EffectDirected:
         first = self.asked
         n = max(0, min(n, self.cap - first))
         self.asked += n
-        return [(self._cfg_d, self.start, self.seed_of(first + i), self.cfg.directed_steps)
-                for i in range(n)]
+        return [DirectedTask(self.cfg, self.start, self.seed_of(first + i),
+                             self.cfg.directed.steps, self.effect) for i in range(n)]
 
     def tell(self, asked: Sequence[DirectedTask], outcomes: Sequence[Rollout | Missed]
              ) -> None:

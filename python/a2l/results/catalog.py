@@ -180,8 +180,8 @@ def _both(key: str, *args: str, resume: bool = False) -> list[Run]:
 
 def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
     """The Baxter push run of `seed` with the camera and with the ground truth."""
-    return _both(key, "experiment", "push", "--scene", "baxter", "--n_effects", str(effects),
-                 "--seed", str(seed), "--quiet", *extra, resume=True)
+    return _both(key, "experiment", "push", "--scene", "baxter", "--discretization.n_effects",
+                 str(effects), "--seed", str(seed), "--quiet", *extra, resume=True)
 
 
 #: Every table, in the order of the README.
@@ -193,10 +193,12 @@ ENTRIES: tuple[Entry, ...] = (
           _demo, ("trajectories.png",), metrics="demo.json", evaluation=False),
     Entry("push-virtual", "The push experiment in the virtual scene: iterations to score 100 "
           "per seed (a2l experiment sweep)",
-          {"quick": [Run("sweep", ("experiment", "sweep", "--scene", "virtual", "--n_effects",
-                                   "4", "--seeds", "1000-1009", "--quiet"))],
-           "full": [Run("sweep", ("experiment", "sweep", "--scene", "virtual", "--n_effects",
-                                  "4", "--seeds", "1000-1029", "--quiet"))]},
+          {"quick": [Run("sweep", ("experiment", "sweep", "--scene", "virtual",
+                                   "--discretization.n_effects", "4", "--seeds", "1000-1009",
+                                   "--quiet"))],
+           "full": [Run("sweep", ("experiment", "sweep", "--scene", "virtual",
+                                  "--discretization.n_effects", "4", "--seeds", "1000-1029",
+                                  "--quiet"))]},
           _push_virtual),
     Entry("push-baxter", "The push experiment on Baxter in PyBullet (a2l experiment push)",
           {"quick": _push("s1000-e4", 1000, 4, "--max_iterations", "3"),

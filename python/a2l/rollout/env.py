@@ -8,13 +8,16 @@ movements, read positions. :func:`scene_env` keeps one per thread for rollouts
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
 from a2l.rollout.cache import thread_scene
 from a2l.rollout.protocol import SceneProtocol
 from a2l.sim import make_scene
+
+if TYPE_CHECKING:
+    from a2l.skills.discretization import DiscretizationConfig
 
 __all__ = ["SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
 
@@ -105,7 +108,7 @@ class EnvSpec(Protocol):
     @property
     def scene_config(self) -> Mapping[str, Any]: ...
     @property
-    def step(self) -> float: ...
+    def discretization(self) -> DiscretizationConfig: ...
     @property
     def seed(self) -> int: ...
 
@@ -116,6 +119,7 @@ def scene_env(cfg: EnvSpec) -> SceneEnv:
     config = dict(cfg.scene_config)
     source = config.pop("source", None) or config.get("context_source") or getattr(
         cfg, "context_source", None)
-    key = repr((cfg.scene, sorted(config.items()), source, cfg.step, cfg.seed))
-    return thread_scene("envs", key, lambda: make_env(cfg.scene, seed=cfg.seed, step=cfg.step,
+    step = cfg.discretization.step
+    key = repr((cfg.scene, sorted(config.items()), source, step, cfg.seed))
+    return thread_scene("envs", key, lambda: make_env(cfg.scene, seed=cfg.seed, step=step,
                                                       source=source, **config))

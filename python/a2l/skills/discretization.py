@@ -1,11 +1,11 @@
 """The one discretization configuration (:class:`DiscretizationConfig`): bins of the context
 variables, the movement repertoire and the effects, and the :class:`Discretizer` they make.
 
-Both configurations of the package use it: :class:`a2l.framework.FrameworkConfig` (the
-push experiment, :attr:`~a2l.framework.FrameworkConfig.discretization`) and
-:class:`a2l.lfd.config.LfDConfig` (demonstrated skills,
-:meth:`~a2l.lfd.config.LfDConfig.discretization`); each exposes these fields as its own
-options and hands them over here, so the two build their discretizers the same way.
+Both configurations of the package hold one as their ``discretization`` part:
+:class:`a2l.framework.FrameworkConfig` (the push experiment; ``--discretization.n_orient``
+on the command line) and :class:`a2l.lfd.config.LfDConfig` (demonstrated skills), so the two
+build their discretizers the same way. A value out of its domain is refused when the part is
+made (:class:`a2l.errors.ConfigError` naming ``discretization.<field>``).
 """
 
 from __future__ import annotations
@@ -13,6 +13,8 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
+from a2l.checks import check_count, check_length, check_odd_or_zero, check_range
+from a2l.errors import ConfigError
 from a2l.skills.bins import DistanceBins, InclinationBins, OffsetBins, OrientationBins
 from a2l.skills.discretize import Discretizer
 from a2l.skills.effects import EffectDiscretizer
@@ -57,6 +59,22 @@ class DiscretizationConfig:
     n_offset: int = 0
     offset_half_x: float = 0.045
     offset_half_y: float = 0.0525
+
+    def __post_init__(self) -> None:
+        own = "discretization"
+        if self.n_effects not in (4, 8) or isinstance(self.n_effects, bool):
+            raise ConfigError(f"{own}.n_effects", f"must be 4 or 8, got {self.n_effects!r}")
+        for name in ("n_orient", "n_dist"):
+            check_count(own, name, getattr(self, name))
+        check_count(own, "n_incl", self.n_incl, minimum=0)
+        check_odd_or_zero(own, "n_offset", self.n_offset)
+        for name in ("effect_threshold", "step", "offset_half_x", "offset_half_y",
+                     "dist_high"):
+            check_length(own, name, getattr(self, name))
+        check_length(own, "dist_low", self.dist_low, allow_zero=True)
+        check_range(own, "dist_low", "dist_high", self.dist_low, self.dist_high, strict=True)
+        if not isinstance(self.planar, bool):
+            raise ConfigError(f"{own}.planar", f"must be true or false, got {self.planar!r}")
 
     def discretizer(self) -> Discretizer:
         """The discretizer of these parameters (built once per set of values: rollouts ask
