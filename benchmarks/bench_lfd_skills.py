@@ -33,7 +33,8 @@ def run() -> str:
             cfg = skill_config(name)
             n_demos = sum(len(b.demos) for b in SKILLS[name].behaviours(cfg, 0))
             own = "DEFAULT" if cfg == DEFAULT else (
-                f"own: step {cfg.step * 100:g} cm, {cfg.n_orient} x {cfg.n_dist} bins")
+                f"own: step {cfg.step * 100:g} cm, {cfg.discretization.n_orient} x "
+                f"{cfg.discretization.n_dist} bins")
             rows.append(f"| {name} | {own} | {n_demos} | {learned.rows} | "
                         f"{int(np.prod(learned.table.shape))} | "
                         + " | ".join(f"{med[k]:.0f}" for k in PHASES)
@@ -43,7 +44,8 @@ def run() -> str:
         "configuration (`a2l.lfd.library.skill_config`: the push skills use "
         f"`a2l.lfd.config.DEFAULT`: grid {DEFAULT.resolution * 100:g} cm, tube "
         f"{DEFAULT.tube * 100:g} cm, blend {DEFAULT.blend * 100:g} cm, step "
-        f"{DEFAULT.step * 100:g} cm, {DEFAULT.n_orient} orientation x {DEFAULT.n_dist} "
+        f"{DEFAULT.step * 100:g} cm, {DEFAULT.discretization.n_orient} orientation x "
+        f"{DEFAULT.discretization.n_dist} "
         f"distance bins, {DEFAULT.maps} maps per DS; the manipulation skills their own, finer "
         "near the object, column *configuration*): `a2l.lfd.library.learn_recipe`, "
         f"{REPEATS} times per skill, medians (ms). Phases: *fit* one DS per demonstration "

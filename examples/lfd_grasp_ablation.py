@@ -28,8 +28,8 @@ from a2l.rollout.run import run_skill
 
 #: The push skills' configuration when the manipulation skills were made (the
 #: ``push_default`` row); the push default has since moved to 2 cm moves, 4 distance bins.
-PUSH_FIRST = LfDConfig(step=0.05, n_dist=3, dist_low=0.05, dist_high=0.20, n_orient=16,
-                       smoothing=False, n_demos=8)
+PUSH_FIRST = LfDConfig(smoothing=False, n_demos=8, discretization={
+    "step": 0.05, "n_dist": 3, "dist_low": 0.05, "dist_high": 0.20, "n_orient": 16})
 
 VARIANTS = ("full", "push_default", "step5", "dist3", "no_ball", "no_context_edges",
             "no_smoothing")
@@ -41,9 +41,10 @@ def run_variant(variant: str, trials: int, seed: int, out: str) -> tuple[int, Co
     if variant == "push_default":
         cfg = PUSH_FIRST
     elif variant == "step5":
-        cfg = manip.CONFIG.with_(step=0.05)
+        cfg = manip.CONFIG.with_({"discretization.step": 0.05})
     elif variant == "dist3":
-        cfg = manip.CONFIG.with_(n_dist=3, dist_low=0.05, dist_high=0.20)
+        cfg = manip.CONFIG.with_({"discretization.n_dist": 3, "discretization.dist_low": 0.05,
+                                  "discretization.dist_high": 0.20})
     elif variant == "no_smoothing":
         cfg = manip.CONFIG.with_(smoothing=False)
     elif variant == "no_context_edges":

@@ -167,16 +167,19 @@ def test_lasa_and_lfd_configurations_are_options() -> None:
     lasa = LasaConfig(K=40, beta=0.5, n_starts=40, direction="to_line")
     _, ns, _ = parse(shlex.split(command_line(["experiment", "lasa", "--out", "x"], lasa)))
     assert config_from(ns, LasaConfig) == lasa
-    _, ns, _ = parse(["experiment", "lfd-skills", "--out", "x", "--lfd.step", "0.03",
+    _, ns, _ = parse(["experiment", "lfd-skills", "--out", "x", "--lfd.discretization.step",
+                      "0.03",
                       "--lfd.n_demos", "4"])
-    assert config_from(ns.lfd, LfDConfig) == dataclasses.replace(DEFAULT, step=0.03, n_demos=4)
+    assert config_from(ns.lfd, LfDConfig) == DEFAULT.with_(
+        {"discretization.step": 0.03, "n_demos": 4})
 
 
 def test_an_lfd_value_out_of_its_domain_names_the_option(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "run"
-    err = _refused(["experiment", "lfd-skills", "--out", str(out), "--lfd.step", "-1"], capsys)
-    assert "argument --lfd.step: LfDConfig.step: must be a positive length" in err
+    err = _refused(["experiment", "lfd-skills", "--out", str(out),
+                    "--lfd.discretization.step", "-1"], capsys)
+    assert "argument --lfd.discretization.step: must be a positive length" in err
     assert not out.exists()
 
 
@@ -189,7 +192,7 @@ def test_prefixed_commands_parse_back() -> None:
                            world, skip=("scene", "seed"), prefix="world.")
     _, ns, _ = parse(shlex.split(command))
     assert dataclasses.replace(config_from(ns.world, WorldConfig), seed=ns.seed) == world
-    lfd = dataclasses.replace(DEFAULT, maps=20, step=0.03)
+    lfd = DEFAULT.with_({"maps": 20, "discretization.step": 0.03})
     command = command_line(["experiment", "perturbations", "--out", "x"], lfd, prefix="lfd.")
     _, ns, _ = parse(shlex.split(command))
     assert config_from(ns.lfd, LfDConfig) == lfd

@@ -65,7 +65,7 @@ def test_reach_rows_close_at_the_grasp_point_and_cover_every_bin_near_the_block(
     bins = disc.context_bins(eef, np.zeros_like(eef))
     first = bins["distance"] == 0
     seen = set(zip(bins["orientation"][first], bins["inclination"][first], strict=True))
-    assert len(seen) == CONFIG.n_orient * N_INCLINATION
+    assert len(seen) == CONFIG.discretization.n_orient * N_INCLINATION
 
 
 @pytest.mark.parametrize("name", ["grasp", "press"])

@@ -70,11 +70,16 @@ def test_demonstrator_rejects_bad_parameters():
 
 def test_config_validates_and_derives_the_step_cap():
     assert DEFAULT.step_cap == math.ceil(DEFAULT.path_length / DEFAULT.step)
-    assert LfDConfig(step=0.02).step_cap == 50
+    assert LfDConfig(discretization={"step": 0.02}).step_cap == 50
     with pytest.raises(ValueError, match="resolution"):
         LfDConfig(resolution=0.0)
-    with pytest.raises(ValueError, match="unknown LfDConfig field"):
+    with pytest.raises(ValueError, match="LfDConfig has no field 'grid'"):
         DEFAULT.with_(grid=3)
+    with pytest.raises(ValueError, match=r"it is discretization.step now"):
+        DEFAULT.with_(step=0.03)
+    with pytest.raises(ValueError, match=r"^discretization.step: must be a positive length"):
+        DEFAULT.with_({"discretization.step": -1.0})
+    assert DEFAULT.with_({"discretization.n_orient": 8}).discretization.n_orient == 8
 
 
 def test_grid_stays_around_the_demonstrations():
@@ -94,8 +99,9 @@ def test_dataset_goes_through_the_babbling_discretizer():
     cfg = DEFAULT
     disc = skill_discretizer(cfg)
     babbling = FrameworkConfig(discretization={
-        "n_effects": 4, "planar": True, "step": cfg.step, "n_orient": cfg.n_orient,
-        "n_dist": cfg.n_dist}).discretization.discretizer()
+        "n_effects": 4, "planar": True, "step": cfg.step,
+        "n_orient": cfg.discretization.n_orient,
+        "n_dist": cfg.discretization.n_dist}).discretization.discretizer()
     assert disc is babbling  # the very same object, from the same function
     demos = PushDemonstrator("left").demonstrations(2, seed=1)
     rows = vector_field_rows(fit_fields(demos, cfg.with_(maps=20)), demos, "left", cfg,

@@ -27,12 +27,16 @@ def test_framework_config_holds_the_one_discretization_part() -> None:
 
 
 def test_lfd_config_uses_the_same_configuration() -> None:
-    d = LfDConfig(step=0.03, n_orient=8).discretization(planar=False, n_effects=8)
+    cfg = LfDConfig(discretization={"step": 0.03, "n_orient": 8})
+    assert isinstance(cfg.discretization, DiscretizationConfig)
+    d = cfg.skill_discretization(planar=False, n_effects=8)
+    lfd = DEFAULT.discretization
     assert d == DiscretizationConfig(n_effects=8, planar=False, step=0.03, n_orient=8,
-                                     n_dist=DEFAULT.n_dist, dist_low=DEFAULT.dist_low,
-                                     dist_high=DEFAULT.dist_high)
+                                     n_dist=lfd.n_dist, dist_low=lfd.dist_low,
+                                     dist_high=lfd.dist_high)
+    # one class declares the discretization's fields: LfDConfig holds it as a part
+    assert not {f.name for f in dataclasses.fields(DiscretizationConfig)} & {
+        f.name for f in dataclasses.fields(LfDConfig)}
     # the LfD discretizer is the framework's of the same values, the very same object
-    fw = FrameworkConfig(discretization={
-        "step": DEFAULT.step, "n_orient": DEFAULT.n_orient, "n_dist": DEFAULT.n_dist,
-        "dist_low": DEFAULT.dist_low, "dist_high": DEFAULT.dist_high})
+    fw = FrameworkConfig(discretization=DEFAULT.discretization)
     assert skill_discretizer(DEFAULT) is fw.discretization.discretizer()

@@ -11,6 +11,7 @@ from jsonargparse import Namespace
 
 from a2l.cli.args import UsageError, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
+from a2l.errors import ConfigError
 from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
 from a2l.lfd.config import DEFAULT, LfDConfig
 
@@ -20,9 +21,8 @@ def lfd_config(args: Namespace) -> LfDConfig | None:
     none differs from :data:`a2l.lfd.config.DEFAULT`."""
     try:
         cfg = config_from(args.lfd, LfDConfig)
-    except ValueError as exc:  # LfDConfig.<field>: ...
-        field = str(exc).split(":", 1)[0].split(",")[0].replace("LfDConfig.", "--lfd.")
-        raise UsageError(field, str(exc)) from None
+    except ConfigError as exc:  # <field>: ... (a part's: discretization.<field>)
+        raise UsageError(f"--lfd.{exc.field.split(',')[0]}", exc.message) from None
     return None if cfg == DEFAULT else cfg
 
 

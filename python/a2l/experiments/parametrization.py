@@ -33,11 +33,20 @@ from a2l.experiments.lfd_skills import package_dir, trial_task
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
 
-__all__ = ["DEFAULT_GRID", "cell_task", "run_parametrization", "select_default"]
+__all__ = ["DEFAULT_GRID", "GRID_FIELDS", "cell_fields", "cell_task", "run_parametrization",
+           "select_default"]
 
 #: The command-line option of each grid dimension (``a2l experiment parametrization``).
 GRID_OPTIONS = {"resolution": "--resolutions", "step": "--steps", "n_orient": "--orients",
                 "n_dist": "--dists", "smoothing": "--smoothing"}
+
+#: The LfDConfig field of each grid dimension, by its dotted name (:meth:`LfDConfig.with_`).
+GRID_FIELDS = {"resolution": "resolution", "step": "discretization.step",
+               "n_orient": "discretization.n_orient", "n_dist": "discretization.n_dist",
+               "smoothing": "smoothing"}
+
+#: The discretization fields a cell's row of ``cells.csv`` holds beside the others.
+_CELL_DISCRETIZATION = ("step", "n_orient", "n_dist", "dist_low", "dist_high")
 
 #: The full study's values (``--resolutions`` ... override them).
 DEFAULT_GRID: dict[str, tuple[Any, ...]] = {
@@ -76,7 +85,7 @@ def cell_task(task: dict[str, Any]) -> dict[str, Any]:
     for r in runs:
         if not r["success"]:
             stops[r["stop"]] = stops.get(r["stop"], 0) + 1
-    return {"skill": task["skill"], "cell": task["cell"], **task["cfg"],
+    return {"skill": task["skill"], "cell": task["cell"], **cell_fields(task["cfg"]),
             "success_rate": len(ok) / len(runs),
             "movements_per_action": float(np.mean([r["movements"] for r in ok]))
             if ok else float("nan"),
@@ -84,6 +93,19 @@ def cell_task(task: dict[str, Any]) -> dict[str, Any]:
             "learn_s": learn_s, "failures": ";".join(f"{k}:{v}" for k, v in stops.items()),
             **({"trials": runs, "bundle": str(learned.bundle)} if task.get("keep_runs")
                else {})}
+
+
+def cell_fields(cfg: dict[str, Any]) -> dict[str, Any]:
+    """A cell's configuration (:meth:`LfDConfig.to_json`) as the flat columns of
+    ``cells.csv``: its fields, the discretization's bins and step among them."""
+    disc = cfg["discretization"]
+    out: dict[str, Any] = {}
+    for k, v in cfg.items():
+        if k == "discretization":
+            out.update({n: disc[n] for n in _CELL_DISCRETIZATION})
+        else:
+            out[k] = v
+    return out
 
 
 def _record(path: str | os.PathLike[str], results: Sequence[Any]) -> None:
@@ -197,13 +219,14 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     tasks = []
     for name in names:
         for i, combo in enumerate(combos):
-            cfg = skill_config(name, base).with_(**dict(zip(DEFAULT_GRID, combo, strict=True)))
+            cfg = skill_config(name, base).with_(
+                {GRID_FIELDS[k]: v for k, v in zip(DEFAULT_GRID, combo, strict=True)})
             tasks.append({"skill": name, "cell": i, "cfg": cfg.to_json(), "seeds": seeds,
                           "scene": scene, "dir": str(run_dir / "skills" / name),
                           "package": package_dir(), "keep_runs": record is not None})
     t0 = time.perf_counter()
     # long cells first: the small steps take the most movements
-    order = sorted(range(len(tasks)), key=lambda k: tasks[k]["cfg"]["step"])
+    order = sorted(range(len(tasks)), key=lambda k: tasks[k]["cfg"]["discretization"]["step"])
     with Executor(workers) as ex, progress_bar("cells", len(tasks), quiet) as bar:
         done = ex.map(cell_task, [tasks[k] for k in order], on_done=bar)
     results = [None] * len(tasks)
@@ -214,7 +237,8 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     cells = pd.DataFrame(results)
     atomic_write_text(run_dir / "cells.csv", cells.to_csv(index=False))
     chosen = select_default(cells)
-    own = {n: {k: getattr(skill_config(n, base), k) for k in DEFAULT_GRID} for n in names}
+    own = {n: {k: cell_fields(skill_config(n, base).to_json())[k] for k in DEFAULT_GRID}
+           for n in names}
     agrees = all(all(c[k] == chosen[k] for k in DEFAULT_GRID) for c in own.values())
     metrics = {"skills": names, "scene": scene, "trial_seeds": [seeds[0], seeds[-1]],
                "grid": {k: list(v) for k, v in values.items()}, "cells": len(combos),

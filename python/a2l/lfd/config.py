@@ -9,12 +9,20 @@ says how.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from a2l.checks import check_count, check_length
+from a2l.errors import ConfigError
 from a2l.skills.discretization import DiscretizationConfig
 
-__all__ = ["DEFAULT", "LfDConfig"]
+__all__ = ["DEFAULT", "LFD_DISCRETIZATION", "LfDConfig"]
+
+#: The discretization of the demonstrated skills (the parametrization study's choice):
+#: 2 cm movements, 16 orientation sections x 4 distance bins over [0.05, 0.20] m. Each skill
+#: sets its own ``planar`` and ``n_effects`` (:meth:`LfDConfig.skill_discretization`).
+LFD_DISCRETIZATION = DiscretizationConfig(step=0.02, n_orient=16, n_dist=4)
 
 
 @dataclass(frozen=True)
@@ -31,12 +39,11 @@ class LfDConfig:
         0: a grid point takes the velocity of its nearest demonstration's DS; > 0: the
         DSs' unit velocities weighted by a Gaussian of this width (m) of the point's
         distance to each demonstration (:mod:`a2l.lfd.dataset`).
-    step : float
-        Movement length of the repertoire (m); the scene moves by it too.
-    n_orient, n_dist : int
-        Orientation sections and distance bins (the babbling path's discretizer).
-    dist_low, dist_high : float
-        Range of the distance bins (m).
+    discretization : DiscretizationConfig
+        The bins and the movement length (``step``: the scene moves by it too), the
+        package's one discretization configuration (:data:`LFD_DISCRETIZATION`; a mapping of
+        some of its fields changes those). Its ``planar`` and ``n_effects`` are each
+        skill's own.
     smoothing : bool
         Neighbour smoothing (``docs/method.md``) in the C++ step.
     n_demos : int
@@ -45,67 +52,78 @@ class LfDConfig:
         Elementary maps K of each diffeomorphic DS.
     path_length : float
         Longest path a skill is expected to take (m): its step cap is
-        ``ceil(path_length / step)``.
+        ``ceil(path_length / discretization.step)``.
     """
 
     resolution: float = 0.01
     tube: float = 0.06
     blend: float = 0.02
-    step: float = 0.02
-    n_orient: int = 16
-    n_dist: int = 4
-    dist_low: float = 0.05
-    dist_high: float = 0.20
+    discretization: DiscretizationConfig = LFD_DISCRETIZATION
     smoothing: bool = False
     n_demos: int = 12
     maps: int = 60
     path_length: float = 1.0
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.dist_low, (int, float)) and math.isfinite(self.dist_low)
-                and self.dist_low >= 0):
-            raise ValueError(f"LfDConfig.dist_low: must be a length >= 0, got "
-                             f"{self.dist_low!r}")
-        for name in ("resolution", "tube", "step", "dist_high", "path_length"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"LfDConfig.{name}: must be a positive length, got {v!r}")
-        if self.dist_low >= self.dist_high:
-            raise ValueError(f"LfDConfig.dist_low, dist_high: need low < high, got "
-                             f"{self.dist_low}, {self.dist_high}")
-        if not (isinstance(self.blend, (int, float)) and math.isfinite(self.blend)
-                and self.blend >= 0):
-            raise ValueError(f"LfDConfig.blend: must be a length >= 0, got {self.blend!r}")
-        for name in ("n_orient", "n_dist", "n_demos", "maps"):
-            v = getattr(self, name)
-            if not isinstance(v, int) or isinstance(v, bool) or v < 1:
-                raise ValueError(f"LfDConfig.{name}: must be a positive integer, got {v!r}")
+        d = self.discretization
+        if isinstance(d, Mapping):
+            known = [f.name for f in fields(DiscretizationConfig)]
+            bad = sorted(set(d) - set(known))
+            if bad:
+                raise ConfigError("discretization", f"unknown field(s) {bad}; the fields of "
+                                  f"discretization: {', '.join(known)}")
+            object.__setattr__(self, "discretization", replace(LFD_DISCRETIZATION, **d))
+        elif not isinstance(d, DiscretizationConfig):
+            raise ConfigError("discretization", f"expected a DiscretizationConfig or a "
+                              f"mapping of its fields, got {d!r}")
+        for name in ("resolution", "tube", "path_length"):
+            check_length("", name, getattr(self, name))
+        check_length("", "blend", self.blend, allow_zero=True)
+        for name in ("n_demos", "maps"):
+            check_count("", name, getattr(self, name))
         if not isinstance(self.smoothing, bool):
-            raise ValueError(f"LfDConfig.smoothing: must be True or False, got "
-                             f"{self.smoothing!r}")
+            raise ConfigError("smoothing", f"must be True or False, got {self.smoothing!r}")
+
+    @property
+    def step(self) -> float:
+        """The movement length (m): ``discretization.step``."""
+        return self.discretization.step
 
     @property
     def step_cap(self) -> int:
-        """Most movements of a run: ``ceil(path_length / step)``."""
+        """Most movements of a run: ``ceil(path_length / discretization.step)``."""
         return int(math.ceil(self.path_length / self.step - 1e-9))
 
-    def discretization(self, planar: bool = True, n_effects: int = 4) -> DiscretizationConfig:
-        """The discretization of a skill learned with this configuration: the bins and step
-        here, `planar` and `n_effects` of the skill, the push experiment's defaults else."""
-        return DiscretizationConfig(n_effects=n_effects, planar=planar, step=self.step,
-                                    n_orient=self.n_orient, n_dist=self.n_dist, n_incl=0,
-                                    dist_low=self.dist_low, dist_high=self.dist_high)
+    def skill_discretization(self, planar: bool = True, n_effects: int = 4
+                             ) -> DiscretizationConfig:
+        """The discretization of a skill learned with this configuration: this one with the
+        skill's `planar` and `n_effects`."""
+        return replace(self.discretization, planar=planar, n_effects=n_effects)
 
-    def with_(self, **changes: Any) -> LfDConfig:
-        """A copy with some fields changed; an unknown field is an error naming it."""
+    def with_(self, changes: Mapping[str, Any] | None = None, **kwargs: Any) -> LfDConfig:
+        """A copy with fields changed, by name (``maps=20``) or dotted name
+        (``{"discretization.step": 0.03}``); an unknown field is an error naming it."""
+        top: dict[str, Any] = {}
+        disc: dict[str, Any] = {}
         known = {f.name for f in fields(self)}
-        bad = sorted(set(changes) - known)
-        if bad:
-            raise ValueError(f"unknown LfDConfig field(s) {bad}; known: {sorted(known)}")
-        return replace(self, **changes)
+        sub = {f.name for f in fields(DiscretizationConfig)}
+        for path, value in {**(changes or {}), **kwargs}.items():
+            head, _, rest = path.partition(".")
+            if head == "discretization" and rest in sub:
+                disc[rest] = value
+            elif not rest and head in known:
+                top[head] = value
+            else:
+                hint = (f" (it is discretization.{path} now)" if path in sub else "")
+                raise ConfigError(path, f"LfDConfig has no field {path!r}{hint}; known: "
+                                  f"{sorted(known)}, discretization.<{', '.join(sorted(sub))}>")
+        if disc:
+            top["discretization"] = replace(top.get("discretization", self.discretization),
+                                            **disc)
+        return replace(self, **top)
 
     def to_json(self) -> dict[str, Any]:
-        """The fields as a JSON-able dict."""
+        """The fields as a JSON-able dict (the discretization as a nested dict)."""
         return asdict(self)
 
 

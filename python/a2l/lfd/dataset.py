@@ -57,7 +57,7 @@ def skill_discretizer(cfg: LfDConfig = DEFAULT, high_level: Sequence[Any] = (),
     -------
     a2l.skills.Discretizer
     """
-    disc = cfg.discretization(planar, n_effects).discretizer()
+    disc = cfg.skill_discretization(planar, n_effects).discretizer()
     return replace(disc, high_level=tuple(high_level)) if high_level else disc
 
 

@@ -78,9 +78,9 @@ __all__ = ["CONFIG", "EFFECT_BY_LIGHT", "FINE_RADIUS", "FINE_RESOLUTION", "N_INC
            "skill_phases"]
 
 #: The configuration of the manipulation skills (see the module docstring for why).
-CONFIG = LfDConfig(step=0.02, resolution=0.01, tube=0.06, n_orient=8, n_dist=12,
-                   dist_low=0.0, dist_high=0.24, smoothing=True, n_demos=8, maps=60,
-                   path_length=0.8)
+CONFIG = LfDConfig(resolution=0.01, tube=0.06, smoothing=True, n_demos=8, maps=60,
+                   path_length=0.8, discretization={"step": 0.02, "n_orient": 8, "n_dist": 12,
+                                                    "dist_low": 0.0, "dist_high": 0.24})
 #: Inclination sections of the manipulation skills' context.
 N_INCLINATION = 16
 #: Grid spacing (m) near the place where a phase must be precise.
@@ -240,7 +240,8 @@ def phase_rows(phase: Phase, fields: Sequence[Any], effect: str, cfg: LfDConfig,
     """
     if len(fields) != len(phase.segments):
         raise ValueError(f"{len(fields)} fields for {len(phase.segments)} segments")
-    points, nearest = _grid(phase, cfg.resolution, cfg.tube, cfg.n_orient)
+    points, nearest = _grid(phase, cfg.resolution, cfg.tube,
+                            cfg.discretization.n_orient)
     vel = np.zeros_like(points)
     for i, ds in enumerate(fields):
         sel = nearest == i
@@ -257,15 +258,16 @@ def phase_rows(phase: Phase, fields: Sequence[Any], effect: str, cfg: LfDConfig,
 
 
 def manipulation_discretizer(skill: str, cfg: LfDConfig = CONFIG) -> Any:
-    """The discretizer of a manipulation skill: distance (``cfg.n_dist`` over
-    ``[cfg.dist_low, cfg.dist_high]``), orientation (``cfg.n_orient``), inclination
-    (:data:`N_INCLINATION`), its high-level states, 26 directions of ``cfg.step`` plus its
-    actions, its named effect."""
+    """The discretizer of a manipulation skill: of ``cfg.discretization``, distance
+    (``n_dist`` over ``[dist_low, dist_high]``), orientation (``n_orient``) and 26
+    directions of ``step`` plus its actions; inclination (:data:`N_INCLINATION`), its
+    high-level states, its named effect."""
     states = _HIGH_LEVEL[skill]
+    d = cfg.discretization
     return Discretizer(
-        distance=DistanceBins(cfg.n_dist, cfg.dist_low, cfg.dist_high),
-        orientation=OrientationBins(cfg.n_orient), inclination=InclinationBins(N_INCLINATION),
-        movements=MovementRepertoire(step=cfg.step, actions=_ACTIONS[skill]),
+        distance=DistanceBins(d.n_dist, d.dist_low, d.dist_high),
+        orientation=OrientationBins(d.n_orient), inclination=InclinationBins(N_INCLINATION),
+        movements=MovementRepertoire(step=d.step, actions=_ACTIONS[skill]),
         effects=NamedEffects((_EFFECTS[skill],)),  # type: ignore[arg-type]
         high_level=tuple(HighLevelState(n, v) for n, v in states))
 
