@@ -29,7 +29,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from a2l.acquisition.rollout import Rollout
+from a2l.acquisition.interactions import Rollout
 from a2l.experiments import push
 from a2l.experiments.push import run_push_experiment
 from a2l.framework import FrameworkConfig, loop

@@ -54,9 +54,11 @@ Run a skill:
 
 Run the A2L framework (acquire interactions, learn, validate, repeat):
 
-    run_framework, FrameworkConfig
-        The iterative loop, resumable from its run directory, and every parameter of a run.
-    Executor, make_executor
+    run_framework, FrameworkConfig, FrameworkResult
+        The iterative loop, resumable from its run directory, every parameter of a run
+        (composed of frozen parts: ``cfg.discretization``, ``cfg.starts``, ``cfg.heldout``...;
+        ``cfg.with_({"directed.per_pair": 20})``) and what it returns.
+    Executor
         Where the rollouts run (this process, worker processes, a Dask cluster).
 
 Kinematics, the C++ core (:mod:`a2l._core`):
@@ -97,7 +99,7 @@ _EXPORTS: dict[str, str] = {
     # learn a skill from interactions
     "learn_bundle": "a2l.skills.pipeline",
     "LearnedBundle": "a2l.skills.pipeline",
-    "Discretizer": "a2l.skills.discretize",
+    "Discretizer": "a2l.skills.discretizer",
     "DiscretizationConfig": "a2l.skills.discretization",
     # learn a skill from demonstrations
     "Demonstration": "a2l.lfd.demonstration",
@@ -127,8 +129,8 @@ _EXPORTS: dict[str, str] = {
     # run the A2L framework
     "run_framework": "a2l.framework.loop",
     "FrameworkConfig": "a2l.framework.config",
+    "FrameworkResult": "a2l.framework.result",
     "Executor": "a2l.parallel",
-    "make_executor": "a2l.parallel",
 }
 
 __all__ = [
@@ -165,8 +167,8 @@ __all__ = [
     # run the A2L framework
     "run_framework",
     "FrameworkConfig",
+    "FrameworkResult",
     "Executor",
-    "make_executor",
     # kinematics (the C++ core)
     "Kinematics",
     "IkOptions",

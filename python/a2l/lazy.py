@@ -5,7 +5,7 @@ A worker process that needs one module of a package then does not import the oth
 
 Example, in a package's ``__init__.py``::
 
-    __getattr__, __dir__ = lazy_exports(__name__, {"Discretizer": "a2l.skills.discretize"})
+    __getattr__, __dir__ = lazy_exports(__name__, {"Discretizer": "a2l.skills.discretizer"})
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ from typing import Any, Generic, TypeVar
 T = TypeVar("T")
 R = TypeVar("R")
 
-__all__ = ["Executor", "Pending", "make_executor"]
+__all__ = ["Executor", "Pending"]
 
 
 class Executor:
@@ -254,7 +254,3 @@ def _limit_threads() -> None:
     for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
 
-
-def make_executor(workers: int = 1, cluster: str | None = None) -> Executor:
-    """An :class:`Executor` (use it as a context manager)."""
-    return Executor(workers=workers, cluster=cluster)

@@ -75,12 +75,17 @@ def test_a_misspelt_option_is_refused_with_the_valid_names(
     print(f"refused in {time.perf_counter() - t0:.2f} s")
 
 
-def test_an_option_of_the_flat_form_names_its_name_now(
+def test_an_option_of_the_flat_form_is_read_as_its_name_now(
         capsys: pytest.CaptureFixture[str]) -> None:
-    err = _refused(["experiment", "push", "--n_orient", "24"], capsys)
-    assert "argument --n_orient: renamed; it is --discretization.n_orient now" in err
-    err = _refused(["experiment", "sweep", "--seeds", "0", "--heldout-starts", "0"], capsys)
-    assert "renamed; it is --heldout.n_starts now" in err
+    """The commands earlier runs recorded (``--n_effects 4``) still run, with a warning."""
+    _, ns, _ = parse(["experiment", "push", "--n_orient", "24", "--heldout-starts", "0"])
+    assert config_from(ns, FrameworkConfig) == FrameworkConfig(
+        discretization={"n_orient": 24}, heldout={"n_starts": 0})
+    err = capsys.readouterr().err
+    assert "warning: --n_orient is renamed; read as --discretization.n_orient" in err
+    assert "warning: --heldout-starts is renamed; read as --heldout.n_starts" in err
+    _, ns, _ = parse(["experiment", "sweep", "--seeds", "0", "--directed_per_pair=7"])
+    assert config_from(ns, FrameworkConfig).directed.per_pair == 7
 
 
 def test_a_list_option_takes_what_a_user_types() -> None:

@@ -50,9 +50,9 @@ def test_baxter_run_same_results_with_one_and_two_workers(tmp_path: Path) -> Non
         assert m["workers"] == workers
         runs[workers] = _outcome(out)
     one, two = runs[1], runs[2]
-    assert len(json.loads(one.iterations)) == 2
-    assert len(one.dataset) > 0 and one.final_score > 0  # the box was pushed
-    assert one.iterations == two.iterations
-    assert one.final_score == two.final_score
-    assert one.bundle == two.bundle
-    pd.testing.assert_frame_equal(one.dataset, two.dataset, check_exact=True)
+    assert len(json.loads(one["iterations"])) == 2
+    assert len(one["dataset"]) > 0 and one["final_score"] > 0  # the box was pushed
+    assert one["iterations"] == two["iterations"]
+    assert one["final_score"] == two["final_score"]
+    assert one["bundle"] == two["bundle"]
+    pd.testing.assert_frame_equal(one["dataset"], two["dataset"], check_exact=True)

@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from a2l.acquisition.rollout import Interactions
+from a2l.acquisition.interactions import Interactions
 from a2l.experiments.push import results_table, run_push_experiment
 from a2l.framework import FrameworkConfig, loop, run_framework
 from a2l.parallel import Executor

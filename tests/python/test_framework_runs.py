@@ -152,7 +152,7 @@ def test_dask_worker_threads_do_not_share_a_scene(tmp_path: Path) -> None:
     rollouts of one process (each thread has its own scene and skill state)."""
     from dask.distributed import LocalCluster
 
-    from a2l.acquisition.rollout import interaction_rows
+    from a2l.acquisition.interactions import interaction_rows
     from a2l.framework import acquire, generate_skill, validate
     from a2l.parallel import Executor
 

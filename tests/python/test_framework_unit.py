@@ -15,7 +15,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from a2l.acquisition.rollout import Rollout, erase_loops, play, rollouts_from_table, rollouts_table
+from a2l.acquisition.interactions import (
+    Rollout,
+    erase_loops,
+    play,
+    rollouts_from_table,
+    rollouts_table,
+)
 from a2l.cli import main
 from a2l.errors import ConfigError
 from a2l.framework import (
@@ -228,7 +234,7 @@ def test_fixed_parents_keep_distance_in_a_small_dataset(tmp_path: Path) -> None:
     ``move``'s parents (virtual seed 0, as on every seed of docs/framework.md's sweep);
     ``fixed_parents=("distance",)`` keeps it, and a name that is no context variable is
     refused."""
-    from a2l.acquisition.rollout import interaction_rows
+    from a2l.acquisition.interactions import interaction_rows
     from a2l.framework import acquire, generate_skill
     from a2l.parallel import Executor
     from a2l.skills import load_bundle

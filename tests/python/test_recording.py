@@ -73,7 +73,7 @@ def test_a_recorded_push_reads_back_with_its_entities_and_counts(recorded) -> No
 def test_framework_rollouts_are_recorded_one_per_rollout(recorded, tmp_path: Path) -> None:
     """What ``a2l experiment push --record`` writes: the validation rollouts, each its own
     entity tree, with its movements and how it ended."""
-    from a2l.acquisition.rollout import Rollout
+    from a2l.acquisition.interactions import Rollout
     from a2l.rollout.recording import RerunRecorder, read_recording, record_rollouts
     from a2l.skills.runner import CppSkillRunner
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from a2l.sim import low_level_state
-from a2l.skills.discretize import InclinationBins, OrientationBins
+from a2l.skills.bins import InclinationBins, OrientationBins
 
 
 @pytest.mark.parametrize(

@@ -8,7 +8,7 @@ protocol (:mod:`a2l.acquisition.protocol`): a strategy proposes trajectories
   random motor babbling (:class:`RandomTrajectories`) over NovEB's trajectory encoding
   (:mod:`~a2l.acquisition.trajectory`), told the same image descriptors
   (:mod:`~a2l.acquisition.images`).
-- :mod:`~a2l.acquisition.rollout`: playing a trajectory in a scene (through the closed
+- :mod:`~a2l.acquisition.interactions`: playing a trajectory in a scene (through the closed
   loop of :mod:`a2l.rollout.loop`), and rollouts as interaction-dataset rows.
 
 The A2L loop's own strategies (random babbling around the object from the start positions,
@@ -32,12 +32,12 @@ _EXPORTS: dict[str, str] = {
     "Strategy": "a2l.acquisition.protocol",
     "drive": "a2l.acquisition.protocol",
     "drive_ahead": "a2l.acquisition.protocol",
-    "Interactions": "a2l.acquisition.rollout",
-    "Rollout": "a2l.acquisition.rollout",
-    "effect_of": "a2l.acquisition.rollout",
-    "erase_loops": "a2l.acquisition.rollout",
-    "play": "a2l.acquisition.rollout",
-    "interaction_rows": "a2l.acquisition.rollout",
+    "Interactions": "a2l.acquisition.interactions",
+    "Rollout": "a2l.acquisition.interactions",
+    "effect_of": "a2l.acquisition.interactions",
+    "erase_loops": "a2l.acquisition.interactions",
+    "play": "a2l.acquisition.interactions",
+    "interaction_rows": "a2l.acquisition.interactions",
     "WaypointEncoding": "a2l.acquisition.trajectory",
     "follow_waypoints": "a2l.acquisition.trajectory",
 }

@@ -8,8 +8,8 @@ checks each value's type; a field that is itself a dataclass (a part of a compos
 configuration) gives one flag per field of it, ``--part.field``. A list option takes
 ``a,b`` as well as ``[a,b]``. ``--config FILE`` (JSON or YAML; parts as nested mappings)
 sets any flag of the command. A misspelt flag or config-file key is refused with the list of
-valid names before any work starts, and a name of an earlier version (``Parser.renamed``)
-with its name now.
+valid names before any work starts; an option of an earlier version (``Parser.renamed``)
+is read as its name now, with a warning.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ import difflib
 import inspect
 import json
 import re
+import sys
 import typing
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -45,8 +46,8 @@ class Parser(ArgumentParser):
     #: Earlier spellings of aliases still accepted (``--effects``), by their option now.
     aliases: dict[str, str] = {}
 
-    #: Options of an earlier version that are gone, with the option now
-    #: (``--n_orient``: ``--discretization.n_orient``): refused with that name.
+    #: Options of an earlier version, with the option now (``--n_orient``:
+    #: ``--discretization.n_orient``): read as that one, with a warning naming it.
     renamed: dict[str, str] = {}
 
     #: The options whose value is a list (set by :func:`add_config_fields`).
@@ -170,12 +171,14 @@ def normalize_argv(argv: Sequence[str], parser: ArgumentParser,
     of `parser`, the `aliases` replaced, a list option's ``a,b`` written ``["a", "b"]``,
     and the keys of ``--config FILE`` checked.
 
+    An option of an earlier version (``Parser.renamed``) is read as its option now, with a
+    warning on stderr naming it.
+
     Raises
     ------
     SystemExit
-        An option of an earlier version (``Parser.renamed``: the message names the option
-        now), or a config file key that is no option (through :meth:`Parser.error`, with
-        the valid names).
+        A config file key that is no option, or of the flat form of an earlier version
+        (through :meth:`Parser.error`, with the valid names or the names now).
     """
     valid = set(option_names(parser))
     renamed = parser.renamed if isinstance(parser, Parser) else {}
@@ -193,7 +196,9 @@ def normalize_argv(argv: Sequence[str], parser: ArgumentParser,
                 flag = "--" + flag[2:].replace("-", "_")
             elif flag in renamed or "--" + flag[2:].replace("-", "_") in renamed:
                 old = flag if flag in renamed else "--" + flag[2:].replace("-", "_")
-                parser.error(f"argument {flag}: renamed; it is {renamed[old]} now")
+                print(f"{parser.prog}: warning: {flag} is renamed; read as {renamed[old]}",
+                      file=sys.stderr)
+                flag = renamed[old]
             if flag != word.partition("=")[0]:
                 spelled[flag] = word.partition("=")[0]
         if flag == "--config" and (eq or i + 1 < len(words)):

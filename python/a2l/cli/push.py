@@ -4,7 +4,8 @@ Every field of every part of :class:`a2l.framework.FrameworkConfig` is a flag of
 commands (``--discretization.n_effects 8``, ``--learning.fixed_parents distance,orientation``;
 ``sweep`` sets ``seed`` itself), or a key of ``--config FILE``; the configuration is
 validated, variable names included, before any run directory is made. A flag of the flat
-configuration of earlier versions (``--n_orient``) is refused with its name now.
+configuration of earlier versions (``--n_orient``) is read as its name now, with a warning
+(so the commands recorded by earlier runs still run).
 """
 
 from __future__ import annotations

@@ -219,7 +219,7 @@ def record_validations(path: str | Path, runs: Mapping[str, tuple[pd.DataFrame, 
                        name: str) -> Path:
     """Push runs' validation rollouts as one Rerun recording (:mod:`a2l.rollout.recording`,
     ``a2l view``): per run (its group, e.g. ``seed/3``; ``""`` for one run alone), one
-    rollout per row of its table (:func:`a2l.acquisition.rollout.rollouts_table`), its
+    rollout per row of its table (:func:`a2l.acquisition.interactions.rollouts_table`), its
     movements, bins and effect names read from its bundle.
 
     Parameters
@@ -257,7 +257,7 @@ def _iteration_done(bars: ProgressBars, m: IterationResult) -> None:
 def _noveb_first(evaluations: int, log: dict[str, Any]) -> Any:
     """Iteration 0 by NovEB (:func:`a2l.framework.noveb_rollouts.noveb_acquire`); what it
     did goes into `log` (evaluations, interactions kept, robot movements, archive)."""
-    from a2l.acquisition.rollout import Interactions
+    from a2l.acquisition.interactions import Interactions
     from a2l.framework.noveb_rollouts import noveb_acquire
 
     def first(cfg: FrameworkConfig, executor: Executor, _iteration: int, progress: Any

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from a2l.acquisition.rollout import rollouts_table
+from a2l.acquisition.interactions import rollouts_table
 from a2l.atomic import atomic_write_text
 from a2l.errors import ConfigError
 from a2l.experiments.push import record_validations

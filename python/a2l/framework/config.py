@@ -34,13 +34,15 @@ from a2l.framework.parts import (
     StartsConfig,
 )
 from a2l.framework.starts import heldout_offsets, heldout_redraw, spread_ranks
+from a2l.rollout.env import ENV_SCENES
 from a2l.skills.discretization import DiscretizationConfig
 
 __all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "FLAT_NAMES", "PARTS",
            "SCENES", "TRAIN_FALLBACK", "FrameworkConfig", "flat_renames"]
 
-#: The framework's scenes: the C++ kinematic push model and the PyBullet push scene.
-SCENES = ("virtual", "baxter")
+#: The framework's scenes: the C++ kinematic push model and the PyBullet push scene (the
+#: names of :data:`a2l.rollout.env.ENV_SCENES`).
+SCENES = tuple(ENV_SCENES)
 
 #: Default ``directed.try_cap`` of each scene.
 DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}

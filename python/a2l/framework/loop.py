@@ -18,14 +18,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from a2l.acquisition.protocol import drive_ahead
-from a2l.acquisition.rollout import (
+from a2l.acquisition.interactions import (
     Interactions,
     Rollout,
     interaction_rows,
     rollouts_from_table,
     rollouts_table,
 )
+from a2l.acquisition.protocol import drive_ahead
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.random_babbling import BabbleTask, RandomBabbling, babble_task
 from a2l.framework.result import FrameworkResult

@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from a2l.acquisition.interactions import Rollout, effect_of
 from a2l.acquisition.noveb import NovEB, NovEBConfig
 from a2l.acquisition.protocol import drive
-from a2l.acquisition.rollout import Rollout, effect_of
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 from a2l.framework.config import FrameworkConfig
 from a2l.parallel import Executor

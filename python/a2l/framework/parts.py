@@ -74,7 +74,7 @@ class BabblingConfig:
         Most babbling trajectories tried in one acquisition.
     erase_loops : bool
         Cut the loops out of babbling trajectories
-        (:func:`a2l.acquisition.rollout.erase_loops`).
+        (:func:`a2l.acquisition.interactions.erase_loops`).
     """
 
     max_steps: int = 7

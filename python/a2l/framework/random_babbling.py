@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from a2l.acquisition.rollout import Rollout, erase_loops, play
+from a2l.acquisition.interactions import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig
 from a2l.rollout.env import scene_env
 

@@ -28,7 +28,7 @@ class FrameworkResult:
         The accepted dataset (raw rows, :mod:`a2l.data.schema`).
     validation : pandas.DataFrame
         The accepted iteration's validation rollouts
-        (:func:`a2l.acquisition.rollout.rollouts_table`).
+        (:func:`a2l.acquisition.interactions.rollouts_table`).
     heldout : list of dict
         Each iteration's held-out metrics (:func:`a2l.framework.heldout_metrics`, plus
         ``heldout_wall_s``), apart from ``iterations``: the held-out rollouts run after the

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from a2l.acquisition.rollout import Rollout
+from a2l.acquisition.interactions import Rollout
 from a2l.framework.config import FrameworkConfig
 
 __all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "heldout_metrics",
@@ -23,7 +23,7 @@ SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
 
 def outcome_of(true_effect: int, wanted: int) -> str:
     """A validation rollout's outcome, judged by what happened to the object (its true
-    effect, :attr:`a2l.acquisition.rollout.Rollout.true_effect`), not by what the robot saw:
+    effect, :attr:`a2l.acquisition.interactions.Rollout.true_effect`), not by what the robot saw:
     `SUCCESS` for the wanted effect, `FALSE_POSITIVE` for another one, `FAIL` for none."""
     if true_effect == wanted:
         return SUCCESS

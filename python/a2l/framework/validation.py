@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from a2l.acquisition.rollout import Rollout, play
+from a2l.acquisition.interactions import Rollout, play
 from a2l.errors import UnreachableError
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.scoring import SUCCESS, outcome_of

@@ -12,7 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from a2l.acquisition.rollout import Rollout, erase_loops, play
+from a2l.acquisition.interactions import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.random_babbling import random_walk
 from a2l.rollout.env import scene_env

@@ -18,7 +18,7 @@ and the rooms that run rollouts (:mod:`a2l.acquisition`, :mod:`a2l.lfd`,
 from __future__ import annotations
 
 from a2l.rollout.cache import thread_scene
-from a2l.rollout.env import SCENES, EnvSpec, SceneEnv, make_env, scene_env
+from a2l.rollout.env import ENV_SCENES, EnvSpec, SceneEnv, make_env, scene_env
 from a2l.rollout.loop import (
     FATAL_MOVES,
     Decision,
@@ -35,8 +35,8 @@ from a2l.rollout.run import SkillRun, run_skill
 from a2l.rollout.world import SceneWorld, observe
 
 __all__ = [
+    "ENV_SCENES",
     "FATAL_MOVES",
-    "SCENES",
     "ArmSceneProtocol",
     "Decision",
     "EnvSpec",

@@ -19,10 +19,10 @@ from a2l.sim import make_scene
 if TYPE_CHECKING:
     from a2l.skills.discretization import DiscretizationConfig
 
-__all__ = ["SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
+__all__ = ["ENV_SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
 
-#: Framework scene name -> a2l.sim scene name.
-SCENES = {"virtual": "virtual", "baxter": "push"}
+#: Framework scene name -> the a2l.sim scene it plays in (:data:`a2l.sim.SCENES` names those).
+ENV_SCENES = {"virtual": "virtual", "baxter": "push"}
 
 
 class SceneEnv:
@@ -85,8 +85,8 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
     observation the step's effect is measured from). With ``"ground_truth"`` the scene
     renders nothing.
     """
-    if scene not in SCENES:
-        raise ValueError(f"unknown scene {scene!r}; choose one of {sorted(SCENES)}")
+    if scene not in ENV_SCENES:
+        raise ValueError(f"unknown scene {scene!r}; choose one of {sorted(ENV_SCENES)}")
     source = source or config.get("context_source") or "perceived"
     if source not in ("ground_truth", "perceived"):
         raise ValueError(f"source: must be 'ground_truth' or 'perceived', got {source!r}")
@@ -96,7 +96,7 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
     # Rollouts place the object themselves: a random jitter on reset would make a rollout
     # depend on how many resets its process made before (and so on the worker count).
     config.setdefault("object_jitter", 0.0)
-    return SceneEnv(make_scene(SCENES[scene], seed=seed, step=step, **config), source)
+    return SceneEnv(make_scene(ENV_SCENES[scene], seed=seed, step=step, **config), source)
 
 
 class EnvSpec(Protocol):

@@ -3,7 +3,7 @@ policy (the C++ step of a skill, a random walk, a replayed prefix...) for the ne
 movement, carry it out, and again (:func:`closed_loop`).
 
 The three rooms that run rollouts use it: babbling and validation trajectories
-(:func:`a2l.acquisition.rollout.play`, a framework scene env), and the demonstrated skills
+(:func:`a2l.acquisition.interactions.play`, a framework scene env), and the demonstrated skills
 (:func:`a2l.rollout.run.run_skill`, an :mod:`a2l.sim` scene, table or DS mode). What
 differs between them is what a :class:`World` observes and does, the policy and the stop
 test; the order of the loop, its trace (:class:`SkillStep`) and its stop statuses are

@@ -252,7 +252,7 @@ def record_run(recorder: RerunRecorder, run: Any, skill: Any, object_name: str =
 
 def record_rollouts(recorder: RerunRecorder, rollouts: Sequence[Any], skill: Any,
                     group: str = "") -> int:
-    """Log trajectories of the framework (:class:`a2l.acquisition.rollout.Rollout`, or the
+    """Log trajectories of the framework (:class:`a2l.acquisition.interactions.Rollout`, or the
     rows of the validation table: ``eef`` and ``obj`` (T + 1, 3) or flattened, ``moves``
     (T,), ``start``, ``wanted``, ``outcome``, ``stop``), one rollout each (``a2l experiment
     push --record``), under `group` (:meth:`RerunRecorder.rollout`); the movement labels,

@@ -90,11 +90,6 @@ class SkillRun:
         """Movements carried out (or attempted)."""
         return sum(1 for s in self.steps if s.status == "ok")
 
-    @property
-    def trajectory(self) -> np.ndarray:
-        """End-effector positions, shape (T, 3) (same as :attr:`eef`)."""
-        return self.eef
-
 
 def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect: str,
               mode: str = "table", max_steps: int | None = None,

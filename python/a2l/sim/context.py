@@ -43,7 +43,7 @@ def low_level_state(eef: ArrayLike, position: ArrayLike) -> ObjectContext:
     p = np.asarray(position, dtype=float).reshape(3)
     rel = e - p
     dist = float(np.linalg.norm(rel))
-    # the formulas of a2l.skills.discretize and the C++ Discretizer (math.atan2: the C
+    # the formulas of a2l.skills.discretizer and the C++ Discretizer (math.atan2: the C
     # library's, as the runtime calls it)
     incl = math.atan2(math.hypot(float(rel[0]), float(rel[1])), float(rel[2]))
     return ObjectContext(

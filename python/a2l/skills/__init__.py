@@ -29,7 +29,7 @@ _EXPORTS: dict[str, str] = {
     "PolicyTable": "a2l.skills.compile",
     "compile_policy": "a2l.skills.compile",
     "relevant_evidence": "a2l.skills.compile",
-    "Discretizer": "a2l.skills.discretize",
+    "Discretizer": "a2l.skills.discretizer",
     "AXIS_EFFECTS": "a2l.skills.effects",
     "DIAGONAL_EFFECTS": "a2l.skills.effects",
     "EffectDiscretizer": "a2l.skills.effects",

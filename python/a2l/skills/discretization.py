@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from a2l.checks import check_count, check_length, check_odd_or_zero, check_range
 from a2l.errors import ConfigError
 from a2l.skills.bins import DistanceBins, InclinationBins, OffsetBins, OrientationBins
-from a2l.skills.discretize import Discretizer
+from a2l.skills.discretizer import Discretizer
 from a2l.skills.effects import EffectDiscretizer
 from a2l.skills.repertoire import MovementRepertoire
 

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from a2l.skills.compile import PolicyTable
-from a2l.skills.discretize import Discretizer
+from a2l.skills.discretizer import Discretizer
 from a2l.skills.spec import SkillSpec, VariableSpec
 
 __all__ = ["make_skill_spec"]

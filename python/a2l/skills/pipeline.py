@@ -25,7 +25,7 @@ import pandas as pd
 
 from a2l.skills.bundle import save_bundle
 from a2l.skills.compile import PolicyTable, compile_policy
-from a2l.skills.discretize import Discretizer
+from a2l.skills.discretizer import Discretizer
 from a2l.skills.ds_bundle import DSArrays
 from a2l.skills.export import make_skill_spec
 from a2l.skills.learning import learn_network

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from a2l._core import VirtualScene
-from a2l.skills.discretize import Discretizer
+from a2l.skills.discretizer import Discretizer
 from a2l.skills.repertoire import MovementRepertoire
 
 __all__ = ["KnownStructure", "known_structure_dataset", "push_dataset"]

@@ -15,9 +15,6 @@ variable                    module
 ``effect``                  :mod:`a2l.skills.effects` (:class:`EffectDiscretizer`)
 high-level state            :mod:`a2l.skills.states` (:class:`HighLevelState`)
 ==========================  ================================================================
-
-Every name of those modules is re-exported here, so ``from a2l.skills.discretize import X``
-keeps working.
 """
 
 from __future__ import annotations
@@ -42,25 +39,12 @@ from a2l.skills.bins import (
     OrientationBins,
     context_bins,
 )
-from a2l.skills.effects import AXIS_EFFECTS, DIAGONAL_EFFECTS, EffectDiscretizer
+from a2l.skills.effects import EffectDiscretizer
 from a2l.skills.repertoire import MovementRepertoire
 from a2l.skills.spec import VariableSpec
-from a2l.skills.states import HighLevelState, as_state_names, state_codes
+from a2l.skills.states import HighLevelState
 
-__all__ = [
-    "AXIS_EFFECTS",
-    "DIAGONAL_EFFECTS",
-    "Discretizer",
-    "DistanceBins",
-    "EffectDiscretizer",
-    "HighLevelState",
-    "InclinationBins",
-    "MovementRepertoire",
-    "OffsetBins",
-    "OrientationBins",
-    "as_state_names",
-    "state_codes",
-]
+__all__ = ["Discretizer"]
 
 
 @dataclass(frozen=True)
