@@ -315,7 +315,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             t = time.perf_counter()
             out = self.runner.step(eef, obj, self.cfg.effect, states)
             step_s = time.perf_counter() - t
-            rec = self.runner.state.trace()[-1].to_dict()
+            rec = self.runner.trace()[-1]
             if out.status != "ok":
                 self._trace(rec, out.status, "", step_s, None)
                 self.stop(1, out.status, f"the skill step stopped: {out.status}")
