@@ -262,6 +262,121 @@ Status Kinematics::fk_jacobian(const Eigen::Ref<const Eigen::VectorXd>& q, Eigen
   return Status::ok;
 }
 
+namespace {
+
+// The arguments of Kinematics::ik other than the seed: ok, or invalid_argument.
+Status check_ik_arguments(const Eigen::Isometry3d& target, const IkOptions& options) noexcept {
+  if (!target.matrix().allFinite() || options.max_attempts < 1 || options.max_iterations < 1 ||
+      !(options.position_tolerance > 0) || !(options.orientation_tolerance > 0)) {
+    return Status::invalid_argument;
+  }
+  return Status::ok;
+}
+
+// The weighted cost of a pose error `e`.
+double ik_cost(const Vector6& e, const Vector6& weights) noexcept {
+  return 0.5 * e.dot(weights.cwiseProduct(e));
+}
+
+// The working storage of one IK solve for `n` joints (fixed capacities: no allocation).
+struct IkScratch {
+  explicit IkScratch(int n)
+      : q(n), q_try(n), dq(n), g(n), a(n, n), ldlt(n), jac(6, n), jac_try(6, n) {}
+  JointVector q, q_try, dq, g;
+  SquareMatrix a;
+  Eigen::LDLT<SquareMatrix> ldlt;
+  Jacobian jac, jac_try;
+  Eigen::Isometry3d pose, pose_try;
+  Vector6 e, e_try;
+};
+
+// The lowest-cost point seen over the attempts, with its errors.
+struct IkBest {
+  explicit IkBest(int n) : q(n) {}
+  double cost = std::numeric_limits<double>::infinity();
+  JointVector q;
+  double position_error = 0, orientation_error = 0;
+
+  // Keeps `q` (pose error `e`) if its cost is lower.
+  void keep(double c, const JointVector& point, const Vector6& e) noexcept {
+    if (!(c < cost)) return;
+    cost = c;
+    q = point;
+    position_error = e.head<3>().norm();
+    orientation_error = e.tail<3>().norm();
+  }
+};
+
+// The acceptance of a solution: `q` (pose error `e`) within the tolerances goes into `q_out`,
+// its errors and ok into `rep`; false (nothing written) otherwise.
+bool accept(const JointVector& q, const Vector6& e, const IkOptions& options, JointVector& q_out,
+            IkReport& rep) noexcept {
+  const double ep = e.head<3>().norm();
+  const double er = e.tail<3>().norm();
+  if (!(ep < options.position_tolerance && er < options.orientation_tolerance)) return false;
+  q_out = q;
+  rep.status = Status::ok;
+  rep.position_error = ep;
+  rep.orientation_error = er;
+  return true;
+}
+
+// One Levenberg-Marquardt step with Sugihara's damping (lambda = cost + w_bar) from w.q: the
+// point tried is taken when it lowers `cost`, the damping adapted. False when the attempt
+// should restart (crawling along a limit, or stuck in a local minimum); `it` the iteration.
+template <class Forward, class Clamp>
+bool lm_step(const Forward& forward, const Clamp& clamp, const Eigen::Isometry3d& target,
+             const Vector6& weights, int it, IkScratch& w, double& cost,
+             double& damping_scale) noexcept {
+  w.a.noalias() = w.jac.transpose() * weights.asDiagonal() * w.jac;
+  w.a.diagonal().array() += damping_scale * (cost + 1e-4);
+  w.g.noalias() = w.jac.transpose() * weights.cwiseProduct(w.e);
+  w.ldlt.compute(w.a);
+  w.dq = w.ldlt.solve(w.g);
+  w.q_try = w.q + w.dq;
+  clamp(w.q_try);
+  forward(w.q_try, w.pose_try, w.jac_try);
+  pose_error(target, w.pose_try, w.e_try);
+  const double cost_try = ik_cost(w.e_try, weights);
+  if (cost_try < cost) {
+    w.q.swap(w.q_try);
+    w.jac.swap(w.jac_try);
+    w.e = w.e_try;
+    const bool slow = cost_try > 0.98 * cost && cost_try > 1e-10;
+    cost = cost_try;
+    damping_scale = std::max(damping_scale * 0.5, 1e-3);
+    if (slow && it > 10) return false;  // crawling along a limit: restart
+  } else {
+    damping_scale *= 8.0;
+    if (damping_scale > 1e4) return false;  // stuck in a local minimum: restart
+  }
+  return true;
+}
+
+// One attempt's descent from w.q: true when it accepted a solution (into `q_out` and `rep`),
+// else its points' best kept in `best`; the iterations counted in `rep`.
+template <class Forward, class Clamp>
+bool descend(const Forward& forward, const Clamp& clamp, const Eigen::Isometry3d& target,
+             const Vector6& weights, const IkOptions& options, IkScratch& w, IkBest& best,
+             JointVector& q_out, IkReport& rep) noexcept {
+  forward(w.q, w.pose, w.jac);
+  pose_error(target, w.pose, w.e);
+  double cost = ik_cost(w.e, weights);
+  double damping_scale = 1.0;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    best.keep(cost, w.q, w.e);
+    if (accept(w.q, w.e, options, q_out, rep)) return true;
+    ++rep.iterations;
+    if (!lm_step(forward, clamp, target, weights, it, w, cost, damping_scale)) break;
+  }
+  // Evaluate the last point of this attempt too.
+  if (accept(w.q, w.e, options, q_out, rep)) return true;
+  best.keep(cost, w.q, w.e);
+  return false;
+}
+
+}  // namespace
+
 Status Kinematics::ik(const Eigen::Isometry3d& target,
                       const Eigen::Ref<const Eigen::VectorXd>& q_seed, JointVector& q_out,
                       const IkOptions& options, IkReport* report) const noexcept {
@@ -269,32 +384,21 @@ Status Kinematics::ik(const Eigen::Isometry3d& target,
   IkReport& rep = report ? *report : local;
   rep = IkReport();
   Status s = check(q_seed);
+  if (s == Status::ok) s = check_ik_arguments(target, options);
   if (s != Status::ok) {
     rep.status = s;
     return s;
   }
-  if (!target.matrix().allFinite() || options.max_attempts < 1 || options.max_iterations < 1 ||
-      !(options.position_tolerance > 0) || !(options.orientation_tolerance > 0)) {
-    rep.status = Status::invalid_argument;
-    return rep.status;
-  }
   const double w_rot = options.orientation_weight * options.orientation_weight;
   Vector6 weights;
   weights << 1, 1, 1, w_rot, w_rot, w_rot;
-  const double tol_p = options.position_tolerance;
-  const double tol_r = options.orientation_tolerance;
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-
-  JointVector q(n_), q_try(n_), best(n_), dq(n_), g(n_);
-  SquareMatrix a(n_, n_);
-  Eigen::LDLT<SquareMatrix> ldlt(n_);
-  Jacobian jac(6, n_), jac_try(6, n_);
-  Eigen::Isometry3d pose, pose_try;
-  Vector6 e, e_try;
-  double best_cost = std::numeric_limits<double>::infinity();
-  double best_p = 0, best_r = 0;
-
+  IkScratch w(n_);
+  IkBest best(n_);
+  auto forward_jacobian = [this](const JointVector& q, Eigen::Isometry3d& pose, Jacobian& jac) {
+    forward<true>(q, pose, &jac);
+  };
   auto clamp = [&](JointVector& v) {
     for (int i = 0; i < n_; ++i) v[i] = std::min(std::max(v[i], lower_[i]), upper_[i]);
   };
@@ -305,81 +409,22 @@ Status Kinematics::ik(const Eigen::Isometry3d& target,
       v[i] = lo + (hi - lo) * unit(rng);
     }
   };
-
   for (int attempt = 0; attempt < options.max_attempts; ++attempt) {
     rep.attempts = attempt + 1;
     if (attempt == 0) {
-      q = q_seed;
-      clamp(q);
+      w.q = q_seed;
+      clamp(w.q);
     } else {
-      sample(q);
+      sample(w.q);
     }
-    forward<true>(q, pose, &jac);
-    pose_error(target, pose, e);
-    double cost = 0.5 * e.dot(weights.cwiseProduct(e));
-    double damping_scale = 1.0;
-    for (int it = 0; it < options.max_iterations; ++it) {
-      const double ep = e.head<3>().norm();
-      const double er = e.tail<3>().norm();
-      if (cost < best_cost) {
-        best_cost = cost;
-        best = q;
-        best_p = ep;
-        best_r = er;
-      }
-      if (ep < tol_p && er < tol_r) {
-        q_out = q;
-        rep.status = Status::ok;
-        rep.position_error = ep;
-        rep.orientation_error = er;
-        return Status::ok;
-      }
-      ++rep.iterations;
-      // Levenberg-Marquardt step with Sugihara's damping: lambda = cost + w_bar.
-      a.noalias() = jac.transpose() * weights.asDiagonal() * jac;
-      a.diagonal().array() += damping_scale * (cost + 1e-4);
-      g.noalias() = jac.transpose() * weights.cwiseProduct(e);
-      ldlt.compute(a);
-      dq = ldlt.solve(g);
-      q_try = q + dq;
-      clamp(q_try);
-      forward<true>(q_try, pose_try, &jac_try);
-      pose_error(target, pose_try, e_try);
-      const double cost_try = 0.5 * e_try.dot(weights.cwiseProduct(e_try));
-      if (cost_try < cost) {
-        q.swap(q_try);
-        jac.swap(jac_try);
-        e = e_try;
-        const bool slow = cost_try > 0.98 * cost && cost_try > 1e-10;
-        cost = cost_try;
-        damping_scale = std::max(damping_scale * 0.5, 1e-3);
-        if (slow && it > 10) break;  // crawling along a limit: restart
-      } else {
-        damping_scale *= 8.0;
-        if (damping_scale > 1e4) break;  // stuck in a local minimum: restart
-      }
-    }
-    // Evaluate the last point of this attempt too.
-    const double ep = e.head<3>().norm();
-    const double er = e.tail<3>().norm();
-    if (ep < tol_p && er < tol_r) {
-      q_out = q;
-      rep.status = Status::ok;
-      rep.position_error = ep;
-      rep.orientation_error = er;
+    if (descend(forward_jacobian, clamp, target, weights, options, w, best, q_out, rep)) {
       return Status::ok;
     }
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = q;
-      best_p = ep;
-      best_r = er;
-    }
   }
-  q_out = best;
+  q_out = best.q;
   rep.status = Status::unreachable;
-  rep.position_error = best_p;
-  rep.orientation_error = best_r;
+  rep.position_error = best.position_error;
+  rep.orientation_error = best.orientation_error;
   return Status::unreachable;
 }
 
