@@ -77,6 +77,126 @@ def _moved(ev: Evaluation) -> bool:
     return any(np.hypot(dx, dy) > MOVED for dx, dy in ev.displacement.values())
 
 
+def _check_arguments(method: str, evaluations: int, generation_size: int) -> None:
+    if method not in METHODS:
+        raise ValueError(f"method: unknown {method!r}; choose one of {list(METHODS)}")
+    if evaluations < 1 or generation_size < 1:
+        raise ValueError(f"evaluations and generation_size must be >= 1, got {evaluations}, "
+                         f"{generation_size}")
+
+
+def _write_config(run_dir: Path, method: str, evaluations: int, seed: int, scene: str,
+                  generation_size: int, wcfg: WorldConfig) -> str:
+    """Write ``config.json``; return the command line that reruns the run."""
+    command = command_line(
+        ["a2l", "experiment", "babbling", "--method", method, "--evaluations", evaluations,
+         "--seed", seed, "--scene", scene, "--generation-size", generation_size, "--out",
+         run_dir], wcfg, skip=("scene", "seed"), prefix="world.")
+    write_json(run_dir / "config.json", {
+        "experiment": "babbling", "method": method, "evaluations": evaluations, "seed": seed,
+        "scene": scene, "generation_size": generation_size, "world": asdict(wcfg),
+        "command": command, "seed_use": seed_record("babbling", [seed])})
+    return command
+
+
+def _evaluation_row(index: int, generation: int, g: np.ndarray,
+                    e: Evaluation) -> dict[str, Any]:
+    """The row of ``evaluations.parquet`` of evaluation `e` of genotype `g`."""
+    return {"evaluation": index, "generation": generation,
+            "genotype": [float(v) for v in g], "moved": _moved(e),
+            "moves": e.moves,
+            **{f"d{n}": float(np.hypot(*d)) for n, d in e.displacement.items()},
+            **{f"{a}_{n}": float(v) for n, xy in e.final.items()
+               for a, v in zip("xy", xy, strict=True)}}
+
+
+class _Babble:
+    """What a babbling run accumulates, batch after batch: the evaluations' rows and paths,
+    the outcomes reached, the generations' metrics and the time spent evaluating."""
+
+    def __init__(self, strategy: Strategy, wd: dict[str, Any], label: str,
+                 evaluations: int) -> None:
+        self.strategy, self.wd, self.label, self.evaluations = (strategy, wd, label,
+                                                                evaluations)
+        self.records: list[dict[str, Any]] = []
+        self.paths: list[np.ndarray] = []
+        self.reached: set[tuple[str, str, int, int]] = set()
+        self.generations: list[dict[str, Any]] = []
+        self.eval_s = 0.0
+
+    def evaluate(self, executor: Executor, asked: Sequence[np.ndarray]) -> list[Evaluation]:
+        t = time.perf_counter()
+        evs: list[Evaluation] = executor.map(evaluate_task, [(self.wd, g) for g in asked])
+        self.eval_s += time.perf_counter() - t
+        return evs
+
+    def tally(self, bars: ProgressBars, asked: Sequence[np.ndarray],
+              evs: Sequence[Evaluation]) -> None:
+        records, reached, generations = self.records, self.reached, self.generations
+        moved = 0
+        for g, e in zip(asked, evs, strict=True):
+            reached.update(outcome_keys(e))
+            moved += _moved(e)
+            records.append(_evaluation_row(len(records), len(generations), g, e))
+            self.paths.append(e.path)
+        strategy = self.strategy
+        archive = len(strategy.archive) if isinstance(strategy, NovEB) else None
+        generations.append({
+            "generation": len(generations), "evaluations": len(records),
+            "moved_share": moved / len(evs),
+            "moved_share_so_far": float(np.mean([r["moved"] for r in records])),
+            "distinct_outcomes": len(reached), "archive_size": archive})
+        bars.update(self.label, len(records), self.evaluations,
+                    f"moved {generations[-1]['moved_share_so_far']:.0%}, "
+                    f"outcomes {len(reached)}")
+
+    def run(self, generation_size: int, workers: int, cluster: str | None,
+            quiet: bool) -> None:
+        with Executor(workers=workers, cluster=cluster) as executor, \
+                ProgressBars(quiet) as bars:
+            bars.update(self.label, 0, self.evaluations)
+            drive(self.strategy, lambda asked: self.evaluate(executor, asked),
+                  generation_size, told=lambda evs: np.array([e.descriptor for e in evs]),
+                  on_batch=lambda asked, evs: self.tally(bars, asked, evs))
+
+
+def _totals(babble: _Babble, df: pd.DataFrame, wall: float) -> dict[str, Any]:
+    """The ``totals`` of ``metrics.json``."""
+    records, eval_s, strategy = babble.records, babble.eval_s, babble.strategy
+    totals = {"evaluations": len(records), "moved": int(df["moved"].sum()),
+              "moved_share": float(df["moved"].mean()),
+              "distinct_outcomes": len(babble.reached),
+              "archive_size": babble.generations[-1]["archive_size"],
+              "movements": int(df["moves"].sum()), "wall_s": wall,
+              "evaluations_per_s": len(records) / eval_s if eval_s > 0 else float("nan")}
+    if isinstance(strategy, NovEB):
+        totals["threshold"] = strategy.threshold.value
+    return totals
+
+
+def _record_run(record: str | Path, run_dir: Path) -> None:
+    from a2l.rollout.recording import RerunRecorder
+
+    rec = RerunRecorder(record, name="a2l experiment babbling")
+    record_babbling(rec, run_dir)
+    rec.close()
+
+
+def _write_report(run_dir: Path, method: str, scene: str, seed: int, n: int,
+                  totals: dict[str, Any], wall: float, workers: int, command: str) -> None:
+    atomic_write_text(run_dir / "report.md", mark_report("\n".join([
+        f"# Babbling: {method} on {scene} (seed {seed}, {n} evaluations)", "",
+        f"Evaluations that moved an object: **{totals['moved']}** "
+        f"({totals['moved_share']:.1%}); distinct outcomes: "
+        f"**{totals['distinct_outcomes']}**"
+        + (f"; archive: {totals['archive_size']}" if totals["archive_size"] is not None
+           else "") + f". Wall time {wall:.0f} s ({totals['evaluations_per_s']:.2f} "
+        f"evaluations/s, {workers} worker(s)).", "",
+        "![end-effector positions visited](visits.png)", "",
+        "![moved share and distinct outcomes](progress.png)", "",
+        f"Rerun: `{command}`.", ""]), seed_record("babbling", [seed])))
+
+
 def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
                  out: str | Path | None = None, workers: int = 1, cluster: str | None = None,
                  generation_size: int = 20, quiet: bool = False, plots: bool = True,
@@ -116,105 +236,36 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
     dict
         The content of ``metrics.json`` plus ``run_dir``.
     """
-    if method not in METHODS:
-        raise ValueError(f"method: unknown {method!r}; choose one of {list(METHODS)}")
-    if evaluations < 1 or generation_size < 1:
-        raise ValueError(f"evaluations and generation_size must be >= 1, got {evaluations}, "
-                         f"{generation_size}")
+    _check_arguments(method, evaluations, generation_size)
     base = asdict(world) if world is not None else {}
     wcfg = WorldConfig(**{**base, "scene": scene, "seed": seed})
     run_dir = make_run_dir(f"babbling-{method}-{scene}", out)
-    command = command_line(
-        ["a2l", "experiment", "babbling", "--method", method, "--evaluations", evaluations,
-         "--seed", seed, "--scene", scene, "--generation-size", generation_size, "--out",
-         run_dir], wcfg, skip=("scene", "seed"), prefix="world.")
-    write_json(run_dir / "config.json", {
-        "experiment": "babbling", "method": method, "evaluations": evaluations, "seed": seed,
-        "scene": scene, "generation_size": generation_size, "world": asdict(wcfg),
-        "command": command, "seed_use": seed_record("babbling", [seed])})
+    command = _write_config(run_dir, method, evaluations, seed, scene, generation_size, wcfg)
     n_genes = 3 * wcfg.n_waypoints
     strategy = make_strategy(method, n_genes, seed, evaluations, generation_size)
-    wd = asdict(wcfg)
-    records: list[dict[str, Any]] = []
-    paths: list[np.ndarray] = []
-    reached: set[tuple[str, str, int, int]] = set()
-    generations: list[dict[str, Any]] = []
+    babble = _Babble(strategy, asdict(wcfg), f"{method} on {scene}", evaluations)
     t0 = time.perf_counter()
-    eval_s = 0.0
-    label = f"{method} on {scene}"
-
-    def evaluate(asked: Sequence[np.ndarray]) -> list[Evaluation]:
-        nonlocal eval_s
-        t = time.perf_counter()
-        evs: list[Evaluation] = executor.map(evaluate_task, [(wd, g) for g in asked])
-        eval_s += time.perf_counter() - t
-        return evs
-
-    def tally(asked: Sequence[np.ndarray], evs: Sequence[Evaluation]) -> None:
-        moved = 0
-        for g, e in zip(asked, evs, strict=True):
-            reached.update(outcome_keys(e))
-            moved += _moved(e)
-            records.append({"evaluation": len(records), "generation": len(generations),
-                            "genotype": [float(v) for v in g], "moved": _moved(e),
-                            "moves": e.moves,
-                            **{f"d{n}": float(np.hypot(*d)) for n, d in e.displacement.items()},
-                            **{f"{a}_{n}": float(v) for n, xy in e.final.items()
-                               for a, v in zip("xy", xy, strict=True)}})
-            paths.append(e.path)
-        archive = len(strategy.archive) if isinstance(strategy, NovEB) else None
-        generations.append({
-            "generation": len(generations), "evaluations": len(records),
-            "moved_share": moved / len(evs),
-            "moved_share_so_far": float(np.mean([r["moved"] for r in records])),
-            "distinct_outcomes": len(reached), "archive_size": archive})
-        bars.update(label, len(records), evaluations,
-                    f"moved {generations[-1]['moved_share_so_far']:.0%}, "
-                    f"outcomes {len(reached)}")
-
-    with Executor(workers=workers, cluster=cluster) as executor, \
-            ProgressBars(quiet) as bars:
-        bars.update(label, 0, evaluations)
-        drive(strategy, evaluate, generation_size,
-              told=lambda evs: np.array([e.descriptor for e in evs]), on_batch=tally)
+    babble.run(generation_size, workers, cluster, quiet)
     wall = time.perf_counter() - t0
+    records, paths = babble.records, babble.paths
     df = pd.DataFrame(records)
     df.to_parquet(run_dir / "evaluations.parquet", index=False)
     np.savez_compressed(run_dir / "paths.npz", *paths)
-    totals = {"evaluations": len(records), "moved": int(df["moved"].sum()),
-              "moved_share": float(df["moved"].mean()), "distinct_outcomes": len(reached),
-              "archive_size": generations[-1]["archive_size"],
-              "movements": int(df["moves"].sum()), "wall_s": wall,
-              "evaluations_per_s": len(records) / eval_s if eval_s > 0 else float("nan")}
-    if isinstance(strategy, NovEB):
-        totals["threshold"] = strategy.threshold.value
+    totals = _totals(babble, df, wall)
     metrics = {"experiment": "babbling", "method": method, "scene": scene, "seed": seed,
-               "generation_size": generation_size, "generations": generations,
+               "generation_size": generation_size, "generations": babble.generations,
                "totals": totals, "workers": workers, "cluster": cluster}
     write_json(run_dir / "metrics.json", metrics)
     if record is not None:
-        from a2l.rollout.recording import RerunRecorder
-
-        rec = RerunRecorder(record, name="a2l experiment babbling")
-        record_babbling(rec, run_dir)
-        rec.close()
+        _record_run(record, run_dir)
     if plots:
         plot_visits({method: paths}, wcfg, run_dir / "visits.png")
         plot_progress({method: [metrics]}, run_dir / "progress.png")
-    atomic_write_text(run_dir / "report.md", mark_report("\n".join([
-        f"# Babbling: {method} on {scene} (seed {seed}, {len(records)} evaluations)", "",
-        f"Evaluations that moved an object: **{totals['moved']}** "
-        f"({totals['moved_share']:.1%}); distinct outcomes: **{len(reached)}**"
-        + (f"; archive: {totals['archive_size']}" if totals["archive_size"] is not None
-           else "") + f". Wall time {wall:.0f} s ({totals['evaluations_per_s']:.2f} "
-        f"evaluations/s, {workers} worker(s)).", "",
-        "![end-effector positions visited](visits.png)", "",
-        "![moved share and distinct outcomes](progress.png)", "",
-        f"Rerun: `{command}`.", ""]), seed_record("babbling", [seed])))
+    _write_report(run_dir, method, scene, seed, len(records), totals, wall, workers, command)
     if not quiet:
         print(f"{method} on {scene}, seed {seed}: moved {totals['moved_share']:.1%} of "
-              f"{len(records)} evaluations, {len(reached)} distinct outcomes; run directory: "
-              f"{run_dir}")
+              f"{len(records)} evaluations, {len(babble.reached)} distinct outcomes; "
+              f"run directory: {run_dir}")
     return {**metrics, "run_dir": str(run_dir)}
 
 

@@ -179,6 +179,51 @@ def _plot(cells: pd.DataFrame, chosen: dict[str, Any], path: Path) -> None:
     atomic_write_bytes(path, buf.getvalue())
 
 
+def _write_config(run_dir: Path, names: list[str], trials: int, seed: int, scene: str,
+                  workers: int, values: dict[str, Sequence[Any]], base: LfDConfig | None,
+                  seeds: list[int]) -> None:
+    """Write the study's ``config.json``, with the command that reruns it."""
+    from a2l.rundir import command_line, write_json
+    from a2l.seeds import seed_record
+
+    words = ["a2l", "experiment", "parametrization", "--out", run_dir, "--skills",
+             ",".join(names), "--trials", trials, "--seed", seed, "--scene", scene,
+             "--workers", workers]
+    for key, option in GRID_OPTIONS.items():
+        words += [option, ",".join(("on" if v else "off") if key == "smoothing" else str(v)
+                                   for v in values[key])]
+    write_json(run_dir / "config.json", {
+        "experiment": "parametrization", "skills": names, "trials": trials, "seed": seed,
+        "scene": scene, "workers": workers, "grid": {k: list(v) for k, v in values.items()},
+        "base": None if base is None else base.to_json(),
+        "command": command_line(words, base, prefix="lfd."),
+        "seed_use": seed_record("parametrization", seeds)})
+
+
+def _report_lines(cells: pd.DataFrame, chosen: dict[str, Any], own: dict[str, Any],
+                  agrees: bool, names: list[str], scene: str, n_cells: int, trials: int,
+                  seeds: list[int], wall_s: float) -> list[str]:
+    """``report.md``'s lines: the selection, the skills' own configurations and a row per
+    cell (best first within a skill)."""
+    lines = [f"# Parametrization study ({', '.join(names)}; {scene})", "",
+             f"{n_cells} cells x {trials} trials (seeds {seeds[0]}-{seeds[-1]}); "
+             f"{wall_s:.0f} s.", "",
+             "Selected (highest mean success, then fewest movements per action, then "
+             f"smallest table, then coarsest grid): {chosen}.",
+             f"The skills' configurations (a2l.lfd.library.skill_config: DEFAULT unless a "
+             f"recipe has its own) are {own}: "
+             + ("the same." if agrees else "**different**: not what this run selects."),
+             "", "![success over bins](parametrization.png)", "",
+             "| skill | resolution (cm) | step (cm) | orient | dist | smoothing | success | "
+             "movements/action | rows | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in cells.sort_values(["skill", "success_rate"], ascending=[True, False]).itertuples():
+        lines.append(f"| {r.skill} | {r.resolution * 100:g} | {r.step * 100:g} | "
+                     f"{r.n_orient} | {r.n_dist} | {'on' if r.smoothing else 'off'} | "
+                     f"{r.success_rate:.2f} | {r.movements_per_action:.1f} | {r.rows} | "
+                     f"{r.failures or '-'} |")
+    return lines
+
+
 def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                         grid: dict[str, Sequence[Any]] | None = None, trials: int = 20,
                         seed: int = 500, scene: str = "baxter", workers: int = 1,
@@ -193,7 +238,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
-    from a2l.rundir import command_line, make_run_dir, write_json
+    from a2l.rundir import make_run_dir, write_json
     from a2l.seeds import mark_report, seed_record
 
     names = list(skills or [n for n in ("push_right", "grasp") if n in SKILLS])
@@ -204,18 +249,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     combos = list(itertools.product(*(values[k] for k in DEFAULT_GRID)))
     run_dir = make_run_dir("parametrization", out)
     seeds = list(range(seed, seed + trials))
-    words = ["a2l", "experiment", "parametrization", "--out", run_dir, "--skills",
-             ",".join(names), "--trials", trials, "--seed", seed, "--scene", scene,
-             "--workers", workers]
-    for key, option in GRID_OPTIONS.items():
-        words += [option, ",".join(("on" if v else "off") if key == "smoothing" else str(v)
-                                   for v in values[key])]
-    write_json(run_dir / "config.json", {
-        "experiment": "parametrization", "skills": names, "trials": trials, "seed": seed,
-        "scene": scene, "workers": workers, "grid": {k: list(v) for k, v in values.items()},
-        "base": None if base is None else base.to_json(),
-        "command": command_line(words, base, prefix="lfd."),
-        "seed_use": seed_record("parametrization", seeds)})
+    _write_config(run_dir, names, trials, seed, scene, workers, values, base, seeds)
     tasks = []
     for name in names:
         for i, combo in enumerate(combos):
@@ -246,22 +280,8 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
                "default_is_selected": agrees, "wall_s": time.perf_counter() - t0}
     write_json(run_dir / "metrics.json", metrics)
     _plot(cells, chosen, run_dir / "parametrization.png")
-    lines = [f"# Parametrization study ({', '.join(names)}; {scene})", "",
-             f"{len(combos)} cells x {trials} trials (seeds {seeds[0]}-{seeds[-1]}); "
-             f"{metrics['wall_s']:.0f} s.", "",
-             "Selected (highest mean success, then fewest movements per action, then "
-             f"smallest table, then coarsest grid): {chosen}.",
-             f"The skills' configurations (a2l.lfd.library.skill_config: DEFAULT unless a "
-             f"recipe has its own) are {own}: "
-             + ("the same." if agrees else "**different**: not what this run selects."),
-             "", "![success over bins](parametrization.png)", "",
-             "| skill | resolution (cm) | step (cm) | orient | dist | smoothing | success | "
-             "movements/action | rows | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
-    for r in cells.sort_values(["skill", "success_rate"], ascending=[True, False]).itertuples():
-        lines.append(f"| {r.skill} | {r.resolution * 100:g} | {r.step * 100:g} | "
-                     f"{r.n_orient} | {r.n_dist} | {'on' if r.smoothing else 'off'} | "
-                     f"{r.success_rate:.2f} | {r.movements_per_action:.1f} | {r.rows} | "
-                     f"{r.failures or '-'} |")
+    lines = _report_lines(cells, chosen, own, agrees, names, scene, len(combos), trials,
+                          seeds, metrics["wall_s"])
     atomic_write_text(run_dir / "report.md", mark_report(
         "\n".join(lines) + "\n", seed_record("parametrization", seeds)))
     if not quiet:

@@ -38,7 +38,7 @@ from a2l.experiments.push_report import (
     results_table,
     with_heldout,
 )
-from a2l.framework import FrameworkConfig, IterationResult, run_framework
+from a2l.framework import FrameworkConfig, FrameworkResult, IterationResult, run_framework
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars, print_tables
 from a2l.rundir import command_line, make_run_dir, read_json, write_json
@@ -111,32 +111,11 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         The content of ``metrics.json`` plus ``run_dir``.
     """
     if resume is not None:
-        run_dir = Path(resume)
-        if not (run_dir / "config.json").is_file():
-            raise FileNotFoundError(f"cannot resume: '{run_dir}/config.json' does not exist")
-        saved = read_json(run_dir / "config.json")
-        cfg = FrameworkConfig.from_dict(saved["framework"])
-        acq = saved.get("acquisition", {"method": "random"})
-        acquisition = acq["method"]
-        noveb_evaluations = int(acq.get("evaluations", noveb_evaluations))
+        run_dir, cfg, acquisition, noveb_evaluations = _resumed(Path(resume),
+                                                                noveb_evaluations)
     else:
         cfg = cfg or FrameworkConfig()
-        if acquisition not in ("random", "noveb"):
-            raise ValueError(f"acquisition: unknown {acquisition!r}; choose 'random' or "
-                             "'noveb'")
-        if noveb_evaluations < 1:
-            raise ValueError(f"noveb_evaluations: must be >= 1, got {noveb_evaluations}")
-        run_dir = make_run_dir(f"push-{cfg.scene}", out)
-        write_json(run_dir / "config.json", {
-            "experiment": "push", "framework": cfg.to_dict(),
-            **({"acquisition": {"method": acquisition, "evaluations": noveb_evaluations}}
-               if acquisition != "random" else {}),
-            "command": command_line(
-                ["a2l", "experiment", "push", "--out", run_dir]
-                + (["--acquisition", acquisition, "--noveb-evaluations", noveb_evaluations]
-                   if acquisition != "random" else []), cfg),
-            "seed_use": seed_record("push", [cfg.seed]),
-        })
+        run_dir = _new_run(cfg, out, acquisition, noveb_evaluations)
     t0 = time.perf_counter()
     noveb_log: dict[str, Any] = {}
     if executor is not None:
@@ -158,6 +137,66 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
         miss_lines = misses_markdown(table, len(result.heldout_validation),
                                      figure=plots)
     metrics = {
+        **_metrics(cfg, result, history, table, run_dir, final),
+        "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
+        **({"acquisition": {"method": acquisition, **noveb_log}}
+           if acquisition != "random" else {}),
+    }
+    write_json(run_dir / "metrics.json", metrics)
+    if record is not None:
+        record_validations(record, {"": (result.validation, final)},
+                           name="a2l experiment push")
+    if plots:
+        _plot_run(cfg, result, history, table, run_dir, final)
+    atomic_write_text(run_dir / "report.md", mark_report(
+        report_markdown(cfg, result, run_dir, history, miss_lines=miss_lines),
+        seed_record("push", [cfg.seed])))
+    if not quiet:
+        print_tables(results_table(history))
+        print(_summary_line(cfg, result, run_dir))
+    return {**metrics, "run_dir": str(run_dir)}
+
+
+def _resumed(run_dir: Path, noveb_evaluations: int
+             ) -> tuple[Path, FrameworkConfig, str, int]:
+    """An interrupted run's directory, configuration, acquisition and NovEB budget, read
+    from its ``config.json``."""
+    if not (run_dir / "config.json").is_file():
+        raise FileNotFoundError(f"cannot resume: '{run_dir}/config.json' does not exist")
+    saved = read_json(run_dir / "config.json")
+    acq = saved.get("acquisition", {"method": "random"})
+    return (run_dir, FrameworkConfig.from_dict(saved["framework"]), acq["method"],
+            int(acq.get("evaluations", noveb_evaluations)))
+
+
+def _new_run(cfg: FrameworkConfig, out: str | Path | None, acquisition: str,
+             noveb_evaluations: int) -> Path:
+    """Check the acquisition arguments, make the run directory and write its
+    ``config.json`` (with the command that reruns it)."""
+    if acquisition not in ("random", "noveb"):
+        raise ValueError(f"acquisition: unknown {acquisition!r}; choose 'random' or "
+                         "'noveb'")
+    if noveb_evaluations < 1:
+        raise ValueError(f"noveb_evaluations: must be >= 1, got {noveb_evaluations}")
+    run_dir = make_run_dir(f"push-{cfg.scene}", out)
+    write_json(run_dir / "config.json", {
+        "experiment": "push", "framework": cfg.to_dict(),
+        **({"acquisition": {"method": acquisition, "evaluations": noveb_evaluations}}
+           if acquisition != "random" else {}),
+        "command": command_line(
+            ["a2l", "experiment", "push", "--out", run_dir]
+            + (["--acquisition", acquisition, "--noveb-evaluations", noveb_evaluations]
+               if acquisition != "random" else []), cfg),
+        "seed_use": seed_record("push", [cfg.seed]),
+    })
+    return run_dir
+
+
+def _metrics(cfg: FrameworkConfig, result: FrameworkResult, history: list[dict[str, Any]],
+             table: pd.DataFrame | None, run_dir: Path, final: Path) -> dict[str, Any]:
+    """The results part of ``metrics.json`` (the run's wall time, workers and acquisition
+    are added by the caller)."""
+    return {
         "experiment": "push", "scene": cfg.scene, "n_effects": cfg.discretization.n_effects,
         "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
         "heldout_success": result.heldout_success,
@@ -168,39 +207,36 @@ def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | No
                     "r_high": cfg.heldout.r_high},
         **({"heldout_miss_causes": miss_causes(table)} if table is not None else {}),
         "bundle": str(final.relative_to(run_dir)),
-        "wall_s": time.perf_counter() - t0, "workers": workers, "cluster": cluster,
-        **({"acquisition": {"method": acquisition, **noveb_log}}
-           if acquisition != "random" else {}),
     }
-    write_json(run_dir / "metrics.json", metrics)
-    if record is not None:
-        record_validations(record, {"": (result.validation, final)},
-                           name="a2l experiment push")
-    if plots:
-        plot_scores(history, run_dir / "score.png")
-        plot_trajectories(cfg, result.validation, run_dir / "trajectories.png")
-        if result.heldout_score is not None:
-            plot_trajectories(cfg, result.heldout_validation,
-                              run_dir / "heldout_trajectories.png",
-                              title="Held-out trajectories")
-        plot_policy(cfg, final, run_dir / "policy.png")
-        if table is not None and not table.empty:
-            plot_misses(cfg, result.heldout_validation, table,
-                        run_dir / "heldout_misses.png")
-    atomic_write_text(run_dir / "report.md", mark_report(
-        report_markdown(cfg, result, run_dir, history, miss_lines=miss_lines),
-        seed_record("push", [cfg.seed])))
-    if not quiet:
-        print_tables(results_table(history))
-        held, rate = result.heldout_score, result.heldout_success
-        print((f"held-out success {rate:.1%} ("
-               + ", ".join(f"{e} {v:.0%}" for e, v in result.heldout_success_rate.items())
-               + "); " if rate is not None else "")
-              + f"final score {result.final_score:.1f}"
-              + (f" (held-out {held:.1f})" if held is not None else "")
-              + f"; context: {context_label(cfg)}"
-              + f"; run directory: {run_dir}")
-    return {**metrics, "run_dir": str(run_dir)}
+
+
+def _plot_run(cfg: FrameworkConfig, result: FrameworkResult, history: list[dict[str, Any]],
+              table: pd.DataFrame | None, run_dir: Path, final: Path) -> None:
+    """``score.png``, ``trajectories.png``, ``policy.png`` and, with held-out starts,
+    ``heldout_trajectories.png`` and ``heldout_misses.png``."""
+    plot_scores(history, run_dir / "score.png")
+    plot_trajectories(cfg, result.validation, run_dir / "trajectories.png")
+    if result.heldout_score is not None:
+        plot_trajectories(cfg, result.heldout_validation,
+                          run_dir / "heldout_trajectories.png",
+                          title="Held-out trajectories")
+    plot_policy(cfg, final, run_dir / "policy.png")
+    if table is not None and not table.empty:
+        plot_misses(cfg, result.heldout_validation, table,
+                    run_dir / "heldout_misses.png")
+
+
+def _summary_line(cfg: FrameworkConfig, result: FrameworkResult, run_dir: Path) -> str:
+    """The line printed after the results table: held-out success per effect, the final
+    score, the context source and the run directory."""
+    held, rate = result.heldout_score, result.heldout_success
+    return ((f"held-out success {rate:.1%} ("
+             + ", ".join(f"{e} {v:.0%}" for e, v in result.heldout_success_rate.items())
+             + "); " if rate is not None else "")
+            + f"final score {result.final_score:.1f}"
+            + (f" (held-out {held:.1f})" if held is not None else "")
+            + f"; context: {context_label(cfg)}"
+            + f"; run directory: {run_dir}")
 
 
 def final_validation(run_dir: str | Path, table: str = "validation"

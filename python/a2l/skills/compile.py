@@ -234,6 +234,38 @@ def compile_policy(
         Unknown target or evidence variable, target among the evidence, a missing CPD,
         inconsistent state names, or a single slice that cannot fit in `memory_budget`.
     """
+    evidence = _checked_evidence(network, target, evidence, memory_budget)
+    relevant, hidden, kept = relevant_evidence(network, target, evidence)
+    states, operands = _factors(network, kept, {target} | hidden)
+    axes = [*relevant, target]
+    if len(axes) + len(hidden) > 52:
+        raise ValueError(f"too many variables for one einsum: {len(axes) + len(hidden)} > 52")
+    card = {v: len(states[v]) for v in [*axes, *hidden]}
+    out = _posteriors(operands, relevant, target, hidden, card, memory_budget)
+    n_t = card[target]
+    total = out.sum(axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out /= total
+    out[~np.isfinite(out).all(axis=-1)] = 1.0 / n_t  # evidence of probability 0: no information
+    uniform = np.all(np.abs(out - 1.0 / n_t) <= uniform_tolerance, axis=-1)
+    best = np.argmax(out >= out.max(axis=-1, keepdims=True) - TIE_TOLERANCE, axis=-1)
+    argmax = np.where(uniform, -1, best).astype(np.int32)
+    return PolicyTable(
+        target=target,
+        target_states=list(states[target]),
+        variables=relevant,
+        states={v: list(states[v]) for v in relevant},
+        values=out,
+        argmax_indices=argmax,
+        ignored=[e for e in evidence if e not in relevant],
+        uniform_tolerance=uniform_tolerance,
+    )
+
+
+def _checked_evidence(network: DiscreteBayesianNetwork, target: str,
+                      evidence: Sequence[str] | None, memory_budget: int) -> list[str]:
+    """The evidence variables (default: every variable but `target`, in node order), after
+    checking them, the target and the memory budget."""
     nodes = set(network.nodes())
     if target not in nodes:
         raise ValueError(f"target {target!r} is not a variable of the network")
@@ -249,9 +281,13 @@ def compile_policy(
         raise ValueError(f"evidence variables repeat: {evidence}")
     if not memory_budget > 0:
         raise ValueError(f"memory_budget must be positive, got {memory_budget}")
+    return evidence
 
-    relevant, hidden, kept = relevant_evidence(network, target, evidence)
-    active = {target} | hidden
+
+def _factors(network: DiscreteBayesianNetwork, kept: set[str], active: set[str]
+             ) -> tuple[dict[str, list], list[tuple[np.ndarray, list[str]]]]:
+    """The state names of every variable of the CPDs of `kept`, and the CPDs that touch an
+    `active` (target or hidden) variable as ``(values shaped by cardinality, scope)``."""
     states: dict[str, list] = {}
     operands: list[tuple[np.ndarray, list[str]]] = []
     for node in sorted(kept):
@@ -266,16 +302,19 @@ def compile_policy(
         if active & set(scope):
             vals = np.asarray(cpd.values, dtype=np.float64).reshape(cpd.cardinality)
             operands.append((vals, scope))
+    return states, operands
 
+
+def _posteriors(operands: list[tuple[np.ndarray, list[str]]], relevant: list[str],
+                target: str, hidden: set[str], card: dict[str, int],
+                memory_budget: int) -> np.ndarray:
+    """The unnormalised joint of every `relevant` combination and `target`, shape
+    ``(*cards of relevant, card of target)``, summed over `hidden` by einsum, in slices
+    over the leading relevant axes small enough for `memory_budget`."""
     axes = [*relevant, target]
-    if len(axes) + len(hidden) > 52:
-        raise ValueError(f"too many variables for one einsum: {len(axes) + len(hidden)} > 52")
     letter = dict(zip([*axes, *sorted(hidden)], string.ascii_letters, strict=False))
-    card = {v: len(states[v]) for v in [*axes, *hidden]}
     shape = tuple(card[v] for v in relevant)
-    n_t = card[target]
-    out = np.empty((*shape, n_t), dtype=np.float64)
-
+    out = np.empty((*shape, card[target]), dtype=np.float64)
     # Working memory of a slice: the full product over its indices (an upper bound on any
     # einsum intermediate) plus the operands' slices, in float64.
     full = math.prod(card[v] for v in [*axes, *hidden]) * 8 * 2
@@ -299,21 +338,4 @@ def compile_policy(
             subs.append("".join(letter[v] for v in scope if v not in at))
         expr = ",".join(subs) + "->" + out_sub
         out[combo] = np.einsum(expr, *ops, optimize=len(ops) > 2)
-
-    total = out.sum(axis=-1, keepdims=True)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        out /= total
-    out[~np.isfinite(out).all(axis=-1)] = 1.0 / n_t  # evidence of probability 0: no information
-    uniform = np.all(np.abs(out - 1.0 / n_t) <= uniform_tolerance, axis=-1)
-    best = np.argmax(out >= out.max(axis=-1, keepdims=True) - TIE_TOLERANCE, axis=-1)
-    argmax = np.where(uniform, -1, best).astype(np.int32)
-    return PolicyTable(
-        target=target,
-        target_states=list(states[target]),
-        variables=relevant,
-        states={v: list(states[v]) for v in relevant},
-        values=out,
-        argmax_indices=argmax,
-        ignored=[e for e in evidence if e not in relevant],
-        uniform_tolerance=uniform_tolerance,
-    )
+    return out

@@ -23,6 +23,21 @@ from a2l.skills.repertoire import MovementRepertoire
 __all__ = ["KnownStructure", "known_structure_dataset", "push_dataset"]
 
 
+#: The columns of :func:`push_dataset`'s table, in order.
+_COLUMNS = ["episode", "step", "eef_x", "eef_y", "eef_z", "obj_x", "obj_y", "obj_z",
+            "move_dx", "move_dy", "move_dz", "effect_dx", "effect_dy", "effect_dz"]
+
+
+def _steps_to_contact(scene: VirtualScene, plan: list[int],
+                      disp_list: list[tuple[float, ...]]) -> int:
+    """Carry out the movements of `plan` until one pushes the box; return how many were
+    carried out (the pushing one included), or 0 when none pushed."""
+    for k, m in enumerate(plan, start=1):
+        if scene.move(disp_list[m]):
+            return k
+    return 0
+
+
 def push_dataset(
     n_trajectories: int,
     *,
@@ -107,12 +122,8 @@ def push_dataset(
         plans = rng.integers(0, moves.n_moves, (batch, max_steps))
         for i, plan in enumerate(plans.tolist()):
             scene.reset(start_list[start_idx[i]], obj0_list)
-            k = 0  # steps of the trajectory, the last one pushed
-            for m in plan:
-                k += 1
-                if scene.move(disp_list[m]):
-                    break
-            else:
+            k = _steps_to_contact(scene, plan, disp_list)  # the last one pushed
+            if k == 0:
                 continue
             effect = np.asarray(scene.object_position) - obj0
             if np.hypot(effect[0], effect[1]) < min_displacement:
@@ -134,23 +145,7 @@ def push_dataset(
             n_kept += 1
             if n_kept == n_trajectories:
                 break
-    columns = [
-        "episode",
-        "step",
-        "eef_x",
-        "eef_y",
-        "eef_z",
-        "obj_x",
-        "obj_y",
-        "obj_z",
-        "move_dx",
-        "move_dy",
-        "move_dz",
-        "effect_dx",
-        "effect_dy",
-        "effect_dz",
-    ]
-    df = pd.DataFrame(np.vstack(blocks), columns=columns)
+    df = pd.DataFrame(np.vstack(blocks), columns=_COLUMNS)
     return df.astype({"episode": np.int64, "step": np.int64})
 
 
