@@ -158,7 +158,7 @@ def test_ds_runner_approaches_closes_lifts(bundle: Path) -> None:
     # the light turns on: the very next step follows the retreat phase
     hot = runner.step(eef, OBJ, "grasped", {"light": "on", "gripper": "open"})
     assert hot.phase == "retreat" and hot.displacement[0] > 0
-    assert [t["phase"] for t in runner.trace()][-3:] == [0, 1, 2]
+    assert [t.phase for t in runner.trace()][-3:] == [0, 1, 2]
     with pytest.raises(A2LValueError, match="'dim' is not a value of state 'light'"):
         runner.step(eef, OBJ, "grasped", {"light": "dim"})
     # no state given: no phase applies

@@ -238,7 +238,7 @@ def test_runtime_fallback_answers_a_cell_without_data_and_the_trace_marks_it(
         light = ("off", "on")[bins[names.index("light")]]
         runner.reset()
         out = runner.step(eef, obj, effect, {"light": light})
-        ctx_bins = runner.trace()[-1]["bins"]
+        ctx_bins = runner.trace()[-1].bins
         if list(ctx_bins) != [int(b) for b in bins]:
             continue  # the planar context cannot reach this inclination/distance cell
         assert out.ok and out.fallback
@@ -254,7 +254,7 @@ def test_runtime_fallback_answers_a_cell_without_data_and_the_trace_marks_it(
         want = int(np.argmax(np.where(allowed, post, -1.0))) if allowed.any() else \
             table.argmax(f)
         assert out.movement == want
-        assert runner.trace()[-1]["fallback"] is True
+        assert runner.trace()[-1].fallback is True
         state = _core.SkillState(plain)
         ctx = plain.context(eef, obj, effect, {"light": light})
         assert _core.step(plain, state, ctx).status == Status.unknown_context
@@ -320,7 +320,7 @@ def test_runtime_approach_fallback_heads_for_the_nearest_cell_with_data(
                 if not first.ok or first.fallback or first.movement != previous:
                     continue
             out = runner.step(obj + rel, obj, effect, {"light": light})
-            if list(runner.trace()[-1]["bins"]) != list(bins):
+            if list(runner.trace()[-1].bins) != list(bins):
                 continue
             assert out.ok and out.fallback
             d = np.linalg.norm(rel)

@@ -158,13 +158,13 @@ def play(env: SceneEnv, disc: Any, start: int, offset: np.ndarray, prefix: Seque
             return Decision("stopped")
         return Decision("ok", movement=int(move))
 
-    trace = closed_loop(_EnvWorld(env, disc.movements.directions), policy, moved, max_steps,
-                        cap_status="exhausted", fatal=("unreachable",))
-    moves = trace.carried_out()
+    run = closed_loop(_EnvWorld(env, disc.movements.directions), policy, moved, max_steps,
+                      cap_status="exhausted", fatal=("unreachable",))
+    moves = run.carried_out()
     n = len(moves) + 1
-    return Rollout(start, moves, trace.eef[:n].copy(), trace.obj[:n].copy(),
-                   effect=effect if trace.stop == "moved" else -1, stop=trace.stop,
-                   executed=trace.executed,
+    return Rollout(start, moves, run.eef[:n].copy(), run.obj[:n].copy(),
+                   effect=effect if run.stop == "moved" else -1, stop=run.stop,
+                   executed=run.executed,
                    true_effect=effect_of(disc, env.true_object() - true0))
 
 

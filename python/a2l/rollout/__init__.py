@@ -4,7 +4,8 @@ and the rooms that run rollouts (:mod:`a2l.acquisition`, :mod:`a2l.lfd`,
 
 - :mod:`~a2l.rollout.protocol`: what those rooms may ask of a scene
   (:class:`SceneProtocol`, :class:`ArmSceneProtocol`);
-- :mod:`~a2l.rollout.loop`: the one closed loop (:func:`closed_loop`) and its trace;
+- :mod:`~a2l.rollout.loop`: the one closed loop (:func:`closed_loop`) and its record
+  (:class:`LoopRun`, :class:`LoopStep`; the skill's own trace is the C++ ``TraceRecord``);
 - :mod:`~a2l.rollout.policy`: a skill bundle as its policy, through the C++ step (table or
   DS mode);
 - :mod:`~a2l.rollout.world`: an :mod:`a2l.sim` scene as its world;
@@ -22,9 +23,9 @@ from a2l.rollout.env import ENV_SCENES, EnvSpec, SceneEnv, make_env, scene_env
 from a2l.rollout.loop import (
     FATAL_MOVES,
     Decision,
-    LoopTrace,
+    LoopRun,
+    LoopStep,
     Policy,
-    SkillStep,
     StopTest,
     World,
     closed_loop,
@@ -40,14 +41,14 @@ __all__ = [
     "ArmSceneProtocol",
     "Decision",
     "EnvSpec",
-    "LoopTrace",
+    "LoopRun",
+    "LoopStep",
     "PhasePolicy",
     "Policy",
     "SceneEnv",
     "SceneProtocol",
     "SceneWorld",
     "SkillRun",
-    "SkillStep",
     "StopTest",
     "TablePolicy",
     "World",

@@ -6,8 +6,9 @@ The three rooms that run rollouts use it: babbling and validation trajectories
 (:func:`a2l.acquisition.interactions.play`, a framework scene env), and the demonstrated skills
 (:func:`a2l.rollout.run.run_skill`, an :mod:`a2l.sim` scene, table or DS mode). What
 differs between them is what a :class:`World` observes and does, the policy and the stop
-test; the order of the loop, its trace (:class:`SkillStep`) and its stop statuses are
-here only.
+test; the order of the loop, its record (:class:`LoopRun` of :class:`LoopStep`) and its stop
+statuses are here only. (The *trace* is the skill's own record of each step, the C++
+``TraceRecord`` that :meth:`a2l.skills.runner.CppSkillRunner.trace` returns.)
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["FATAL_MOVES", "Decision", "LoopTrace", "Policy", "SkillStep", "StopTest", "World",
+__all__ = ["FATAL_MOVES", "Decision", "LoopRun", "LoopStep", "Policy", "StopTest", "World",
            "closed_loop"]
 
 #: Movement statuses after which a run cannot go on (the same movement would be chosen).
@@ -61,7 +62,7 @@ class Decision:
 
 
 @dataclass
-class SkillStep:
+class LoopStep:
     """One step of a closed-loop run.
 
     Attributes
@@ -96,12 +97,12 @@ class SkillStep:
 
 
 @dataclass
-class LoopTrace:
+class LoopRun:
     """What :func:`closed_loop` recorded.
 
     Attributes
     ----------
-    steps : list of SkillStep
+    steps : list of LoopStep
         Every step, the last one holding the stop status (after a fatal movement, the
         step that tried it and then the stop).
     eef, obj : ndarray, shape (T, 3)
@@ -111,7 +112,7 @@ class LoopTrace:
         status or a fatal movement status.
     """
 
-    steps: list[SkillStep]
+    steps: list[LoopStep]
     eef: NDArray[np.float64]
     obj: NDArray[np.float64]
     stop: str
@@ -148,7 +149,7 @@ StopTest = Callable[[int, NDArray[np.float64], NDArray[np.float64], dict[str, st
 
 def closed_loop(world: World, policy: Policy, stop_test: StopTest, cap: int,
                 cap_status: str = "step_cap", fatal: Sequence[str] = FATAL_MOVES,
-                on_step: Callable[[int, SkillStep], None] | None = None) -> LoopTrace:
+                on_step: Callable[[int, LoopStep], None] | None = None) -> LoopRun:
     """Run `policy` in closed loop in `world` from where it is now.
 
     Before step k the loop observes the world and asks, in this order: `stop_test` (a
@@ -169,13 +170,13 @@ def closed_loop(world: World, policy: Policy, stop_test: StopTest, cap: int,
         The stop status at the cap.
     fatal : sequence of str
         Move statuses after which the run cannot go on.
-    on_step : callable ``(k, SkillStep) -> None``, optional
+    on_step : callable ``(k, LoopStep) -> None``, optional
 
     Returns
     -------
-    LoopTrace
+    LoopRun
     """
-    steps: list[SkillStep] = []
+    steps: list[LoopStep] = []
     eefs: list[NDArray[np.float64]] = []
     objs: list[NDArray[np.float64]] = []
     eef, obj, states = world.observe()
@@ -191,10 +192,10 @@ def closed_loop(world: World, policy: Policy, stop_test: StopTest, cap: int,
             if decision.status != "ok":
                 stop = decision.status
         if stop is not None:
-            steps.append(SkillStep(k, stop, "", np.zeros(3), "", eef, obj, states))
+            steps.append(LoopStep(k, stop, "", np.zeros(3), "", eef, obj, states))
             break
         move_status = world.act(decision)
-        step = SkillStep(k, "ok", decision.label, np.asarray(decision.displacement, float),
+        step = LoopStep(k, "ok", decision.label, np.asarray(decision.displacement, float),
                          move_status, eef, obj, states, decision.movement)
         steps.append(step)
         if move_status in fatal:
@@ -202,10 +203,10 @@ def closed_loop(world: World, policy: Policy, stop_test: StopTest, cap: int,
             eef, obj, states = world.observe()
             eefs.append(eef)
             objs.append(obj)
-            steps.append(SkillStep(k + 1, stop, "", np.zeros(3), "", eef, obj, states))
+            steps.append(LoopStep(k + 1, stop, "", np.zeros(3), "", eef, obj, states))
             break
         if on_step is not None:
             on_step(k, step)
         k += 1
         eef, obj, states = world.observe()
-    return LoopTrace(steps, np.asarray(eefs), np.asarray(objs), stop)
+    return LoopRun(steps, np.asarray(eefs), np.asarray(objs), stop)

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from a2l.rollout.effect_tests import EFFECT_TESTS, EffectTest, Progress, effect_test_of
-from a2l.rollout.loop import SkillStep, closed_loop
+from a2l.rollout.loop import LoopStep, closed_loop
 from a2l.rollout.policy import TablePolicy, skill_policy
 from a2l.rollout.protocol import SceneProtocol
 from a2l.rollout.world import SceneWorld
@@ -53,7 +53,7 @@ class SkillRun:
     Attributes
     ----------
     effect, mode : str
-    steps : list of SkillStep
+    steps : list of LoopStep
         Every step, the last one holding the stop status.
     eef, obj : ndarray, shape (T, 3)
         End-effector and object at each step (T = len(steps); the last row is where the
@@ -72,7 +72,7 @@ class SkillRun:
 
     effect: str
     mode: str
-    steps: list[SkillStep] = field(default_factory=list)
+    steps: list[LoopStep] = field(default_factory=list)
     eef: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     obj: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     success: bool = False
@@ -93,7 +93,7 @@ class SkillRun:
 
 def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect: str,
               mode: str = "table", max_steps: int | None = None,
-              on_step: Callable[[int, SkillStep], None] | None = None,
+              on_step: Callable[[int, LoopStep], None] | None = None,
               states_fn: Callable[[Any], dict[str, str]] | None = None,
               object_name: str | None = None, source: str | None = None,
               effect_test: EffectTest | None = None) -> SkillRun:
@@ -112,7 +112,7 @@ def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect:
         The context skill or the DS alone.
     max_steps : int, optional
         Most steps (default: the bundle's step cap).
-    on_step : callable ``(k, SkillStep) -> None``, optional
+    on_step : callable ``(k, LoopStep) -> None``, optional
         Called after step k was carried out (a perturbation may be applied there).
     states_fn : callable ``scene -> dict``, optional
         The high-level states a step sees (default: the observed ones).
@@ -166,9 +166,9 @@ def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect:
             return None
         return "effect_produced" if ok else "effect_failed"
 
-    trace = closed_loop(world, policy, effect_done, cap,
-                        cap_status="max_steps" if max_steps is not None else "step_cap",
-                        on_step=on_step)
-    return SkillRun(effect, mode, trace.steps, trace.eef, trace.obj,
-                    trace.stop == "effect_produced", trace.stop, world.produced,
+    run = closed_loop(world, policy, effect_done, cap,
+                      cap_status="max_steps" if max_steps is not None else "step_cap",
+                      on_step=on_step)
+    return SkillRun(effect, mode, run.steps, run.eef, run.obj,
+                    run.stop == "effect_produced", run.stop, world.produced,
                     time.perf_counter() - t0)

@@ -331,7 +331,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self.k += 1
 
         def _command(self, q: NDArray[np.float64], target: NDArray[np.float64],
-                     rec: dict[str, Any], label: str, step_s: float) -> None:
+                     rec: _core.TraceRecord, label: str, step_s: float) -> None:
             ex = self.ik
             t_ik = time.perf_counter()
             ex.reset(q)
@@ -371,16 +371,16 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self._record(T.JOINT_TRAJECTORY, traj)
             self._record(T.TARGET_POSE, pose)
             self._trace(rec, "ok", label, step_s, latency, target, ik_s)
-            self._rerun("ok", label, int(rec["movement"]), list(rec["bins"]), target)
+            self._rerun("ok", label, rec.movement, list(rec.bins), target)
             self.cmd_time, self.target = time.monotonic(), target
 
-        def _trace(self, rec: dict[str, Any], status: str, label: str, step_s: float,
+        def _trace(self, rec: _core.TraceRecord, status: str, label: str, step_s: float,
                    latency: float | None, target: NDArray[np.float64] | None = None,
                    ik_s: float | None = None) -> None:
             msg = String(data=T.trace_json({
-                "step": self.k, "bins": list(rec["bins"]), "movement": int(rec["movement"]),
-                "label": label, "probability": float(rec["probability"]), "status": status,
-                "phase": int(rec["phase"]), "step_us": step_s * 1e6,
+                "step": self.k, "bins": list(rec.bins), "movement": rec.movement,
+                "label": label, "probability": rec.probability, "status": status,
+                "phase": rec.phase, "step_us": step_s * 1e6,
                 "ik_us": None if ik_s is None else ik_s * 1e6,
                 "latency_ms": None if latency is None else latency * 1e3,
                 "target": None if target is None else target}))

@@ -14,7 +14,7 @@ import threading
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
@@ -145,10 +145,11 @@ class CppSkillRunner:
         """Start a new run (step counter, DS end actions; the trace is kept)."""
         self.state.reset()
 
-    def trace(self) -> list[dict[str, Any]]:
-        """The C++ trace, oldest first: ``{step, bins, movement, probability, status,
-        phase, fallback}`` per step."""
-        return [r.to_dict() for r in self.state.trace()]
+    def trace(self) -> list[_core.TraceRecord]:
+        """The skill's trace, oldest first: the C++ ``TraceRecord`` of each step (its
+        ``step``, ``bins``, ``movement``, ``probability``, ``status``, ``phase`` and
+        ``fallback``; ``to_dict()`` gives them as a dict)."""
+        return list(self.state.trace())
 
     def step(self, eef: np.ndarray, obj: np.ndarray, effect: str | int,
              states: Mapping[str, str] | None = None) -> StepResult:
