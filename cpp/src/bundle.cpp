@@ -97,84 +97,21 @@ Result build_skill(const std::uint8_t* blob, const ArrayEntry& post, const Array
   return Result::success();
 }
 
-Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::string& source,
-                       Skill* skill, DiffeoMaps* ds) {
-  auto fail = [&](Status s, const std::string& msg) {
-    return Result::failure(s, "skill bundle '" + source + "': " + msg);
-  };
-  if (data == nullptr && size > 0) return fail(Status::invalid_argument, "null data");
-  if (size < kBundleHeaderSize) {
-    return fail(Status::parse_error,
-                "truncated: " + std::to_string(size) + " bytes, shorter than the 24-byte header");
-  }
-  if (std::memcmp(data, kBundleMagic, 8) != 0) {
-    return fail(Status::parse_error,
-                "magic: not a skill bundle (the file does not start with "
-                "'A2LBNDL\\0')");
-  }
-  const std::uint32_t version = read_u32(data + 8);
-  const std::uint32_t mlen = read_u32(data + 12);
-  const std::uint32_t mcrc = read_u32(data + 16);
-  const std::uint32_t reserved = read_u32(data + 20);
-  if (version != kBundleSchemaVersion) {
-    return fail(Status::version_mismatch, "schema version: the header says " +
-                                              std::to_string(version) + ", this build reads " +
-                                              std::to_string(kBundleSchemaVersion));
-  }
-  if (reserved != 0) return fail(Status::parse_error, "header: reserved field is not 0");
-  if (mlen > size - kBundleHeaderSize) {
-    return fail(Status::parse_error, "manifest length: " + std::to_string(mlen) +
-                                         " bytes do not fit in the file (" + std::to_string(size) +
-                                         " bytes): truncated?");
-  }
-  const std::uint8_t* manifest = data + kBundleHeaderSize;
-  const std::uint32_t got_crc = bundle_crc32(manifest, mlen);
-  if (got_crc != mcrc) {
-    return fail(Status::checksum_mismatch, "manifest CRC-32: the header says " +
-                                               std::to_string(mcrc) + ", the manifest gives " +
-                                               std::to_string(got_crc));
-  }
-  const std::uint64_t blob = (kBundleHeaderSize + static_cast<std::uint64_t>(mlen) + 7) / 8 * 8;
-  if (blob > size) return fail(Status::parse_error, "truncated: the file ends before its blob");
-  for (std::uint64_t i = kBundleHeaderSize + mlen; i < blob; ++i) {
-    if (data[i] != 0) return fail(Status::parse_error, "padding after the manifest is not zero");
-  }
+// Where a bundle's parts lie: the schema version of its header, its manifest's bytes and the
+// offset of its blob.
+struct Frame {
+  std::uint32_t version = 0;
+  std::uint32_t mlen = 0;  // manifest length, bytes
+  std::uint32_t mcrc = 0;  // manifest CRC-32, as the header says
+  const std::uint8_t* manifest = nullptr;
+  std::uint64_t blob = 0;  // the blob's offset: the manifest's end, padded to 8 bytes
+};
 
-  json m;
-  try {
-    m = json::parse(manifest, manifest + mlen);
-  } catch (const json::exception& ex) {
-    return fail(Status::parse_error, std::string("manifest JSON: ") + ex.what());
-  }
-  if (!m.is_object()) return fail(Status::parse_error, "manifest: must be a JSON object");
-
-  Errors e;
-  auto err = [&]() { return fail(e.status, e.message); };
-  std::int64_t mversion = 0;
-  if (!get_int(m, "", "schema_version", 0, std::numeric_limits<std::int64_t>::max(), mversion, e)) {
-    return err();
-  }
-  if (mversion != version) {
-    return fail(Status::version_mismatch, "schema_version: the manifest says " +
-                                              std::to_string(mversion) + ", the header " +
-                                              std::to_string(version));
-  }
-  std::string kind, name, created_by, target;
-  if (!get_string(m, "", "kind", kind, e)) return err();
-  if (kind != "skill" && kind != "ds") {
-    return fail(Status::parse_error, "kind: must be 'skill' or 'ds', got '" + kind + "'");
-  }
-  const bool is_skill = kind == "skill";
-  if (skill != nullptr && !is_skill) {
-    return fail(Status::parse_error,
-                "kind: 'ds', a bundle holding only a DS (no skill table): load it as a DS");
-  }
-  if (!get_string(m, "", "name", name, e) || !get_string(m, "", "created_by", created_by, e)) {
-    return err();
-  }
-  const json* arrays = nullptr;
-  const std::uint64_t room = size - blob;
-  std::vector<ArrayEntry> entries;
+// What a manifest holds, checked on its own (its arrays not yet against the blob).
+struct Manifest {
+  bool is_skill = false;  // kind "skill" (else "ds")
+  std::string name;
+  // the skill's parts (kind "skill")
   RobotInfo robot;
   std::vector<Variable> vars;
   double step = 0.0;
@@ -182,43 +119,143 @@ Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::st
   std::vector<std::string> labels;
   std::vector<MovementAction> actions;
   SkillSettings settings;
-  std::vector<std::int64_t> shape;
-  if (is_skill) {
-    if (!get_string(m, "", "target", target, e) || !parse_robot(m, robot, e) ||
-        !parse_variables(m, vars, e) || !parse_movements(m, step, dirs, labels, actions, e) ||
-        !parse_execution(m, settings, e)) {
-      return err();
-    }
-    for (const Variable& v : vars) shape.push_back(v.n_bins);
-    std::vector<std::int64_t> pshape = shape;
-    pshape.push_back(static_cast<std::int64_t>(dirs.size() + actions.size()));
-    if (!get_object(m, "", "arrays", arrays, e)) return err();
-    entries.resize(2);
-    if (!parse_array(*arrays, "posterior", "float64", 8, pshape, room, entries[0], e) ||
-        !parse_array(*arrays, "argmax", "int32", 4, shape, room, entries[1], e)) {
-      return err();
-    }
-  } else if (!get_object(m, "", "arrays", arrays, e)) {
-    return err();
-  }
+  std::vector<std::int64_t> shape;  // the variables' bins (argmax's shape)
+  // the DS (section "ds") and the DS phases (section "ds_phases"), when present
+  bool has_ds = false, has_phases = false;
   DiffeoMaps maps;
-  const bool has_ds = m.contains("ds");
-  if (!has_ds && (!is_skill || ds != nullptr)) {
-    return fail(Status::parse_error, "ds: missing (this bundle holds no DS)");
-  }
-  if (has_ds && !parse_ds_section(m, *arrays, room, maps, entries, e)) return err();
   DSPhaseSet phases;
   std::vector<DiffeoMaps> phase_maps;
-  const bool has_phases = m.contains("ds_phases");
-  if (has_phases && !parse_ds_phases(m, *arrays, room, phases, phase_maps, entries, e)) {
-    return err();
+  // every array's place in the blob (a skill's posterior and argmax first)
+  std::vector<ArrayEntry> entries;
+};
+
+// The 24-byte header: magic, schema version (this build's), manifest length and CRC-32, and
+// a zero reserved field.
+bool check_header(const std::uint8_t* data, std::size_t size, Frame& f, Errors& e) {
+  if (data == nullptr && size > 0) return e.fail(Status::invalid_argument, "null data");
+  if (size < kBundleHeaderSize) {
+    return e.parse("truncated: " + std::to_string(size) +
+                   " bytes, shorter than the 24-byte header");
   }
+  if (std::memcmp(data, kBundleMagic, 8) != 0) {
+    return e.parse("magic: not a skill bundle (the file does not start with 'A2LBNDL\\0')");
+  }
+  f.version = read_u32(data + 8);
+  f.mlen = read_u32(data + 12);
+  f.mcrc = read_u32(data + 16);
+  const std::uint32_t reserved = read_u32(data + 20);
+  if (f.version != kBundleSchemaVersion) {
+    return e.fail(Status::version_mismatch, "schema version: the header says " +
+                                                std::to_string(f.version) + ", this build reads " +
+                                                std::to_string(kBundleSchemaVersion));
+  }
+  if (reserved != 0) return e.parse("header: reserved field is not 0");
+  return true;
+}
+
+// The manifest's bytes after the header: within the file, matching the header's CRC-32, and
+// followed by zero padding up to the blob.
+bool check_manifest_bytes(const std::uint8_t* data, std::size_t size, Frame& f, Errors& e) {
+  if (f.mlen > size - kBundleHeaderSize) {
+    return e.parse("manifest length: " + std::to_string(f.mlen) +
+                   " bytes do not fit in the file (" + std::to_string(size) +
+                   " bytes): truncated?");
+  }
+  f.manifest = data + kBundleHeaderSize;
+  const std::uint32_t got_crc = bundle_crc32(f.manifest, f.mlen);
+  if (got_crc != f.mcrc) {
+    return e.fail(Status::checksum_mismatch, "manifest CRC-32: the header says " +
+                                                 std::to_string(f.mcrc) + ", the manifest gives " +
+                                                 std::to_string(got_crc));
+  }
+  f.blob = (kBundleHeaderSize + static_cast<std::uint64_t>(f.mlen) + 7) / 8 * 8;
+  if (f.blob > size) return e.parse("truncated: the file ends before its blob");
+  for (std::uint64_t i = kBundleHeaderSize + f.mlen; i < f.blob; ++i) {
+    if (data[i] != 0) return e.parse("padding after the manifest is not zero");
+  }
+  return true;
+}
+
+// The manifest's bytes as a JSON object.
+bool parse_manifest_json(const Frame& f, json& m, Errors& e) {
+  try {
+    m = json::parse(f.manifest, f.manifest + f.mlen);
+  } catch (const json::exception& ex) {
+    return e.parse(std::string("manifest JSON: ") + ex.what());
+  }
+  if (!m.is_object()) return e.parse("manifest: must be a JSON object");
+  return true;
+}
+
+// The manifest's schema_version (the header's `version`), kind ("skill" when `want_skill`),
+// name and created_by.
+bool parse_identity(const json& m, std::uint32_t version, bool want_skill, Manifest& out,
+                    Errors& e) {
+  std::int64_t mversion = 0;
+  if (!get_int(m, "", "schema_version", 0, std::numeric_limits<std::int64_t>::max(), mversion, e)) {
+    return false;
+  }
+  if (mversion != version) {
+    return e.fail(Status::version_mismatch, "schema_version: the manifest says " +
+                                                std::to_string(mversion) + ", the header " +
+                                                std::to_string(version));
+  }
+  std::string kind, created_by;
+  if (!get_string(m, "", "kind", kind, e)) return false;
+  if (kind != "skill" && kind != "ds") {
+    return e.parse("kind: must be 'skill' or 'ds', got '" + kind + "'");
+  }
+  out.is_skill = kind == "skill";
+  if (want_skill && !out.is_skill) {
+    return e.parse("kind: 'ds', a bundle holding only a DS (no skill table): load it as a DS");
+  }
+  return get_string(m, "", "name", out.name, e) && get_string(m, "", "created_by", created_by, e);
+}
+
+// The skill's sections of a kind "skill" manifest (target, robot, variables, movements,
+// execution), its "arrays" object, and its arrays posterior and argmax (entries 0 and 1)
+// within `room` bytes of blob.
+bool parse_skill_sections(const json& m, std::uint64_t room, const json*& arrays, Manifest& out,
+                          Errors& e) {
+  std::string target;
+  if (!get_string(m, "", "target", target, e) || !parse_robot(m, out.robot, e) ||
+      !parse_variables(m, out.vars, e) ||
+      !parse_movements(m, out.step, out.dirs, out.labels, out.actions, e) ||
+      !parse_execution(m, out.settings, e)) {
+    return false;
+  }
+  for (const Variable& v : out.vars) out.shape.push_back(v.n_bins);
+  std::vector<std::int64_t> pshape = out.shape;
+  pshape.push_back(static_cast<std::int64_t>(out.dirs.size() + out.actions.size()));
+  if (!get_object(m, "", "arrays", arrays, e)) return false;
+  out.entries.resize(2);
+  return parse_array(*arrays, "posterior", "float64", 8, pshape, room, out.entries[0], e) &&
+         parse_array(*arrays, "argmax", "int32", 4, out.shape, room, out.entries[1], e);
+}
+
+// The manifest's "ds" section (required unless it is a skill and no DS is asked for:
+// `want_ds`) and its optional "ds_phases" section, their arrays appended to out.entries.
+bool parse_ds_sections(const json& m, const json& arrays, std::uint64_t room, bool want_ds,
+                       Manifest& out, Errors& e) {
+  out.has_ds = m.contains("ds");
+  if (!out.has_ds && (!out.is_skill || want_ds)) {
+    return e.parse("ds: missing (this bundle holds no DS)");
+  }
+  if (out.has_ds && !parse_ds_section(m, arrays, room, out.maps, out.entries, e)) return false;
+  out.has_phases = m.contains("ds_phases");
+  return !out.has_phases ||
+         parse_ds_phases(m, arrays, room, out.phases, out.phase_maps, out.entries, e);
+}
+
+// The arrays' places: each within the `room` bytes of the blob (at offset `blob` of a file of
+// `size` bytes), none overlapping another, and the last ending where the file ends.
+bool check_array_layout(const std::vector<ArrayEntry>& entries, std::uint64_t room,
+                        std::uint64_t blob, std::size_t size, Errors& e) {
   for (const ArrayEntry& a : entries) {
     if (a.offset > room || a.nbytes > room - a.offset) {
-      return fail(Status::parse_error, "arrays." + a.name + ": bytes [" + std::to_string(a.offset) +
-                                           ", +" + std::to_string(a.nbytes) +
-                                           ") lie outside the file's blob (" +
-                                           std::to_string(room) + " bytes): truncated?");
+      return e.parse("arrays." + a.name + ": bytes [" + std::to_string(a.offset) + ", +" +
+                     std::to_string(a.nbytes) + ") lie outside the file's blob (" +
+                     std::to_string(room) + " bytes): truncated?");
     }
   }
   std::uint64_t end = 0;
@@ -227,33 +264,72 @@ Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::st
     for (std::size_t j = 0; j < i; ++j) {
       const ArrayEntry& b = entries[j];
       if (a.offset < b.offset + b.nbytes && b.offset < a.offset + a.nbytes) {
-        return fail(Status::parse_error, "arrays: " + b.name + " and " + a.name + " overlap");
+        return e.parse("arrays: " + b.name + " and " + a.name + " overlap");
       }
     }
     end = std::max(end, a.offset + a.nbytes);
   }
   if (end != room) {
-    return fail(Status::parse_error, "file size: " + std::to_string(size) +
-                                         " bytes, the arrays end at " + std::to_string(blob + end) +
-                                         " (trailing bytes)");
+    return e.parse("file size: " + std::to_string(size) + " bytes, the arrays end at " +
+                   std::to_string(blob + end) + " (trailing bytes)");
   }
+  return true;
+}
+
+// Every array's bytes in `blob` against the CRC-32 the manifest gives.
+bool check_array_crcs(const std::uint8_t* blob, const std::vector<ArrayEntry>& entries, Errors& e) {
   for (const ArrayEntry& a : entries) {
-    const std::uint32_t c = bundle_crc32(data + blob + a.offset, a.nbytes);
+    const std::uint32_t c = bundle_crc32(blob + a.offset, a.nbytes);
     if (c != a.crc) {
-      return fail(Status::checksum_mismatch, "arrays." + a.name + ".crc32: the manifest says " +
-                                                 std::to_string(a.crc) + ", the data give " +
-                                                 std::to_string(c));
+      return e.fail(Status::checksum_mismatch, "arrays." + a.name + ".crc32: the manifest says " +
+                                                   std::to_string(a.crc) + ", the data give " +
+                                                   std::to_string(c));
     }
   }
-  if (has_ds && !read_ds_arrays(data + blob, entries, maps, e)) return err();
-  if (has_phases && !read_ds_phases(data + blob, entries, phase_maps, phases, e)) return err();
-  if (is_skill) {
-    Result r = build_skill(data + blob, entries[0], entries[1], std::move(name), std::move(vars),
-                           shape, step, std::move(dirs), std::move(labels), std::move(actions),
-                           settings, std::move(robot), std::move(phases), skill);
+  return true;
+}
+
+// Validate bundle bytes (frame, manifest, array layout, checksums) and read the skill into
+// `skill` and the DS into `ds` (either may be null); every message starts with the source.
+Result parse_unguarded(const std::uint8_t* data, std::size_t size, const std::string& source,
+                       Skill* skill, DiffeoMaps* ds) {
+  auto fail = [&](Status s, const std::string& msg) {
+    return Result::failure(s, "skill bundle '" + source + "': " + msg);
+  };
+  Errors e;
+  auto err = [&]() { return fail(e.status, e.message); };
+  Frame f;
+  json m;
+  if (!check_header(data, size, f, e) || !check_manifest_bytes(data, size, f, e) ||
+      !parse_manifest_json(f, m, e)) {
+    return err();
+  }
+  Manifest man;
+  if (!parse_identity(m, f.version, skill != nullptr, man, e)) return err();
+  const std::uint64_t room = size - f.blob;
+  const json* arrays = nullptr;
+  if (man.is_skill ? !parse_skill_sections(m, room, arrays, man, e)
+                   : !get_object(m, "", "arrays", arrays, e)) {
+    return err();
+  }
+  const std::uint8_t* blob = data + f.blob;
+  if (!parse_ds_sections(m, *arrays, room, ds != nullptr, man, e) ||
+      !check_array_layout(man.entries, room, f.blob, size, e) ||
+      !check_array_crcs(blob, man.entries, e)) {
+    return err();
+  }
+  if (man.has_ds && !read_ds_arrays(blob, man.entries, man.maps, e)) return err();
+  if (man.has_phases && !read_ds_phases(blob, man.entries, man.phase_maps, man.phases, e)) {
+    return err();
+  }
+  if (man.is_skill) {
+    Result r = build_skill(blob, man.entries[0], man.entries[1], std::move(man.name),
+                           std::move(man.vars), man.shape, man.step, std::move(man.dirs),
+                           std::move(man.labels), std::move(man.actions), man.settings,
+                           std::move(man.robot), std::move(man.phases), skill);
     if (!r.ok()) return fail(Status::parse_error, r.message);
   }
-  if (ds != nullptr) *ds = std::move(maps);
+  if (ds != nullptr) *ds = std::move(man.maps);
   return Result::success();
 }
 
