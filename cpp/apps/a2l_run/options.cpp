@@ -4,8 +4,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <initializer_list>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 namespace a2l_run {
 
@@ -109,90 +111,150 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
+// `value` if it is one of `choices`, else a usage error ("--scene: 'x' is not one of virtual,
+// bullet").
+std::string one_of(const std::string& opt, const std::string& value,
+                   std::initializer_list<const char*> choices) {
+  std::string names;
+  for (const char* c : choices) {
+    if (value == c) return value;
+    names += (names.empty() ? "" : ", ") + std::string(c);
+  }
+  usage_error(opt + ": '" + value + "' is not one of " + names);
+}
+
+// --radius R: the circle of --starts circle, > 0.
+void set_radius(const std::string& o, const std::string& v, Args& a) {
+  a.radius = parse_double(o, v);
+  a.has_radius = true;
+  if (!(a.radius > 0.0)) usage_error("--radius: must be > 0");
+}
+
+// --radius-range A,B: the distances of random starts, 0 < A <= B.
+void set_radius_range(const std::string& o, const std::string& v, Args& a) {
+  const auto parts = split(v, ',');
+  if (parts.size() != 2) usage_error("--radius-range: needs A,B");
+  a.radius_min = parse_double(o, parts[0]);
+  a.radius_max = parse_double(o, parts[1]);
+  a.has_radius_range = true;
+  if (!(a.radius_min > 0.0 && a.radius_min <= a.radius_max)) {
+    usage_error("--radius-range: needs 0 < A <= B");
+  }
+}
+
+// --object X,Y,Z: the box centre.
+void set_object(const std::string& o, const std::string& v, Args& a) {
+  const auto parts = split(v, ',');
+  if (parts.size() != 3) usage_error("--object: needs X,Y,Z");
+  for (int k = 0; k < 3; ++k) a.object[k] = parse_double(o, parts[static_cast<size_t>(k)]);
+  a.has_object = true;
+}
+
+// --state NAME=VALUE: a high-level state's value (repeatable).
+void add_state(const std::string&, const std::string& kv, Args& a) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0) usage_error("--state: needs NAME=VALUE");
+  a.states.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+}
+
+// Parses and checks the value `v` of option `o` into `a` (a usage error names the option).
+using SetOption = void (*)(const std::string& o, const std::string& v, Args& a);
+
+// The options that take a value (the next argument), each with its setter.
+const std::pair<const char*, SetOption> kValueOptions[] = {
+    {"--scene",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.scene = one_of(o, v, {"virtual", "bullet"});
+     }},
+    {"--effect",
+     [](const std::string&, const std::string& v, Args& a) {
+       for (auto& e : split(v, ',')) a.effects.push_back(e);
+     }},
+    {"--episodes", [](const std::string& o, const std::string& v,
+                      Args& a) { a.episodes = static_cast<int>(parse_int(o, v, 1, 100000)); }},
+    {"--starts",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.starts = one_of(o, v, {"random", "circle"});
+     }},
+    {"--radius", set_radius},
+    {"--radius-range", set_radius_range},
+    {"--object", set_object},
+    {"--rate",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.rate = parse_double(o, v);
+       if (a.rate < 0.0) usage_error("--rate: must be >= 0 (0 = as fast as possible)");
+     }},
+    {"--seed",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.seed = static_cast<unsigned long long>(parse_int(o, v, 0, (1LL << 62)));
+     }},
+    {"--trace", [](const std::string&, const std::string& v, Args& a) { a.trace = v; }},
+    {"--summary", [](const std::string&, const std::string& v, Args& a) { a.summary = v; }},
+    {"--urdf", [](const std::string&, const std::string& v, Args& a) { a.urdf = v; }},
+    {"--arm",
+     [](const std::string&, const std::string& v, Args& a) {
+       a.arm = v;
+       if (a.arm != "right" && a.arm != "left") usage_error("--arm: must be right or left");
+     }},
+    {"--smoothing",
+     [](const std::string&, const std::string& v, Args& a) {
+       a.smoothing = v;
+       if (a.smoothing != "bundle" && a.smoothing != "on" && a.smoothing != "off") {
+         usage_error("--smoothing: must be bundle, on or off");
+       }
+     }},
+    {"--state", add_state},
+    {"--mode",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.mode = one_of(o, v, {"table", "ds"});
+     }},
+    {"--task",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.task = one_of(o, v, {"auto", "push", "grasp", "press"});
+     }},
+    {"--start-height",
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.start_height = parse_double(o, v);
+       a.has_start_height = true;
+     }},
+};
+
+// The setter of option `o` if it takes a value, else null.
+SetOption value_option(const std::string& o) {
+  for (const auto& [name, set] : kValueOptions) {
+    if (o == name) return set;
+  }
+  return nullptr;
+}
+
+// The checks across options: a BUNDLE given, --radius only for circle starts and
+// --radius-range only for random ones.
+void check_combination(const Args& a) {
+  if (a.bundle.empty()) usage_error("missing BUNDLE");
+  if (a.starts == "random" && a.has_radius) {
+    usage_error(
+        "--radius: sets the circle of --starts circle; random starts (the default) "
+        "take --radius-range A,B");
+  }
+  if (a.starts == "circle" && a.has_radius_range) {
+    usage_error("--radius-range: sets the random starts; --starts circle takes --radius R");
+  }
+}
+
 }  // namespace
 
 Args parse_args(int argc, char** argv) {
   Args a;
-  auto value = [&](int& i) -> std::string {
-    if (i + 1 >= argc) usage_error(std::string(argv[i]) + ": needs a value");
-    return argv[++i];
-  };
   for (int i = 1; i < argc; ++i) {
     const std::string o = argv[i];
     if (o == "-h" || o == "--help") {
       std::cout << kUsage;
       std::exit(0);
-    } else if (o == "--scene") {
-      a.scene = value(i);
-      if (a.scene != "virtual" && a.scene != "bullet") {
-        usage_error("--scene: '" + a.scene + "' is not one of virtual, bullet");
-      }
-    } else if (o == "--effect") {
-      for (auto& e : split(value(i), ',')) a.effects.push_back(e);
-    } else if (o == "--episodes") {
-      a.episodes = static_cast<int>(parse_int(o, value(i), 1, 100000));
-    } else if (o == "--starts") {
-      a.starts = value(i);
-      if (a.starts != "random" && a.starts != "circle") {
-        usage_error("--starts: '" + a.starts + "' is not one of random, circle");
-      }
-    } else if (o == "--radius") {
-      a.radius = parse_double(o, value(i));
-      a.has_radius = true;
-      if (!(a.radius > 0.0)) usage_error("--radius: must be > 0");
-    } else if (o == "--radius-range") {
-      const auto parts = split(value(i), ',');
-      if (parts.size() != 2) usage_error("--radius-range: needs A,B");
-      a.radius_min = parse_double(o, parts[0]);
-      a.radius_max = parse_double(o, parts[1]);
-      a.has_radius_range = true;
-      if (!(a.radius_min > 0.0 && a.radius_min <= a.radius_max)) {
-        usage_error("--radius-range: needs 0 < A <= B");
-      }
-    } else if (o == "--object") {
-      const auto parts = split(value(i), ',');
-      if (parts.size() != 3) usage_error("--object: needs X,Y,Z");
-      for (int k = 0; k < 3; ++k) a.object[k] = parse_double(o, parts[static_cast<size_t>(k)]);
-      a.has_object = true;
-    } else if (o == "--rate") {
-      a.rate = parse_double(o, value(i));
-      if (a.rate < 0.0) usage_error("--rate: must be >= 0 (0 = as fast as possible)");
-    } else if (o == "--seed") {
-      a.seed = static_cast<unsigned long long>(parse_int(o, value(i), 0, (1LL << 62)));
-    } else if (o == "--trace") {
-      a.trace = value(i);
-    } else if (o == "--summary") {
-      a.summary = value(i);
-    } else if (o == "--urdf") {
-      a.urdf = value(i);
-    } else if (o == "--arm") {
-      a.arm = value(i);
-      if (a.arm != "right" && a.arm != "left") usage_error("--arm: must be right or left");
+    } else if (const SetOption set = value_option(o)) {
+      if (i + 1 >= argc) usage_error(o + ": needs a value");
+      set(o, argv[++i], a);
     } else if (o == "--no-robot") {
       a.no_robot = true;
-    } else if (o == "--smoothing") {
-      a.smoothing = value(i);
-      if (a.smoothing != "bundle" && a.smoothing != "on" && a.smoothing != "off") {
-        usage_error("--smoothing: must be bundle, on or off");
-      }
-    } else if (o == "--state") {
-      const std::string kv = value(i);
-      const auto eq = kv.find('=');
-      if (eq == std::string::npos || eq == 0) usage_error("--state: needs NAME=VALUE");
-      a.states.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-    } else if (o == "--mode") {
-      a.mode = value(i);
-      if (a.mode != "table" && a.mode != "ds") {
-        usage_error("--mode: '" + a.mode + "' is not one of table, ds");
-      }
-    } else if (o == "--task") {
-      a.task = value(i);
-      if (a.task != "auto" && a.task != "push" && a.task != "grasp" && a.task != "press") {
-        usage_error("--task: '" + a.task + "' is not one of auto, push, grasp, press");
-      }
-    } else if (o == "--start-height") {
-      a.start_height = parse_double(o, value(i));
-      a.has_start_height = true;
     } else if (o == "--quiet") {
       a.quiet = true;
     } else if (!o.empty() && o[0] == '-') {
@@ -203,15 +265,7 @@ Args parse_args(int argc, char** argv) {
       usage_error("unexpected argument '" + o + "' (one BUNDLE only)");
     }
   }
-  if (a.bundle.empty()) usage_error("missing BUNDLE");
-  if (a.starts == "random" && a.has_radius) {
-    usage_error(
-        "--radius: sets the circle of --starts circle; random starts (the default) "
-        "take --radius-range A,B");
-  }
-  if (a.starts == "circle" && a.has_radius_range) {
-    usage_error("--radius-range: sets the random starts; --starts circle takes --radius R");
-  }
+  check_combination(a);
   return a;
 }
 
