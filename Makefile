@@ -4,6 +4,8 @@
 #                PROFILE=quick: about 30 min on an idle 2-core machine; PROFILE=full: hours)
 #   make test    set up, then run the C++ tests (ctest), the real-time tests again with Eigen's
 #                allocation guard, the Python tests (pytest) and the fuzzer; print the counts
+#   make test-fast  set up, then the Python tests not marked slow (a developer's quick loop);
+#                prints its wall time
 #   make bench   set up, then run the benchmarks and rewrite BENCHMARKS.md
 #   make lint    ruff + the import-layer contracts (lint-imports) + clang-format --dry-run
 #   make docs    set up, then build the API reference (Sphinx, docs/api) into build/docs
@@ -54,11 +56,11 @@ CLOCK = echo "$$(date +%s) $$($(CPU_TICKS))" > $(BUILD)/.clock-$(1)
 LAP = read t0 c0 < $(BUILD)/.clock-$(1) && echo "$(2): $$(( $$(date +%s) - t0 )) s (CPU \
   $$(( ($$($(CPU_TICKS)) - c0) / $$(getconf CLK_TCK) )) s)" >> $(BUILD)/times.log
 
-.PHONY: help setup demo results test test-clock test-layers test-cpp guard-build guard-run \
+.PHONY: help setup demo results test test-fast test-clock test-layers test-cpp guard-build guard-run \
   test-guarded test-python fuzz-build fuzz-run fuzz bench docs lint format clean
 
 help:
-	@sed -n '2,11p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,13p' Makefile | sed 's/^# \{0,1\}//'
 
 # --- set-up ---------------------------------------------------------------
 $(STAMP_APT):
@@ -153,6 +155,13 @@ test-python: setup
 	@A2L_NO_SKIPS=1 $(PY) -m pytest -q -n $(JOBS) --dist worksteal --durations=15 \
 	  tests/python 2>&1 | tee $(BUILD)/pytest.log
 	@$(call LAP,pytest,Python tests (pytest))
+
+# The quick lane: the Python tests not marked `slow` (golden runs, the demo, sweeps and whole
+# experiments are; one short case of each family stays here). make test runs both lanes.
+test-fast: setup
+	@t0=$$(date +%s); A2L_NO_SKIPS=1 $(PY) -m pytest -q -n $(JOBS) --dist worksteal -m "not slow" \
+	  --durations=10 tests/python 2>&1 | tee $(BUILD)/pytest-fast.log; \
+	echo "[make test-fast] fast lane $$(( $$(date +%s) - t0 )) s (wall time, $$(nproc) cores, load average $$(cut -d' ' -f1-3 /proc/loadavg))"
 
 # libFuzzer on the bundle loader under ASan + UBSan (clang; its own build tree).
 FUZZ_RUNS ?= 200000

@@ -115,6 +115,7 @@ def test_babbling_command_rejects_bad_arguments(tmp_path: Path) -> None:
     assert exc.value.code == 2
 
 
+@pytest.mark.slow
 def test_noveb_moves_the_box_more_often_than_random_babbling(tmp_path: Path) -> None:
     """NovEB ahead of random motor babbling in the push scene on a small budget: 80
     evaluations each in generations of 8, evaluation seed 1000 (at 47aa5cb: NovEB moved the

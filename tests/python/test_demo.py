@@ -26,6 +26,7 @@ def test_demo_fails_loudly_when_the_box_is_not_reached(capsys: pytest.CaptureFix
     assert "FAILED" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_cli_runs_the_whole_demo(tmp_path, capfd: pytest.CaptureFixture[str]) -> None:
     """The whole pipeline, made small: world, one Baxter iteration, a2l-run on the skill."""
     out = tmp_path / "demo"

@@ -92,6 +92,7 @@ def test_each_perturbation_happens(bundle: str) -> None:
     assert t["same_as_none"] and np.allclose(t["eef"], base, atol=1e-6)
 
 
+@pytest.mark.slow
 def test_metrics_schema_and_report(runs: dict[int, Path]) -> None:
     m = json.loads((runs[1] / "metrics.json").read_text())
     assert m["context_source"] == "perceived"  # the camera, by default
@@ -124,6 +125,7 @@ def test_metrics_schema_and_report(runs: dict[int, Path]) -> None:
         assert z[f"{SKILL}/hold/table/{SEEDS[0]}/eef"].shape[1] == 3
 
 
+@pytest.mark.slow
 def test_one_and_two_workers_give_identical_results(runs: dict[int, Path]) -> None:
     one, two = (json.loads((runs[w] / "metrics.json").read_text()) for w in (1, 2))
     for cond, e in one["skills"][SKILL].items():

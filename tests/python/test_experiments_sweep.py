@@ -129,6 +129,7 @@ def _seed_outcome(run: Path) -> tuple[str, bytes]:
         (run / "skills" / "push.a2lb").read_bytes()
 
 
+@pytest.mark.slow
 def test_seeds_run_at_once_give_the_results_of_seeds_one_by_one(tmp_path: Path) -> None:
     """With 2 workers, 2 seeds run at once, each in a worker process of its own: every
     seed's metrics, bundle and row are those of the sweep run one seed after the other; a

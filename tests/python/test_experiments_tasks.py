@@ -26,6 +26,7 @@ def run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     return out, metrics
 
 
+@pytest.mark.slow
 def test_metrics_schema_and_every_task_reached_with_and_without_its_fault(run) -> None:
     out, metrics = run
     assert json.loads((out / "metrics.json").read_text()) == json.loads(json.dumps(metrics))
@@ -43,6 +44,7 @@ def test_metrics_schema_and_every_task_reached_with_and_without_its_fault(run) -
         assert min(m["plan_lengths"]) >= 3, name
 
 
+@pytest.mark.slow
 def test_each_fault_was_injected_and_replanned(run) -> None:
     out, _metrics = run
     rows = pd.read_csv(out / "trials.csv", keep_default_na=False)
@@ -76,6 +78,7 @@ def test_bad_arguments_are_usage_errors(tmp_path: Path,
     assert exc.value.code == 2 and "demonstration seeds" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_an_applied_fault_leaves_the_world_disagreeing_with_the_plan(run) -> None:
     out, _metrics = run
     rows = pd.read_csv(out / "trials.csv", keep_default_na=False, dtype={"as_planned": str})

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
+import pytest
 
 from a2l.experiments.push import run_push_experiment
 from a2l.framework import FrameworkConfig
@@ -42,6 +43,7 @@ def _outcome(run_dir: Path) -> dict[str, Any]:
             "dataset": pd.read_parquet(run_dir / "dataset.parquet")}
 
 
+@pytest.mark.slow
 def test_baxter_run_same_results_with_one_and_two_workers(tmp_path: Path) -> None:
     runs = {}
     for workers in (1, 2):

@@ -79,6 +79,7 @@ def test_heldout_task_refuses_a_start_out_of_range(tmp_path: Path) -> None:
         heldout_task(ValidationTask(cfg, str(tmp_path / "none.a2lb"), 4, 0))
 
 
+@pytest.mark.slow
 def test_heldout_rollouts_decide_nothing(tmp_path: Path) -> None:
     """A run with held-out starts and one without give the same training metrics and
     dataset: held-out rollouts take no training draw, accept nothing, stick no pair."""
@@ -101,6 +102,7 @@ def test_heldout_rollouts_decide_nothing(tmp_path: Path) -> None:
     assert len(on.heldout_validation) == 6 * 4
 
 
+@pytest.mark.slow
 def test_resumed_run_keeps_its_heldout_history(tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=1, max_iterations=2,
                           discretization={"n_effects": 4}, heldout={"n_starts": 4})

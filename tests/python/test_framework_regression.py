@@ -123,6 +123,7 @@ EXPECTED_OFFSETS = [
 ]
 
 
+@pytest.mark.slow
 def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
     from a2l.skills import load_bundle
 
@@ -137,7 +138,9 @@ def test_virtual_push_metrics_with_the_offset_variables(tmp_path: Path) -> None:
     assert "offset_x" in kinds
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+@pytest.mark.parametrize("seed", [pytest.param(0, marks=pytest.mark.slow),
+                                  pytest.param(1, marks=pytest.mark.slow), 2,
+                                  pytest.param(3, marks=pytest.mark.slow)])
 def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=seed, discretization={"n_effects": 4},
                           learning={"structure": "hc-k2", "fixed_parents": ()},
@@ -145,6 +148,7 @@ def test_virtual_push_metrics_are_those_of_the_old_framework(seed: int, tmp_path
     _assert_metrics(cfg, tmp_path, EXPECTED[seed])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_with_smoothing_alone(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=seed, discretization={"n_effects": 4},
@@ -152,6 +156,7 @@ def test_virtual_push_metrics_with_smoothing_alone(seed: int, tmp_path: Path) ->
     _assert_metrics(cfg, tmp_path, EXPECTED_SMOOTHING[seed])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_virtual_push_metrics_with_the_defaults_of_54a7e03(seed: int, tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=seed, discretization={"n_effects": 4}

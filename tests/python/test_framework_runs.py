@@ -85,6 +85,7 @@ def test_reference_run_is_complete_and_rerunnable(reference: Path) -> None:
             framework.max_iterations, framework.starts.n_starts) == ("virtual", 4, 0, 2, 2)
 
 
+@pytest.mark.slow
 def test_killed_mid_iteration_and_resumed_ends_as_uninterrupted(reference: Path,
                                                                  tmp_path: Path) -> None:
     out = tmp_path / "killed"
@@ -118,6 +119,7 @@ def test_killed_mid_iteration_and_resumed_ends_as_uninterrupted(reference: Path,
         "iter_000", "iter_001"]
 
 
+@pytest.mark.slow
 def test_two_local_workers_give_the_same_results(reference: Path, tmp_path: Path) -> None:
     out = tmp_path / "two-workers"
     _run(*ARGS, "--out", str(out), "--workers", "2")
@@ -138,6 +140,7 @@ def dask_cluster() -> Iterator[str]:
         cluster.close()
 
 
+@pytest.mark.slow
 def test_dask_cluster_gives_the_same_results(reference: Path, tmp_path: Path,
                                              dask_cluster: str) -> None:
     assert dask_cluster.startswith("tcp://127.0.0.1:")

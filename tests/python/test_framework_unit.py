@@ -525,6 +525,7 @@ def test_push_refuses_to_overwrite_a_run(tmp_path: Path,
     assert code == 2 and "argument --out" in err and f"--resume {tmp_path}" in err
 
 
+@pytest.mark.slow
 def test_push_unreachable_cluster(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     # Nothing listens on the discard port of the loopback interface.
     code, err = _exit_code(["experiment", "push", "--out", str(tmp_path / "run"),

@@ -68,7 +68,7 @@ def test_reach_rows_close_at_the_grasp_point_and_cover_every_bin_near_the_block(
     assert len(seen) == CONFIG.discretization.n_orient * N_INCLINATION
 
 
-@pytest.mark.parametrize("name", ["grasp", "press"])
+@pytest.mark.parametrize("name", [pytest.param("grasp", marks=pytest.mark.slow), "press"])
 def test_learned_skill_reproduces_its_effect_on_held_out_seeds(name: str, bundles) -> None:
     recipe = SKILLS[name]
     with make_skill_scene(name, 0) as scene:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from scipy.stats import binom
 
 from a2l.experiments.perturbation_report import target
@@ -91,6 +92,7 @@ def _unmeasured(r: dict) -> str | None:
     return None
 
 
+@pytest.mark.slow
 def test_success_per_condition_stays_above_its_binomial_bound(tmp_path: Path) -> None:
     rows = {skill: _trials(skill, tmp_path / skill) for skill in TRIALS}
     below, moved = [], 0

@@ -71,7 +71,7 @@ def _stop(proc: subprocess.Popen[str], timeout: float = 20.0) -> str:
 
 
 @pytest.mark.timeout(180)
-@pytest.mark.parametrize("command", ["joint", "pose"])
+@pytest.mark.parametrize("command", [pytest.param("joint", marks=pytest.mark.slow), "pose"])
 def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, domain: int, tmp_path: Path,
                                                   command: str) -> None:
     truth = tmp_path / "truth.json"
@@ -102,6 +102,7 @@ def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, domain: int, tmp
         check_recording(tmp_path / "push.mcap", len(t["commands"]))
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(180)
 def test_a_sideways_push_runs_over_ros_with_the_gripper_turned_as_it_was_learned(
         sideways: Path, domain: int, tmp_path: Path) -> None:
@@ -324,6 +325,7 @@ def run_against(robot: FakeRobot, *argv: str) -> tuple[int, str, str]:
     return proc.returncode, out, err
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize(("box", "expect"), [
     ("missing", "no message on /objects/box/pose within startup_timeout 4.0 s"),
@@ -344,6 +346,7 @@ def test_bad_input_ends_the_skill_node_without_a_command_after_it(
     assert all(t <= robot.final for t in robot.commands)
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize(("how", "code", "stop"), [("sigint", 130, "interrupted"),
                                                    ("timeout", 1, "timeout")])
@@ -389,6 +392,7 @@ def test_a_bundle_for_another_robot_is_refused(bundle: Path, domain: int,
     assert "was learned for robot 'panda'" in res.stderr and "'baxter'" in res.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(120)
 def test_a_gripper_turned_away_from_the_skills_orientation_is_refused(
         sideways: Path, domain: int) -> None:
@@ -402,6 +406,7 @@ def test_a_gripper_turned_away_from_the_skills_orientation_is_refused(
     assert robot.commands == [] and robot.final is not None
 
 
+@pytest.mark.slow
 def test_an_effect_other_than_a_push_is_refused(bundle: Path, domain: int,
                                                  tmp_path: Path) -> None:
     """The node tests push effects from the object's pose: a bundle's other effect (here a

@@ -71,6 +71,7 @@ def push_metrics(push_run: tuple[Path, str]) -> dict[str, Any]:
     return json.loads((push_run[0] / "metrics.json").read_text())
 
 
+@pytest.mark.slow
 def test_the_push_command_prints_its_table_whole_into_a_file(
         push_run: tuple[Path, str], push_metrics: dict[str, Any]) -> None:
     lines = push_run[1].splitlines()
@@ -90,6 +91,7 @@ def test_the_push_command_prints_its_table_whole_into_a_file(
     assert table in (push_run[0] / "report.md").read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("columns", [80, None, 120],
                          ids=["terminal-80", "not-a-terminal", "terminal-120"])
 def test_the_push_and_demo_tables_at_the_terminals_width(
