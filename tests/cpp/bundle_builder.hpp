@@ -95,6 +95,25 @@ inline BundleParts sample_parts(std::uint64_t seed = 1, double uniform_share = 0
   return p;
 }
 
+//! The header and the manifest `text` (any bytes, JSON or not) of a bundle, padded with zeros
+//! to 8 bytes: its blob follows. The header gives `header_version`, the manifest's length and
+//! its CRC-32, and a zero reserved field.
+inline std::vector<std::uint8_t> frame(const std::string& text,
+                                       std::uint32_t header_version = kBundleSchemaVersion) {
+  std::vector<std::uint8_t> out(24, 0);
+  std::memcpy(out.data(), kBundleMagic, 8);
+  auto put = [&](std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i)
+      out[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
+  };
+  put(8, header_version);
+  put(12, static_cast<std::uint32_t>(text.size()));
+  put(16, bundle_crc32(text.data(), text.size()));
+  out.insert(out.end(), text.begin(), text.end());
+  out.resize((out.size() + 7) / 8 * 8, 0);
+  return out;
+}
+
 //! Serialise `p`. The "arrays" entry is computed (offsets, nbytes, CRCs) and then patched with
 //! `arrays_patch` (JSON merge patch) so that tests can corrupt it.
 inline std::vector<std::uint8_t> build(const BundleParts& p, const json& arrays_patch = json(),
@@ -117,18 +136,7 @@ inline std::vector<std::uint8_t> build(const BundleParts& p, const json& arrays_
                    {"nbytes", amax_bytes},
                    {"crc32", bundle_crc32(p.argmax.data(), amax_bytes)}}}};
   if (!arrays_patch.is_null()) m["arrays"].merge_patch(arrays_patch);
-  const std::string text = m.dump();
-  std::vector<std::uint8_t> out(24, 0);
-  std::memcpy(out.data(), kBundleMagic, 8);
-  auto put = [&](std::size_t at, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i)
-      out[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
-  };
-  put(8, header_version);
-  put(12, static_cast<std::uint32_t>(text.size()));
-  put(16, bundle_crc32(text.data(), text.size()));
-  out.insert(out.end(), text.begin(), text.end());
-  out.resize((out.size() + 7) / 8 * 8, 0);
+  std::vector<std::uint8_t> out = frame(m.dump(), header_version);
   const std::size_t blob = out.size();
   out.resize(blob + amax_off + amax_bytes, 0);
   std::memcpy(out.data() + blob, p.posterior.data(), post_bytes);
@@ -168,17 +176,7 @@ inline std::vector<std::uint8_t> serialise(json m, const std::vector<Array>& arr
     off += a.bytes.size();
   }
   if (!patch.is_null()) m["arrays"].merge_patch(patch);
-  const std::string text = m.dump();
-  std::vector<std::uint8_t> out(24, 0);
-  std::memcpy(out.data(), kBundleMagic, 8);
-  auto put = [&](std::size_t at, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) out[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
-  };
-  put(8, kBundleSchemaVersion);
-  put(12, static_cast<std::uint32_t>(text.size()));
-  put(16, bundle_crc32(text.data(), text.size()));
-  out.insert(out.end(), text.begin(), text.end());
-  out.resize((out.size() + 7) / 8 * 8, 0);
+  std::vector<std::uint8_t> out = frame(m.dump());
   const std::size_t blob = out.size();
   off = 0;
   for (const Array& a : arrays) {
