@@ -1,10 +1,13 @@
 // Bundle loading: a valid bundle loads; every corruption gives a clear error naming the field
-// or the check (truncation, checksums, versions, shapes, keys, types, values, random bytes).
+// or the check (null data, truncation, the header's reserved field, padding, checksums,
+// versions, a manifest not an object, shapes, keys, types, values, random bytes).
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "a2l/bundle.hpp"
 #include "bundle_builder.hpp"
@@ -34,6 +37,25 @@ std::vector<std::uint8_t> with(const std::function<void(json&)>& edit) {
   BundleParts p = sample_parts();
   edit(p.manifest);
   return build(p);
+}
+
+// The manifest length the header of bundle `b` gives.
+std::uint32_t manifest_length(const std::vector<std::uint8_t>& b) {
+  return b[12] | (b[13] << 8) | (b[14] << 16) | (static_cast<std::uint32_t>(b[15]) << 24);
+}
+
+// A valid bundle whose manifest does not end on 8 bytes (zero padding follows it), its
+// manifest's end in `manifest_end` and its blob's offset in `blob`.
+std::vector<std::uint8_t> padded_bundle(std::size_t& manifest_end, std::size_t& blob) {
+  BundleParts p = sample_parts();
+  std::vector<std::uint8_t> b = build(p);
+  while (manifest_length(b) % 8 == 0) {
+    p.manifest["name"] = p.manifest["name"].get<std::string>() + "x";
+    b = build(p);
+  }
+  manifest_end = 24 + manifest_length(b);
+  blob = (manifest_end + 7) / 8 * 8;
+  return b;
 }
 
 TEST(Bundle, ValidBundleLoadsFromMemoryAndFile) {
@@ -95,6 +117,65 @@ TEST(Bundle, TruncatedAnywhere) {
   expect_error(load({b.begin(), b.begin() + 10}), Status::parse_error, "header");
   expect_error(load({b.begin(), b.begin() + 200}), Status::parse_error, "manifest length");
   expect_error(load({b.begin(), b.end() - 4}), Status::parse_error, "outside the file");
+}
+
+TEST(Bundle, NullData) {
+  a2l::Skill s;
+  expect_error(a2l::load_bundle_from_memory(nullptr, 100, s, "corrupt.a2lb"),
+               Status::invalid_argument, "null data");
+  // null and no bytes: an empty file
+  expect_error(a2l::load_bundle_from_memory(nullptr, 0, s, "corrupt.a2lb"), Status::parse_error,
+               "truncated: 0 bytes, shorter than the 24-byte header");
+}
+
+TEST(Bundle, ReservedHeaderFieldMustBeZero) {
+  for (const std::size_t at : {20, 23}) {  // the first and the last byte of the field
+    auto b = build(sample_parts());
+    b[at] = 0x01;
+    expect_error(load(b), Status::parse_error, "header: reserved field is not 0");
+  }
+}
+
+TEST(Bundle, FileEndingBeforeItsBlob) {
+  std::size_t manifest_end = 0, blob = 0;
+  const auto b = padded_bundle(manifest_end, blob);
+  ASSERT_LT(manifest_end, blob);
+  // the whole manifest (its CRC-32 right), cut within the padding that leads to the blob
+  for (std::size_t n = manifest_end; n < blob; ++n) {
+    expect_error(load({b.begin(), b.begin() + static_cast<long>(n)}), Status::parse_error,
+                 "truncated: the file ends before its blob");
+  }
+}
+
+TEST(Bundle, PaddingAfterTheManifestMustBeZero) {
+  std::size_t manifest_end = 0, blob = 0;
+  const auto valid = padded_bundle(manifest_end, blob);
+  ASSERT_TRUE(load(valid).ok());
+  for (std::size_t i = manifest_end; i < blob; ++i) {
+    auto b = valid;
+    b[i] = ' ';  // JSON whitespace, but outside the manifest's length
+    expect_error(load(b), Status::parse_error, "padding after the manifest is not zero");
+  }
+}
+
+TEST(Bundle, ManifestMustBeAJsonObject) {
+  for (const char* text : {"[1, 2, 3]", "42", "\"skill\"", "null", "true"}) {
+    expect_error(load(a2l::testing::frame(text)), Status::parse_error,
+                 "manifest: must be a JSON object");
+  }
+}
+
+TEST(Bundle, ArraysMissingOrNotAnObject) {
+  const BundleParts p = sample_parts();  // its manifest has no "arrays" (build() adds them)
+  expect_error(load(a2l::testing::frame(p.manifest.dump())), Status::parse_error,
+               "arrays: missing");
+  // a patch that is not an object replaces "arrays" (JSON merge patch)
+  const std::vector<std::pair<json, std::string>> wrong = {
+      {json::array({1, 2}), "array"}, {json(7), "number"}, {json("posterior"), "string"}};
+  for (const auto& [arrays, type] : wrong) {
+    expect_error(load(build(p, arrays)), Status::parse_error,
+                 "arrays: must be an object, got " + type);
+  }
 }
 
 TEST(Bundle, BadMagic) {

@@ -58,13 +58,18 @@ std::vector<Array> ds_arrays(const DsParts& p) {
           array_of("ds_rhos", "float64", p.k, p.rhos)};
 }
 
+// The manifest of a DS-only bundle, without "arrays".
+json ds_manifest(const DsParts& p) {
+  return {{"schema_version", a2l::kBundleSchemaVersion},
+          {"kind", "ds"},
+          {"name", "reach"},
+          {"created_by", "a2l tests"},
+          {"ds", p.ds}};
+}
+
 std::vector<std::uint8_t> ds_bundle(const DsParts& p, const json& patch = json(),
                                     const std::function<void(json&)>& edit = nullptr) {
-  json m = {{"schema_version", a2l::kBundleSchemaVersion},
-            {"kind", "ds"},
-            {"name", "reach"},
-            {"created_by", "a2l tests"},
-            {"ds", p.ds}};
+  json m = ds_manifest(p);
   if (edit) edit(m);
   return serialise(m, ds_arrays(p), patch);
 }
@@ -250,6 +255,16 @@ TEST(BundleDs, MissingKeysAreNamed) {
   }
   expect_error(ds_bundle(sample_ds(), json(), [](json& m) { m["kind"] = "policy"; }),
                Status::parse_error, "kind: must be 'skill' or 'ds'");
+}
+
+TEST(BundleDs, ArraysMissingOrNotAnObject) {
+  // a DS-only manifest reaches "arrays" by another way than a skill's
+  expect_error(a2l::testing::frame(ds_manifest(sample_ds()).dump()), Status::parse_error,
+               "arrays: missing");
+  expect_error(ds_bundle(sample_ds(), json::array()), Status::parse_error,
+               "arrays: must be an object, got array");
+  expect_error(ds_bundle(sample_ds(), json("ds_centers")), Status::parse_error,
+               "arrays: must be an object, got string");
 }
 
 TEST(BundleDs, CorruptionIsDetected) {
