@@ -32,6 +32,24 @@ void expect_error(const a2l::Result& r, Status status, const std::string& needle
   EXPECT_NE(r.message.find("corrupt.a2lb"), std::string::npos) << r.message;
 }
 
+// Whether `message` is a loader's message about corrupt.a2lb naming one of `parts`.
+::testing::AssertionResult names_one_of(const std::string& message,
+                                        const std::vector<std::string>& parts) {
+  const std::string prefix = "skill bundle 'corrupt.a2lb': ";
+  if (message.rfind(prefix, 0) != 0 || message.size() == prefix.size()) {
+    return ::testing::AssertionFailure() << "message '" << message << "' names nothing";
+  }
+  for (const std::string& part : parts) {
+    if (message.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "message '" << message << "' names none of the parts";
+}
+
+// The checks of a bundle's frame: header, manifest bytes, and the file's length.
+const std::vector<std::string> kFrameChecks = {
+    "truncated",       "magic",           "schema version", "header: reserved",
+    "manifest length", "manifest CRC-32", "padding"};
+
 // Parts with one manifest change (the arrays stay consistent).
 std::vector<std::uint8_t> with(const std::function<void(json&)>& edit) {
   BundleParts p = sample_parts();
@@ -113,6 +131,9 @@ TEST(Bundle, TruncatedAnywhere) {
     EXPECT_FALSE(r.ok()) << n;
     EXPECT_TRUE(r.status == Status::parse_error) << n << ": " << r.message;
     EXPECT_FALSE(r.message.empty());
+    // a short file is named: "truncated" (before the header, the manifest's end, the blob or an
+    // array's end), or an array's nbytes "larger than the file"
+    EXPECT_TRUE(names_one_of(r.message, {"truncated", "larger than the file"})) << n;
   }
   expect_error(load({b.begin(), b.begin() + 10}), Status::parse_error, "header");
   expect_error(load({b.begin(), b.begin() + 200}), Status::parse_error, "manifest length");
@@ -349,16 +370,22 @@ TEST(Bundle, RandomBytesNeverLoad) {
     const a2l::Result r = load(b);
     EXPECT_FALSE(r.ok());
     EXPECT_FALSE(r.message.empty());
+    // refused by a check of the frame (the manifest's CRC-32 when the header is valid)
+    EXPECT_TRUE(names_one_of(r.message, kFrameChecks)) << i;
   }
   // Random bit flips of a valid bundle: never a crash; an error unless the flip is harmless.
+  std::vector<std::string> checks = kFrameChecks;
+  checks.push_back(".crc32");  // an array's bytes
   int failures = 0;
   for (int i = 0; i < 300; ++i) {
     auto b = valid;
     b[std::uniform_int_distribution<std::size_t>(0, b.size() - 1)(rng)] ^=
         static_cast<std::uint8_t>(1 << byte(rng) % 8);
-    failures += !load(b).ok();
+    const a2l::Result r = load(b);
+    failures += !r.ok();
+    EXPECT_TRUE(names_one_of(r.message, checks)) << i;
   }
-  EXPECT_EQ(failures, 300);  // every byte is covered by a check or a checksum
+  EXPECT_EQ(failures, 300);  // every byte is covered by a check or a checksum, which is named
 }
 
 }  // namespace

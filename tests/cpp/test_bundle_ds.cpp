@@ -276,11 +276,17 @@ TEST(BundleDs, CorruptionIsDetected) {
   b = ds_bundle(sample_ds(2, 12));
   b.push_back(0);
   expect_error(b, Status::parse_error, "trailing bytes");
-  // every truncation fails cleanly
+  // every truncation fails cleanly, named: "truncated" (before the header, the manifest's end,
+  // the blob or an array's end), or an array's nbytes "larger than the file"
   b = ds_bundle(sample_ds(3, 5));
   for (std::size_t n = 0; n < b.size(); n += 7) {
     DiffeoMaps m;
-    EXPECT_FALSE(a2l::load_ds_bundle_from_memory(b.data(), n, m).ok()) << n << " bytes";
+    const a2l::Result r = a2l::load_ds_bundle_from_memory(b.data(), n, m);
+    EXPECT_EQ(r.status, Status::parse_error) << n << " bytes: " << r.message;
+    EXPECT_EQ(r.message.rfind("skill bundle '<memory>': ", 0), 0u) << r.message;
+    EXPECT_TRUE(r.message.find("truncated") != std::string::npos ||
+                r.message.find("larger than the file") != std::string::npos)
+        << n << " bytes: " << r.message;
   }
 }
 
