@@ -218,6 +218,55 @@ TEST(TransitPlanner, ImpossibleRequestsHaveAClearStatus) {
   EXPECT_STREQ(a2l::transit_status_name(r.status), "no_path");
 }
 
+TEST(TransitPlanner, UnloadedModelIsRefused) {
+  a2l::TransitPlanner planner{a2l::CollisionModel()};
+  ASSERT_FALSE(planner.model().loaded());
+  const a2l::TransitResult r = planner.plan(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0));
+  EXPECT_EQ(r.status, a2l::TransitStatus::invalid_argument);
+  EXPECT_EQ(r.message, "the model is not loaded");
+  EXPECT_EQ(r.collision_checks, 0);
+}
+
+TEST(TransitPlanner, NonFiniteEndPointsAreRefused) {
+  a2l::TransitPlanner planner(load());
+  const double nan = std::nan(""), inf = INFINITY;
+  const Eigen::Vector2d ok(0.0, 0.0);
+  for (const Eigen::Vector2d& bad : {Eigen::Vector2d(nan, 0.0), Eigen::Vector2d(0.0, inf)}) {
+    for (const bool bad_start : {true, false}) {
+      const a2l::TransitResult r = bad_start ? planner.plan(bad, ok) : planner.plan(ok, bad);
+      EXPECT_EQ(r.status, a2l::TransitStatus::invalid_argument) << r.message;
+      EXPECT_EQ(r.message, "q_start or q_goal contains NaN or inf") << bad.transpose();
+      EXPECT_EQ(r.collision_checks, 0);
+    }
+  }
+}
+
+TEST(TransitPlanner, StartOutsideTheJointLimitsIsRefused) {
+  a2l::TransitPlanner planner(load());
+  // j1 in [-3, 3], j2 in [-2.5, 2.5]; the goal is valid
+  for (const Eigen::Vector2d& start : {Eigen::Vector2d(-3.1, 0.0), Eigen::Vector2d(0.0, 2.6)}) {
+    const a2l::TransitResult r = planner.plan(start, Eigen::Vector2d(1.0, 0.0));
+    EXPECT_EQ(r.status, a2l::TransitStatus::start_out_of_limits) << r.message;
+    EXPECT_STREQ(a2l::transit_status_name(r.status), "start_out_of_limits");
+    EXPECT_EQ(r.message, "the start violates the joint limits") << start.transpose();
+  }
+  // the goal's message names the goal
+  const a2l::TransitResult r = planner.plan(Eigen::Vector2d(0, 0), Eigen::Vector2d(9, 0));
+  EXPECT_EQ(r.status, a2l::TransitStatus::goal_out_of_limits);
+  EXPECT_EQ(r.message, "the goal violates the joint limits");
+}
+
+TEST(TransitPlanner, StartInCollisionNamesThePair) {
+  a2l::TransitPlanner planner(load());
+  // a post on the x axis: the straight arm (j1 = 0) hits it with link2, j1 = 1 is free
+  ASSERT_TRUE(
+      planner.model().set_obstacles({box("post", {0.75, 0, 0.05}, {0.03, 0.03, 0.2})}, 0.0).ok());
+  const a2l::TransitResult r = planner.plan(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0));
+  EXPECT_EQ(r.status, a2l::TransitStatus::start_in_collision) << r.message;
+  EXPECT_STREQ(a2l::transit_status_name(r.status), "start_in_collision");
+  EXPECT_EQ(r.message, "the start collides: 'link2'/'post'");
+}
+
 }  // namespace
 #endif
 
