@@ -74,6 +74,17 @@ def test_runtime_a2l_run_is_installed_and_documented() -> None:
         (("x.a2lb", "--starts", "circle", "--radius-range", "0.1,0.2"), "--radius-range"),
         (("x.a2lb", "--radius-range", "0.3,0.1"), "0 < A <= B"),
         (("/nonexistent/skill.a2lb",), "cannot open"),
+        (("x.a2lb", "--arm", "middle"), "--arm: must be right or left"),
+        (("x.a2lb", "--smoothing", "yes"), "--smoothing: must be bundle, on or off"),
+        (("x.a2lb", "--state", "light"), "--state: needs NAME=VALUE"),
+        (("x.a2lb", "--state", "=on"), "--state: needs NAME=VALUE"),
+        (("x.a2lb", "--object", "0.5,0.1"), "--object: needs X,Y,Z"),
+        (("x.a2lb", "--object", "0.5,0.1,up"), "--object: 'up' is not a finite number"),
+        (("x.a2lb", "--seed", "-1"), f"--seed: '-1' is not an integer in [0, {2**62}]"),
+        (("x.a2lb", "--seed", str(2**62 + 1)), f"--seed: '{2**62 + 1}' is not an integer in"),
+        (("x.a2lb", "--seed"), "--seed: needs a value"),
+        (("x.a2lb", "--quiet", "--object"), "--object: needs a value"),
+        (("x.a2lb", "y.a2lb"), "unexpected argument 'y.a2lb' (one BUNDLE only)"),
     ],
 )
 def test_runtime_a2l_run_bad_arguments(args: tuple[str, ...], message: str) -> None:
