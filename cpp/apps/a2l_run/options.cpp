@@ -101,12 +101,27 @@ long long parse_int(const std::string& opt, const std::string& s, long long lo, 
   return v;
 }
 
+// The non-empty items of a list such as --effect left,right.
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> out;
   std::string cur;
   std::istringstream ss(s);
   while (std::getline(ss, cur, sep)) {
     if (!cur.empty()) out.push_back(cur);
+  }
+  return out;
+}
+
+// Every field of `s` between the separators, empty ones included ("1,,2" has 3 fields), so
+// that a number list with a missing value is refused rather than read shorter.
+std::vector<std::string> fields(const std::string& s, char sep) {
+  std::vector<std::string> out(1);
+  for (const char c : s) {
+    if (c == sep) {
+      out.emplace_back();
+    } else {
+      out.back() += c;
+    }
   }
   return out;
 }
@@ -132,8 +147,8 @@ void set_radius(const std::string& o, const std::string& v, Args& a) {
 
 // --radius-range A,B: the distances of random starts, 0 < A <= B.
 void set_radius_range(const std::string& o, const std::string& v, Args& a) {
-  const auto parts = split(v, ',');
-  if (parts.size() != 2) usage_error("--radius-range: needs A,B");
+  const auto parts = fields(v, ',');
+  if (parts.size() != 2) usage_error("--radius-range: needs A,B, got '" + v + "'");
   a.radius_min = parse_double(o, parts[0]);
   a.radius_max = parse_double(o, parts[1]);
   a.has_radius_range = true;
@@ -144,8 +159,8 @@ void set_radius_range(const std::string& o, const std::string& v, Args& a) {
 
 // --object X,Y,Z: the box centre.
 void set_object(const std::string& o, const std::string& v, Args& a) {
-  const auto parts = split(v, ',');
-  if (parts.size() != 3) usage_error("--object: needs X,Y,Z");
+  const auto parts = fields(v, ',');
+  if (parts.size() != 3) usage_error("--object: needs X,Y,Z, got '" + v + "'");
   for (int k = 0; k < 3; ++k) a.object[k] = parse_double(o, parts[static_cast<size_t>(k)]);
   a.has_object = true;
 }
@@ -153,7 +168,9 @@ void set_object(const std::string& o, const std::string& v, Args& a) {
 // --state NAME=VALUE: a high-level state's value (repeatable).
 void add_state(const std::string&, const std::string& kv, Args& a) {
   const auto eq = kv.find('=');
-  if (eq == std::string::npos || eq == 0) usage_error("--state: needs NAME=VALUE");
+  if (eq == std::string::npos || eq == 0) {
+    usage_error("--state: needs NAME=VALUE, got '" + kv + "'");
+  }
   a.states.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
 }
 
@@ -192,16 +209,12 @@ const std::pair<const char*, SetOption> kValueOptions[] = {
     {"--summary", [](const std::string&, const std::string& v, Args& a) { a.summary = v; }},
     {"--urdf", [](const std::string&, const std::string& v, Args& a) { a.urdf = v; }},
     {"--arm",
-     [](const std::string&, const std::string& v, Args& a) {
-       a.arm = v;
-       if (a.arm != "right" && a.arm != "left") usage_error("--arm: must be right or left");
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.arm = one_of(o, v, {"right", "left"});
      }},
     {"--smoothing",
-     [](const std::string&, const std::string& v, Args& a) {
-       a.smoothing = v;
-       if (a.smoothing != "bundle" && a.smoothing != "on" && a.smoothing != "off") {
-         usage_error("--smoothing: must be bundle, on or off");
-       }
+     [](const std::string& o, const std::string& v, Args& a) {
+       a.smoothing = one_of(o, v, {"bundle", "on", "off"});
      }},
     {"--state", add_state},
     {"--mode",
