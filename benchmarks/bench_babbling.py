@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 import tempfile
 import time
-from dataclasses import asdict, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +18,7 @@ from a2l.acquisition.noveb import NovEB, NovEBConfig, novelty
 from a2l.acquisition.protocol import drive
 from a2l.acquisition.trajectory import RETURN_REST_S
 from a2l.experiments.babbling import run_babbling
-from a2l.experiments.babbling_world import WorldConfig, _world, evaluate_task
+from a2l.experiments.babbling_world import EvaluationTask, WorldConfig, _world, evaluate_task
 
 TITLE = "Babbling (NovEB, random and goal babbling on Baxter's push scene)"
 
@@ -78,7 +78,7 @@ def _split(cfg: WorldConfig, n: int = 20) -> dict[str, float]:
     tick0 = scene._tick
     t, c = time.perf_counter(), time.process_time()
     for g in genotypes:
-        evaluate_task((asdict(cfg), g))
+        evaluate_task(EvaluationTask(cfg, g))
     total, cpu = time.perf_counter() - t, time.process_time() - c
     ticks = scene._tick - tick0
     for name, f in orig.items():
@@ -111,7 +111,7 @@ def _rate_check(n: int = 40) -> tuple[int, int, int, float, float, float]:
     ends = {}
     for hz in (240, 120):
         cfg = WorldConfig(scene="push", seed=0, time_step=1.0 / hz)
-        ends[hz] = np.array([evaluate_task((asdict(cfg), g)).displacement["box"]
+        ends[hz] = np.array([evaluate_task(EvaluationTask(cfg, g)).displacement["box"]
                              for g in genotypes])
     moved = {hz: np.hypot(*e.T) > 0.01 for hz, e in ends.items()}
     both = moved[240] & moved[120]

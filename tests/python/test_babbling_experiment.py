@@ -19,7 +19,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from a2l.experiments.babbling_world import WorldConfig, act_and_look, evaluate_task, make_world
+from a2l.experiments.babbling_world import (
+    EvaluationTask,
+    WorldConfig,
+    act_and_look,
+    evaluate_task,
+    make_world,
+)
 
 #: Box of the waypoints (WorldConfig's defaults): x 0.40..0.78, y -0.72..0.12, height
 #: 0.03..0.30 above the table. The push scene's box stands at (0.62, -0.25).
@@ -56,7 +62,7 @@ def test_acting_and_looking_reads_no_object_state(monkeypatch: pytest.MonkeyPatc
 
 
 def test_evaluation_measures_what_moved_on_two_objects() -> None:
-    ev = evaluate_task((WorldConfig(scene="two_objects").__dict__, THROUGH_THE_BOX))
+    ev = evaluate_task(EvaluationTask(WorldConfig(scene="two_objects"), THROUGH_THE_BOX))
     assert set(ev.displacement) == {"box", "box2"}
     # the path at y = -0.25 passes between the two boxes (at y -0.45 and -0.02)
     assert all(np.hypot(*d) < 0.01 for d in ev.displacement.values())

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +29,7 @@ from a2l.acquisition.noveb import NovEB, NovEBConfig
 from a2l.acquisition.protocol import Strategy, drive
 from a2l.atomic import atomic_write_text
 from a2l.experiments.babbling_plots import plot_progress, plot_visits
-from a2l.experiments.babbling_world import Evaluation, WorldConfig, evaluate_task
+from a2l.experiments.babbling_world import Evaluation, EvaluationTask, WorldConfig, evaluate_task
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
 from a2l.rundir import command_line, make_run_dir, write_json
@@ -114,10 +114,10 @@ class _Babble:
     """What a babbling run accumulates, batch after batch: the evaluations' rows and paths,
     the outcomes reached, the generations' metrics and the time spent evaluating."""
 
-    def __init__(self, strategy: Strategy, wd: dict[str, Any], label: str,
+    def __init__(self, strategy: Strategy, world: WorldConfig, label: str,
                  evaluations: int) -> None:
-        self.strategy, self.wd, self.label, self.evaluations = (strategy, wd, label,
-                                                                evaluations)
+        self.strategy, self.world, self.label, self.evaluations = (strategy, world, label,
+                                                                   evaluations)
         self.records: list[dict[str, Any]] = []
         self.paths: list[np.ndarray] = []
         self.reached: set[tuple[str, str, int, int]] = set()
@@ -126,7 +126,8 @@ class _Babble:
 
     def evaluate(self, executor: Executor, asked: Sequence[np.ndarray]) -> list[Evaluation]:
         t = time.perf_counter()
-        evs: list[Evaluation] = executor.map(evaluate_task, [(self.wd, g) for g in asked])
+        evs: list[Evaluation] = executor.map(evaluate_task,
+                                             [EvaluationTask(self.world, g) for g in asked])
         self.eval_s += time.perf_counter() - t
         return evs
 
@@ -237,13 +238,12 @@ def run_babbling(method: str, evaluations: int, seed: int, scene: str = "push",
         The content of ``metrics.json`` plus ``run_dir``.
     """
     _check_arguments(method, evaluations, generation_size)
-    base = asdict(world) if world is not None else {}
-    wcfg = WorldConfig(**{**base, "scene": scene, "seed": seed})
+    wcfg = replace(world or WorldConfig(), scene=scene, seed=seed)
     run_dir = make_run_dir(f"babbling-{method}-{scene}", out)
     command = _write_config(run_dir, method, evaluations, seed, scene, generation_size, wcfg)
     n_genes = 3 * wcfg.n_waypoints
     strategy = make_strategy(method, n_genes, seed, evaluations, generation_size)
-    babble = _Babble(strategy, asdict(wcfg), f"{method} on {scene}", evaluations)
+    babble = _Babble(strategy, wcfg, f"{method} on {scene}", evaluations)
     t0 = time.perf_counter()
     babble.run(generation_size, workers, cluster, quiet)
     wall = time.perf_counter() - t0

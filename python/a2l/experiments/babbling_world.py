@@ -25,8 +25,8 @@ from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 from a2l.rollout.cache import thread_scene
 from a2l.rollout.protocol import ArmSceneProtocol
 
-__all__ = ["BABBLING_SCENES", "Evaluation", "WorldConfig", "act_and_look", "evaluate_task",
-           "make_world", "object_homes"]
+__all__ = ["BABBLING_SCENES", "Evaluation", "EvaluationTask", "WorldConfig", "act_and_look",
+           "evaluate_task", "make_world", "object_homes"]
 
 #: Scenes of the babbling experiment.
 BABBLING_SCENES = ("push", "two_objects")
@@ -194,12 +194,27 @@ def object_homes(cfg: WorldConfig, sim_config: Any) -> dict[str, tuple[float, fl
     return {"box": tuple(sim_config.box_position)}
 
 
-def evaluate_task(task: tuple[dict[str, Any], NDArray[np.float64]]) -> Evaluation:
-    """Evaluate one genotype: ``(world config as a dict, genotype)`` (runs in workers too)."""
-    cfg_d, genotype = task
-    cfg = WorldConfig(**cfg_d)
+@dataclass(frozen=True)
+class EvaluationTask:
+    """One genotype to evaluate, as a worker evaluates it (:func:`evaluate_task`).
+
+    Attributes
+    ----------
+    world : WorldConfig
+        The babbling world (scene, encoding, camera, seed).
+    genotype : ndarray, shape (3 * world.n_waypoints,)
+        The trajectory's waypoints, encoded (:meth:`WorldConfig.encoding`).
+    """
+
+    world: WorldConfig
+    genotype: NDArray[np.float64]
+
+
+def evaluate_task(task: EvaluationTask) -> Evaluation:
+    """Evaluate one genotype in the world of ``task.world`` (runs in workers too)."""
+    cfg = task.world
     scene = _world(cfg)
-    descriptor, path, moves = act_and_look(scene, cfg, np.asarray(genotype, dtype=float))
+    descriptor, path, moves = act_and_look(scene, cfg, np.asarray(task.genotype, dtype=float))
     after = scene.ground_truth()["objects"]
     home = object_homes(cfg, scene.config)
     disp = {n: (float(after[n][0] - home[n][0]), float(after[n][1] - home[n][1]))
