@@ -287,11 +287,11 @@ def test_lfd_skills_reads_the_camera_by_default_and_names_its_source(tmp_path):
 
 
 def test_a_worker_with_another_package_refuses_to_run():
-    from a2l.experiments.lfd_skills import trial_task
+    from a2l.experiments.lfd_skills import LfdTrial, trial_task
 
     with pytest.raises(RuntimeError, match="imported a2l from"):
-        trial_task({"skill": "push_far", "bundle": "x", "seed": 0, "scene": "virtual",
-                    "mode": "table", "cfg": DEFAULT.to_json(), "package": "/elsewhere/a2l"})
+        trial_task(LfdTrial("push_far", "x", 0, "virtual", "table", DEFAULT,
+                            package="/elsewhere/a2l"))
 
 
 @pytest.mark.parametrize("argv, message", [

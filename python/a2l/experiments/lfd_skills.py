@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +24,7 @@ from a2l.errors import ConfigError
 from a2l.lfd.config import LfDConfig
 from a2l.progress import print_tables, progress_bar
 
-__all__ = ["evaluate", "results_table", "run_lfd_skills", "trial_task"]
+__all__ = ["LfdTrial", "evaluate", "results_table", "run_lfd_skills", "trial_task"]
 
 #: Where a trial reads the context, as reports name it.
 CONTEXT_SOURCES = {"perceived": "camera", "ground_truth": "ground truth"}
@@ -33,33 +34,77 @@ _SCENES: dict[str, Any] = {}
 
 
 def package_dir() -> str:
+    """The directory of the a2l package this process imported."""
     import a2l
 
     return os.path.dirname(os.path.abspath(a2l.__file__))
 
 
-def trial_task(task: dict[str, Any]) -> dict[str, Any]:
-    """One trial: ``{"skill", "bundle", "seed", "scene", "mode", "cfg", "package"}`` and
-    optionally ``"context_source"`` (default the camera, ``"perceived"``) and ``"keep_run"``
-    (the result then holds the :class:`a2l.rollout.run.SkillRun` as ``"run"``, to record).
+def check_package(package: str) -> None:
+    """Raise RuntimeError when this process (a worker) imported another copy of a2l than
+    `package`, the parent's :func:`package_dir`: its results would not be the code under
+    test's."""
+    if package != package_dir():
+        raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "
+                           f"{package}: start the experiment with the interpreter of the "
+                           "package under test")
+
+
+@dataclass(frozen=True)
+class LfdTrial:
+    """One trial of a learned skill, as a worker runs it (:func:`trial_task`).
+
+    Attributes
+    ----------
+    skill : str
+        The skill (:data:`a2l.lfd.library.SKILLS`).
+    bundle : str
+        Path of its learned bundle.
+    seed : int
+        Trial seed: the object's and the arm's start (:func:`a2l.lfd.library.reset_for_trial`).
+    scene : {"baxter", "virtual"}
+        Baxter in PyBullet (the recipe's scene) or the C++ virtual scene.
+    mode : {"table", "ds"}
+        The context skill (the compiled table) or the DS alone.
+    config : LfDConfig
+        The skill's configuration (its ``step`` is the scene's movement length).
+    package : str
+        The a2l directory of the process that made the trial (default: this one's,
+        :func:`package_dir`); a worker that imported another refuses to run it.
+    context_source : {"perceived", "ground_truth"}
+        Where the skill reads the context: the camera (default) or the simulator's truth.
+    keep_run : bool
+        The result then holds the :class:`a2l.rollout.run.SkillRun` as ``"run"``, to record.
+    """
+
+    skill: str
+    bundle: str
+    seed: int
+    scene: str
+    mode: str
+    config: LfDConfig
+    package: str = field(default_factory=package_dir)
+    context_source: str = "perceived"
+    keep_run: bool = False
+
+
+def trial_task(task: LfdTrial) -> dict[str, Any]:
+    """Run one trial: a row of ``trials.csv`` (plus ``"run"`` with ``task.keep_run``).
 
     Raises
     ------
     RuntimeError
-        The worker imported another copy of a2l than the parent (``package``): its results
-        would not be the code under test's.
+        The worker imported another copy of a2l than the parent (``task.package``): its
+        results would not be the code under test's.
     """
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
     from a2l.rollout.effect_tests import light_test
     from a2l.rollout.run import run_skill
 
-    if task.get("package") and task["package"] != package_dir():
-        raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "
-                           f"{task['package']}: start the experiment with the interpreter of "
-                           "the package under test")
-    cfg = LfDConfig(**task["cfg"])
-    name, scene_name = task["skill"], task["scene"]
-    source = task.get("context_source", "perceived")
+    check_package(task.package)
+    cfg = task.config
+    name, scene_name = task.skill, task.scene
+    source = task.context_source
     key = repr((name, scene_name, cfg.step, source))
     scene = _SCENES.get(key)
     if scene is None:
@@ -69,17 +114,17 @@ def trial_task(task: dict[str, Any]) -> dict[str, Any]:
         scene = _SCENES[key] = make_skill_scene(
             name, 0, cfg, scene=None if scene_name == "baxter" else scene_name,
             context_source=source)
-    reset_for_trial(scene, name, task["seed"])
+    reset_for_trial(scene, name, task.seed)
     recipe = SKILLS[name]
     by_light = recipe.extra.get("effect_by_light")
-    run = run_skill(scene, task["bundle"], recipe.effect, mode=task["mode"],
+    run = run_skill(scene, task.bundle, recipe.effect, mode=task.mode,
                     object_name=recipe.object_name,
                     effect_test=light_test(by_light) if by_light else None)
-    return {"skill": name, "seed": task["seed"], "scene": scene_name, "mode": task["mode"],
+    return {"skill": name, "seed": task.seed, "scene": scene_name, "mode": task.mode,
             "context_source": source, "success": bool(run.success), "stop": run.stop,
             "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
-            "wall": run.wall, **({"run": run} if task.get("keep_run") else {})}
+            "wall": run.wall, **({"run": run} if task.keep_run else {})}
 
 
 def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
@@ -112,9 +157,9 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
     from a2l.lfd.library import skill_config
     from a2l.parallel import Executor
 
-    tasks = [{"skill": n, "bundle": str(b), "seed": int(s), "scene": scene, "mode": mode,
-              "cfg": skill_config(n, cfg).to_json(), "package": package_dir(),
-              "context_source": context_source, "keep_run": keep_runs}
+    configs = {n: skill_config(n, cfg) for n in bundles}
+    tasks = [LfdTrial(n, str(b), int(s), scene, mode, configs[n], package_dir(),
+                      context_source, keep_runs)
              for n, b in bundles.items() for s in seeds]
     if executor is None:
         with Executor(1) as ex:

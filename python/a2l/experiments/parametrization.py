@@ -22,6 +22,7 @@ import itertools
 import os
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -29,12 +30,12 @@ import numpy as np
 import pandas as pd
 
 from a2l.errors import ConfigError
-from a2l.experiments.lfd_skills import package_dir, trial_task
+from a2l.experiments.lfd_skills import LfdTrial, check_package, package_dir, trial_task
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
 
-__all__ = ["DEFAULT_GRID", "GRID_FIELDS", "cell_fields", "cell_task", "run_parametrization",
-           "select_default"]
+__all__ = ["DEFAULT_GRID", "GRID_FIELDS", "ParametrizationCell", "cell_fields", "cell_task",
+           "run_parametrization", "select_default"]
 
 #: The command-line option of each grid dimension (``a2l experiment parametrization``).
 GRID_OPTIONS = {"resolution": "--resolutions", "step": "--steps", "n_orient": "--orients",
@@ -58,41 +59,75 @@ DEFAULT_GRID: dict[str, tuple[Any, ...]] = {
 }
 
 
-def cell_task(task: dict[str, Any]) -> dict[str, Any]:
-    """Learn one skill with one cell's configuration and run its trials (in a worker).
+@dataclass(frozen=True)
+class ParametrizationCell:
+    """One skill in one cell of the grid, as a worker learns and tries it
+    (:func:`cell_task`).
 
-    ``task``: ``{"skill", "cell", "cfg", "seeds", "scene", "dir", "package"}`` and
-    optionally ``"keep_runs"``: the result then holds the trials with their runs
-    (``"trials"``, :func:`a2l.experiments.lfd_skills.trial_task`'s) and the ``"bundle"``,
-    to record.
+    Attributes
+    ----------
+    skill : str
+        The skill (:data:`a2l.lfd.library.SKILLS`).
+    cell : int
+        The cell's index in the grid (``cell`` of ``cells.csv``; its bundle goes to
+        ``cell<NNN>/``).
+    config : LfDConfig
+        The skill's configuration with the cell's values.
+    seeds : tuple of int
+        Trial seeds.
+    scene : {"baxter", "virtual"}
+        Where the trials run (:class:`a2l.experiments.lfd_skills.LfdTrial`).
+    out_dir : str
+        The skill's directory of learned bundles.
+    package : str
+        The a2l directory of the process that made the task (default: this one's); a
+        worker that imported another refuses to run it.
+    keep_runs : bool
+        The result then holds the trials with their runs (``"trials"``,
+        :func:`a2l.experiments.lfd_skills.trial_task`'s) and the ``"bundle"``, to record.
+    """
+
+    skill: str
+    cell: int
+    config: LfDConfig
+    seeds: tuple[int, ...]
+    scene: str
+    out_dir: str
+    package: str = field(default_factory=package_dir)
+    keep_runs: bool = False
+
+
+def cell_task(task: ParametrizationCell) -> dict[str, Any]:
+    """Learn one skill with one cell's configuration and run its trials (in a worker): the
+    cell's row of ``cells.csv`` (plus its trials and bundle with ``task.keep_runs``).
+
+    Raises
+    ------
+    RuntimeError
+        The worker imported another copy of a2l than the parent (``task.package``).
     """
     from a2l.lfd.library import learn_recipe
 
-    if task["package"] != package_dir():
-        raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "
-                           f"{task['package']}: start the experiment with the interpreter of "
-                           "the package under test")
-    cfg = LfDConfig(**task["cfg"])
+    check_package(task.package)
+    cfg = task.config
     t0 = time.perf_counter()
-    learned = learn_recipe(task["skill"], Path(task["dir"]) / f"cell{task['cell']:03d}", cfg)
+    learned = learn_recipe(task.skill, Path(task.out_dir) / f"cell{task.cell:03d}", cfg)
     learn_s = time.perf_counter() - t0
-    runs = [trial_task({"skill": task["skill"], "bundle": str(learned.bundle), "seed": s,
-                        "scene": task["scene"], "mode": "table", "cfg": task["cfg"],
-                        "package": task["package"], "keep_run": task.get("keep_runs")})
-            for s in task["seeds"]]
+    runs = [trial_task(LfdTrial(task.skill, str(learned.bundle), s, task.scene, "table", cfg,
+                                task.package, keep_run=task.keep_runs))
+            for s in task.seeds]
     ok = [r for r in runs if r["success"]]
     stops: dict[str, int] = {}
     for r in runs:
         if not r["success"]:
             stops[r["stop"]] = stops.get(r["stop"], 0) + 1
-    return {"skill": task["skill"], "cell": task["cell"], **cell_fields(task["cfg"]),
+    return {"skill": task.skill, "cell": task.cell, **cell_fields(cfg.to_json()),
             "success_rate": len(ok) / len(runs),
             "movements_per_action": float(np.mean([r["movements"] for r in ok]))
             if ok else float("nan"),
             "rows": learned.rows, "table_cells": int(np.prod(learned.table.shape)),
             "learn_s": learn_s, "failures": ";".join(f"{k}:{v}" for k, v in stops.items()),
-            **({"trials": runs, "bundle": str(learned.bundle)} if task.get("keep_runs")
-               else {})}
+            **({"trials": runs, "bundle": str(learned.bundle)} if task.keep_runs else {})}
 
 
 def cell_fields(cfg: dict[str, Any]) -> dict[str, Any]:
@@ -255,12 +290,12 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
         for i, combo in enumerate(combos):
             cfg = skill_config(name, base).with_(
                 {GRID_FIELDS[k]: v for k, v in zip(DEFAULT_GRID, combo, strict=True)})
-            tasks.append({"skill": name, "cell": i, "cfg": cfg.to_json(), "seeds": seeds,
-                          "scene": scene, "dir": str(run_dir / "skills" / name),
-                          "package": package_dir(), "keep_runs": record is not None})
+            tasks.append(ParametrizationCell(name, i, cfg, tuple(seeds), scene,
+                                             str(run_dir / "skills" / name), package_dir(),
+                                             record is not None))
     t0 = time.perf_counter()
     # long cells first: the small steps take the most movements
-    order = sorted(range(len(tasks)), key=lambda k: tasks[k]["cfg"]["discretization"]["step"])
+    order = sorted(range(len(tasks)), key=lambda k: tasks[k].config.step)
     with Executor(workers) as ex, progress_bar("cells", len(tasks), quiet) as bar:
         done = ex.map(cell_task, [tasks[k] for k in order], on_done=bar)
     results = [None] * len(tasks)
