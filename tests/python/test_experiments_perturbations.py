@@ -16,6 +16,7 @@ from a2l.experiments.perturbations import (
     DEFAULT_SEED,
     HOLD_RANGE,
     MOVE_RANGE,
+    PerturbationTrial,
     draw_perturbation,
     run_perturbations,
     trial_task,
@@ -62,9 +63,8 @@ def test_draws_are_mid_action_in_range_and_seeded() -> None:
 
 
 def test_each_perturbation_happens(bundle: str) -> None:
-    rows = trial_task({"skill": SKILL, "bundle": bundle, "mode": "table", "seed": SEEDS[0],
-                       "scene": "press", "conditions": list(CONDITIONS),
-                       "cfg": DEFAULT.to_json()})
+    rows = trial_task(PerturbationTrial(SKILL, bundle, "table", SEEDS[0], "press", CONDITIONS,
+                                        DEFAULT))
     by = {r["condition"]: r for r in rows}
     assert list(by) == list(CONDITIONS)
     assert not by["none"]["applied"]
@@ -184,9 +184,8 @@ def test_light_dependent_skill_is_judged_by_the_new_light_state(tmp_path: Path) 
     assert skill_scene(SKILLS["grasp"]) == "grasp_light"  # a lamp to switch
     assert skill_scene(SKILLS[SKILL]) == "press"
     bundle = learn_recipe("grasp_light", tmp_path, cfg).bundle
-    rows = trial_task({"skill": "grasp_light", "bundle": str(bundle), "mode": "table",
-                       "seed": SEEDS[0], "scene": "grasp_light",
-                       "conditions": ["none", "toggle_light"], "cfg": cfg.to_json()})
+    rows = trial_task(PerturbationTrial("grasp_light", str(bundle), "table", SEEDS[0],
+                                        "grasp_light", ("none", "toggle_light"), cfg))
     none, toggled = rows
     assert none["light_dependent"] and toggled["applied"]
     start = toggled["light_before"]

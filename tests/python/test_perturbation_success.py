@@ -25,7 +25,7 @@ from scipy.stats import binom
 
 from a2l.experiments.perturbation_report import target
 from a2l.experiments.perturbation_trials import MOVE_RANGE, skill_scene
-from a2l.experiments.perturbations import CONDITIONS, skill_cfg, trial_task
+from a2l.experiments.perturbations import CONDITIONS, PerturbationTrial, skill_cfg, trial_task
 from a2l.lfd.library import SKILLS, learn_recipe
 
 #: First trial seed: evaluation seeds of the perturbations block (docs/seeds.md), apart
@@ -69,10 +69,9 @@ def _trials(skill: str, out: Path) -> list[dict]:
     cfg = skill_cfg(skill)
     bundle = str(learn_recipe(skill, out, cfg).bundle)
     return [r for seed in range(SEED, SEED + TRIALS[skill])
-            for r in trial_task({"skill": skill, "bundle": bundle, "mode": "table",
-                                 "seed": seed, "scene": skill_scene(SKILLS[skill]),
-                                 "conditions": list(CONDITIONS), "cfg": cfg.to_json(),
-                                 "context_source": "ground_truth"})]
+            for r in trial_task(PerturbationTrial(skill, bundle, "table", seed,
+                                                  skill_scene(SKILLS[skill]), CONDITIONS, cfg,
+                                                  context_source="ground_truth"))]
 
 
 def _unmeasured(r: dict) -> str | None:

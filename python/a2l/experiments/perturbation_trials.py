@@ -20,8 +20,8 @@ from a2l.lfd.config import LfDConfig
 from a2l.rollout.protocol import SceneProtocol
 
 __all__ = ["CONDITIONS", "EFFECT_BY_LIGHT", "HOLD_RANGE", "LIT_SCENES", "MODES", "MOVE_RANGE",
-           "WINDOW", "Perturbation", "draw_perturbation", "light_effects", "movement_seconds",
-           "skill_scene", "skill_test", "trial_task"]
+           "WINDOW", "Perturbation", "PerturbationTrial", "draw_perturbation", "light_effects",
+           "movement_seconds", "skill_scene", "skill_test", "trial_task"]
 
 #: The perturbation conditions, in report order.
 CONDITIONS = ("none", "move_object", "hold", "toggle_light")
@@ -70,6 +70,42 @@ class Perturbation:
     distance: float = 0.0
     hold_steps: int = 0
     hold_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class PerturbationTrial:
+    """One trial of a skill under the perturbations, as a worker runs it
+    (:func:`trial_task`).
+
+    Attributes
+    ----------
+    skill : str
+        The skill tried under every condition (:data:`a2l.lfd.library.SKILLS`).
+    bundle : str
+        The bundle it was learned into.
+    mode : {"table", "ds"}
+        The context skill (the compiled table) or the DS alone (:data:`MODES`).
+    seed : int
+        Trial seed: the start, and every perturbation's draw (:func:`draw_perturbation`).
+    scene : str
+        The scene the skill runs in (:func:`skill_scene`).
+    conditions : tuple of str
+        The conditions run, of :data:`CONDITIONS` (the unperturbed run comes first
+        whether ``"none"`` is among them or not; it is reported only if it is).
+    config : LfDConfig
+        The skill's configuration.
+    context_source : {"perceived", "ground_truth"}
+        Where the skill reads the context: the camera (default) or the simulator's truth.
+    """
+
+    skill: str
+    bundle: str
+    mode: str
+    seed: int
+    scene: str
+    conditions: tuple[str, ...]
+    config: LfDConfig
+    context_source: str = "perceived"
 
 
 def draw_perturbation(condition: str, seed: int, movements: int,
@@ -176,13 +212,13 @@ def _truth(scene: SceneProtocol, name: str) -> np.ndarray:
     return np.asarray(scene.ground_truth()["objects"][name], dtype=float)
 
 
-def _perturbed_run(scene: SceneProtocol, task: dict[str, Any], plan: Perturbation | None,
+def _perturbed_run(scene: SceneProtocol, task: PerturbationTrial, plan: Perturbation | None,
                    test: Callable[[Any], tuple[bool, bool]]) -> tuple[Any, dict[str, Any]]:
     """Reset for the trial and run the skill, applying `plan` after its step."""
     from a2l.lfd.library import SKILLS, reset_for_trial
     from a2l.rollout.run import run_skill
 
-    recipe = SKILLS[task["skill"]]
+    recipe = SKILLS[task.skill]
     obj = recipe.object_name
     log: dict[str, Any] = {"applied": False}
 
@@ -210,20 +246,20 @@ def _perturbed_run(scene: SceneProtocol, task: dict[str, Any], plan: Perturbatio
         log.update(object_after=_truth(scene, obj).tolist(),
                    light_after=scene.ground_truth()["states"].get("light", ""))
 
-    reset_for_trial(scene, task["skill"], task["seed"])
-    run = run_skill(scene, task["bundle"], recipe.effect, mode=task["mode"],
+    reset_for_trial(scene, task.skill, task.seed)
+    run = run_skill(scene, task.bundle, recipe.effect, mode=task.mode,
                     on_step=on_step, effect_test=test, object_name=obj)
     return run, log
 
 
-def _record(task: dict[str, Any], run: Any, plan: Perturbation, log: dict[str, Any],
+def _record(task: PerturbationTrial, run: Any, plan: Perturbation, log: dict[str, Any],
             base: Any, movement_s: float, recipe: Any,
             by_light: dict[str, str] | None) -> dict[str, Any]:
     """One row of ``trials.csv`` (plus the trajectories, kept apart)."""
     after = plan.after if log["applied"] else 0
     row: dict[str, Any] = {
-        "skill": task["skill"], "mode": task["mode"], "condition": plan.condition,
-        "seed": task["seed"], "success": bool(run.success), "stop": run.stop,
+        "skill": task.skill, "mode": task.mode, "condition": plan.condition,
+        "seed": task.seed, "success": bool(run.success), "stop": run.stop,
         "movements": int(run.movements), "steps": len(run.steps) - 1,
         "applied": bool(log["applied"]), "after": after,
         "displacement_m": np.nan, "hold_s": np.nan, "hold_planned_s": np.nan,
@@ -257,32 +293,29 @@ def _record(task: dict[str, Any], run: Any, plan: Perturbation, log: dict[str, A
     return row
 
 
-def trial_task(task: dict[str, Any]) -> list[dict[str, Any]]:
-    """One trial: ``{"skill", "bundle", "mode", "seed", "scene", "conditions", "cfg"}`` and
-    optionally ``"context_source"`` (default the camera, ``"perceived"``).
-
-    Runs the skill without perturbation, then under each other condition from the same
-    start; returns one record per condition (``none`` first).
+def trial_task(task: PerturbationTrial) -> list[dict[str, Any]]:
+    """One trial: the skill runs without perturbation, then under each other condition of
+    ``task.conditions`` from the same start; returns one record per condition (``none``
+    first).
     """
     from a2l.lfd.library import SKILLS
 
-    cfg = LfDConfig(**task["cfg"])
-    recipe = SKILLS[task["skill"]]
+    cfg = task.config
+    recipe = SKILLS[task.skill]
     by_light = light_effects(recipe, cfg)
     test = skill_test(recipe, by_light)
-    with _scene(task["skill"], task["scene"], cfg,
-                task.get("context_source", "perceived")) as scene:
+    with _scene(task.skill, task.scene, cfg, task.context_source) as scene:
         t_move = movement_seconds(scene)
         base, log = _perturbed_run(scene, task, None, test)
         none = Perturbation("none")
         out = [_record(task, base, none, log, base, t_move, recipe, by_light)]
-        for cond in task["conditions"]:
+        for cond in task.conditions:
             if cond == "none":
                 continue
-            plan = draw_perturbation(cond, task["seed"], base.movements, t_move)
+            plan = draw_perturbation(cond, task.seed, base.movements, t_move)
             run, log = _perturbed_run(scene, task, plan, test)
             out.append(_record(task, run, plan, log, base, t_move, recipe, by_light))
-    if "none" not in task["conditions"]:
+    if "none" not in task.conditions:
         out = out[1:]
     return out
 

@@ -48,6 +48,7 @@ import os
 import shlex
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +63,7 @@ from a2l.experiments.perturbation_trials import (
     MOVE_RANGE,
     WINDOW,
     Perturbation,
+    PerturbationTrial,
     draw_perturbation,
     skill_scene,
     trial_task,
@@ -71,7 +73,7 @@ from a2l.progress import print_tables, progress_bar
 from a2l.rundir import command_line
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
-           "demonstration_seeds", "draw_perturbation", "run_perturbations",
+           "PerturbationTrial", "demonstration_seeds", "draw_perturbation", "run_perturbations",
            "skill_cfg", "trial_task"]
 
 #: First trial seed by default (held out: demonstrations use 0 .. n_demos - 1,
@@ -79,13 +81,33 @@ __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "P
 DEFAULT_SEED = 5000
 
 
-def _learn(job: tuple[str, str, dict[str, Any]]) -> dict[str, Any]:
+@dataclass(frozen=True)
+class _LearnTask:
+    """One skill to learn, as a worker learns it (:func:`_learn`).
+
+    Attributes
+    ----------
+    skill : str
+        The skill (:data:`a2l.lfd.library.SKILLS`).
+    out_dir : str
+        Where its bundle goes.
+    config : LfDConfig
+        Its configuration (:func:`skill_cfg`).
+    """
+
+    skill: str
+    out_dir: str
+    config: LfDConfig
+
+
+def _learn(task: _LearnTask) -> dict[str, Any]:
+    """Learn one skill: its entry of ``metrics.json``'s ``learning`` (``skill``,
+    ``bundle``, ``rows``, ``seconds``)."""
     from a2l.lfd.library import learn_recipe
 
-    name, out_dir, cfg = job
     t0 = time.perf_counter()
-    learned = learn_recipe(name, out_dir, LfDConfig(**cfg))
-    return {"skill": name, "bundle": str(learned.bundle), "rows": int(learned.rows),
+    learned = learn_recipe(task.skill, task.out_dir, task.config)
+    return {"skill": task.skill, "bundle": str(learned.bundle), "rows": int(learned.rows),
             "seconds": time.perf_counter() - t0}
 
 
@@ -222,14 +244,13 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     t0 = time.perf_counter()
     with Executor(workers, cluster) as ex:
         todo = [n for n in names if not bundles or n not in bundles]
-        learned = ex.map(_learn, [(n, str(run_dir / "skills"), cfgs[n].to_json())
-                                for n in todo])
+        learned = ex.map(_learn, [_LearnTask(n, str(run_dir / "skills"), cfgs[n])
+                                  for n in todo])
         learning = {r["skill"]: r for r in learned}
         paths = {**{n: str(b) for n, b in (bundles or {}).items() if n in names},
                  **{r["skill"]: r["bundle"] for r in learned}}
-        tasks = [{"skill": n, "bundle": paths[n], "mode": m, "seed": s, "scene": scenes[n],
-                  "conditions": conds, "cfg": cfgs[n].to_json(),
-                  "context_source": context_source}
+        tasks = [PerturbationTrial(n, paths[n], m, s, scenes[n], tuple(conds), cfgs[n],
+                                   context_source)
                  for n in names for m in MODES for s in seeds]
         with progress_bar("perturbation trials", len(tasks), quiet) as bar:
             results = ex.map(trial_task, tasks, on_done=bar)
