@@ -51,7 +51,7 @@ from a2l.experiments.lasa_methods import (
     split,
 )
 from a2l.experiments.lasa_report import plot_lasa, report_markdown, results_table
-from a2l.experiments.lasa_tuning import TUNING_SEED, choose, tune_shape, tuning_split
+from a2l.experiments.lasa_tuning import TUNING_SEED, TuningShape, choose, tune_shape, tuning_split
 from a2l.lfd import DiffeoDS
 from a2l.lfd.fit import BETA_SCHEDULE, FIT_DIRECTIONS, MU_SCHEDULE, schedule
 from a2l.lfd.metrics import dtw_mean_distance
@@ -60,7 +60,8 @@ from a2l.progress import print_tables, progress_bar
 from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import mark_report, seed_record
 
-__all__ = ["LasaConfig", "lasa_shapes", "load_lasa_shape", "run_lasa_experiment", "run_shape"]
+__all__ = ["LasaConfig", "LasaShape", "lasa_shapes", "load_lasa_shape", "run_lasa_experiment",
+           "run_shape"]
 
 
 @dataclass(frozen=True)
@@ -207,9 +208,29 @@ def query_timing(ds: DiffeoDS, demos: list[np.ndarray], per_demo: int,
     return {"eval_us": timing["median_ns"] / 1e3, "eval_p999_us": timing["p999_ns"] / 1e3}
 
 
-def run_shape(task: tuple[str, int, LasaConfig]) -> dict[str, Any]:
-    """Everything measured on one shape (a picklable task: name, index, config)."""
-    name, index, cfg = task
+@dataclass(frozen=True)
+class LasaShape:
+    """One shape of the benchmark, as a worker measures it (:func:`run_shape`).
+
+    Attributes
+    ----------
+    name : str
+        The shape (:func:`lasa_shapes`).
+    index : int
+        Its place among all the shapes (sorted): its random starts and query points are
+        drawn with seed ``config.seed + index``.
+    config : LasaConfig
+        The benchmark's parameters (tuned ones, after :func:`tune`).
+    """
+
+    name: str
+    index: int
+    config: LasaConfig
+
+
+def run_shape(task: LasaShape) -> dict[str, Any]:
+    """Everything measured on one shape."""
+    name, index, cfg = task.name, task.index, task.config
     demos, durations = load_lasa_shape(name)
     meta = {"shape": name, "K": cfg.K, "beta": cfg.beta or "schedule",
             "mu": cfg.mu or "schedule", "regularisation": cfg.regularisation,
@@ -263,7 +284,8 @@ def tune(cfg: LasaConfig, known: list[str], executor: Executor,
     """Choose the settings on the tuning split; (the config with them, the tuning record)."""
     shapes = tuning_split(known, cfg.tuning_shapes)
     with progress_bar("LASA tuning shapes", len(shapes), quiet) as update:
-        per_shape = executor.map(tune_shape, [(s, cfg) for s in shapes], on_done=update)
+        per_shape = executor.map(tune_shape, [TuningShape(s, cfg) for s in shapes],
+                                 on_done=update)
     chosen = choose(dict(zip(shapes, per_shape, strict=True)))
     record = {"shapes": shapes, "seed": TUNING_SEED, **chosen}
     return replace(cfg, **chosen["ds"], **chosen["dmp"]), record
@@ -319,7 +341,7 @@ def run_lasa_experiment(cfg: LasaConfig | None = None, out: str | Path | None = 
         tuning: dict[str, Any] | None = None
         if cfg.tune:
             cfg, tuning = tune(cfg, known, executor, quiet)
-        tasks = [(s, known.index(s), cfg) for s in shapes]
+        tasks = [LasaShape(s, known.index(s), cfg) for s in shapes]
         with progress_bar("LASA shapes", len(tasks), quiet) as update:
             results = executor.map(run_shape, tasks, on_done=update)
     wall = time.perf_counter() - t0

@@ -12,7 +12,7 @@ random starts; the results are reported on the other shapes, the tuning shapes m
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -26,7 +26,8 @@ from a2l.experiments.lasa_methods import (
     split,
 )
 
-__all__ = ["DMP_CANDIDATES", "DS_CANDIDATES", "TUNING_SEED", "tune_shape", "tuning_split"]
+__all__ = ["DMP_CANDIDATES", "DS_CANDIDATES", "TUNING_SEED", "TuningShape", "tune_shape",
+           "tuning_split"]
 
 #: Seed of the tuning split: a tuning seed (``docs/seeds.md``); the evaluation's random
 #: starts use ``LasaConfig.seed`` (evaluation seeds from 1000).
@@ -49,16 +50,33 @@ def tuning_split(shapes: list[str], n: int, seed: int = TUNING_SEED) -> list[str
     return sorted(shapes[i] for i in pick)
 
 
-def tune_shape(task: tuple[str, Any]) -> dict[str, list[float]]:
-    """Held-out DTW of every candidate on one shape (a picklable task: name, LasaConfig).
+@dataclass(frozen=True)
+class TuningShape:
+    """One tuning shape, as a worker scores the candidates on it (:func:`tune_shape`).
+
+    Attributes
+    ----------
+    name : str
+        The shape (:func:`a2l.experiments.lasa_methods.lasa_shapes`).
+    config : a2l.experiments.lasa.LasaConfig
+        The benchmark's parameters; each DS candidate replaces its ``beta``, ``mu`` and
+        ``arrival``.
+    """
+
+    name: str
+    config: Any
+
+
+def tune_shape(task: TuningShape) -> dict[str, list[float]]:
+    """Held-out DTW of every candidate on one shape.
 
     Returns
     -------
     dict
         ``{"ds": [DTW per DS candidate], "dmp": [DTW per DMP candidate]}``.
     """
-    name, cfg = task
-    demos, durations = load_lasa_shape(name)
+    cfg = task.config
+    demos, durations = load_lasa_shape(task.name)
     train, train_t, test, test_t = split(demos, durations, "heldout")
     ds_dtw = []
     for cand in DS_CANDIDATES:
