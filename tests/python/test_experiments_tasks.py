@@ -14,7 +14,7 @@ import pytest
 import a2l.planning.execute
 from a2l.cli import main
 from a2l.experiments.task_trials import fault_hook
-from a2l.experiments.tasks import TASKS, run_tasks, trial_task
+from a2l.experiments.tasks import TASKS, TaskTrial, run_tasks, trial_task
 from a2l.experiments.tasks_report import summarise
 from a2l.planning import PlanStep, TableRegions
 
@@ -132,8 +132,8 @@ def test_a_fault_after_a_failed_step_is_not_applied_and_counted_apart(
         return real(scene, bundle, effect, **kwargs)
 
     monkeypatch.setattr(a2l.planning.execute, "run_skill", press_fails)
-    row = trial_task({"task": "light-off-place-right", "seed": 7100, "fault": True,
-                      "bundles": bundles, "out": str(out / "failed-press"), "max_replans": 1})
+    row = trial_task(TaskTrial("light-off-place-right", 7100, True, bundles,
+                               str(out / "failed-press"), max_replans=1))
     # the old hook fired on the step's name and switched the light off itself: a success
     assert not row["success"] and "(light-off)" in row["unmet"]
     assert row["fault_injected"] == "" and not row["fault_applied"]

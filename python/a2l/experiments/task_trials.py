@@ -17,8 +17,8 @@ import numpy as np
 
 from a2l.rollout.protocol import SceneProtocol
 
-__all__ = ["JITTER", "TASKS", "Played", "TaskSpec", "fault_hook", "learn_task_skills",
-           "play_task", "task_skills", "trial_task"]
+__all__ = ["JITTER", "TASKS", "Played", "TaskSpec", "TaskTrial", "fault_hook",
+           "learn_task_skills", "play_task", "task_skills", "trial_task"]
 
 #: The block starts within ± this (m) of its start region's centre on each table axis.
 JITTER = 0.03
@@ -251,16 +251,50 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
     return Played(res, goal, light, fired, block, plan_dir, unchanged, seen)
 
 
-def trial_task(job: dict[str, Any]) -> dict[str, Any]:
-    """One trial (a picklable task for :class:`a2l.parallel.Executor`).
+@dataclass(frozen=True)
+class TaskTrial:
+    """One trial of a task, as a worker plays it (:func:`trial_task`; the arguments of
+    :func:`play_task`).
 
-    Parameters
+    Attributes
     ----------
-    job : dict
-        ``task``, ``seed``, ``fault`` (bool), ``bundles`` (operator -> path), ``out``
-        (where the plan files go), ``planner``, ``time_limit``, ``max_replans``,
-        ``context_source`` (default ``"perceived"``, the camera) and ``trace`` (the row
-        then holds :attr:`Played.trace` as ``"trace"``, to record; not a column).
+    task : str
+        The task (:data:`TASKS`).
+    seed : int
+        Trial seed (the start and the fault's draws).
+    fault : bool
+        Inject the task's fault.
+    bundles : dict of str to str
+        Operator -> skill bundle path (:func:`learn_task_skills`).
+    out : str
+        Where the plan files go (``out/<task>-<seed>[-fault]/``).
+    planner : {"pyperplan", "fast-downward"}
+        The PDDL planner.
+    time_limit : float
+        The planner's time limit per call (s).
+    max_replans : int
+        Replans allowed before giving up (:func:`a2l.planning.execute.execute_task`).
+    context_source : {"perceived", "ground_truth"}
+        Where the skills and the planner's state read the scene: the camera (default) or
+        the simulator's truth.
+    trace : bool
+        The row then holds :attr:`Played.trace` as ``"trace"``, to record (not a column).
+    """
+
+    task: str
+    seed: int
+    fault: bool
+    bundles: dict[str, str]
+    out: str
+    planner: str = "pyperplan"
+    time_limit: float = 10.0
+    max_replans: int = 3
+    context_source: str = "perceived"
+    trace: bool = False
+
+
+def trial_task(job: TaskTrial) -> dict[str, Any]:
+    """Play one trial: a row of ``trials.csv``.
 
     Returns
     -------
@@ -270,19 +304,17 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
         disagreed with the plan); ``fault_not_applied`` says why not, otherwise empty.
     """
     t0 = time.perf_counter()
-    seed = int(job["seed"])
-    p = play_task(job["task"], seed, bool(job["fault"]), job["bundles"], job["out"],
-                  job.get("planner", "pyperplan"), float(job.get("time_limit", 10.0)),
-                  int(job.get("max_replans", 3)),
-                  context_source=job.get("context_source", "perceived"),
-                  trace=bool(job.get("trace")))
+    seed = int(job.seed)
+    fault = bool(job.fault)
+    p = play_task(job.task, seed, fault, job.bundles, job.out, job.planner,
+                  float(job.time_limit), int(job.max_replans),
+                  context_source=job.context_source, trace=job.trace)
     res = p.result
-    fault = bool(job["fault"])
     not_applied = ""
     if fault and not p.fired:
         not_applied = (f"left the world as planned: {';'.join(p.unchanged)}" if p.unchanged
                        else "the step it follows never carried out as planned")
-    return {"task": job["task"], "seed": seed, "fault": fault,
+    return {"task": job.task, "seed": seed, "fault": fault,
             "fault_injected": ";".join(p.fired), "fault_applied": bool(p.fired),
             "fault_not_applied": not_applied, "goal": p.goal, "light_start": p.light,
             "success": bool(res.success), "replans": int(res.replans),
@@ -297,8 +329,7 @@ def trial_task(job: dict[str, Any]) -> dict[str, Any]:
             "transit_ms": float(np.sum(res.transit_ms)), "transits": len(res.transit_ms),
             "transit_ms_max": float(np.max(res.transit_ms)) if res.transit_ms else 0.0,
             "block_x": float(p.block[0]), "block_y": float(p.block[1]),
-            "wall_s": time.perf_counter() - t0, **({"trace": p.trace} if job.get("trace")
-                                                    else {})}
+            "wall_s": time.perf_counter() - t0, **({"trace": p.trace} if job.trace else {})}
 
 
 def learn_task_skills(out_dir: str | os.PathLike[str]) -> dict[str, str]:

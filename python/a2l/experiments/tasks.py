@@ -55,13 +55,14 @@ from a2l.experiments.task_trials import (
     TASKS,
     Played,
     TaskSpec,
+    TaskTrial,
     learn_task_skills,
     play_task,
     trial_task,
 )
 from a2l.progress import print_tables, progress_bar
 
-__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec",
+__all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "TaskTrial",
            "learn_task_skills", "play_task", "record_task_trials", "run_tasks", "trial_task"]
 
 #: First trial seed by default (held out: the demonstrations use 0 .. 2 n_demos - 1).
@@ -151,9 +152,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     t0 = time.perf_counter()
     bundles = learn_task_skills(run_dir / "skills")
     learn_s = time.perf_counter() - t0
-    jobs = [{"task": n, "seed": s, "fault": f, "bundles": bundles,
-             "out": str(run_dir / "plans"), "planner": planner,
-             "context_source": context_source, "trace": record is not None}
+    jobs = [TaskTrial(n, s, f, bundles, str(run_dir / "plans"), planner,
+                      context_source=context_source, trace=record is not None)
             for n in names for f in faults for s in range(seed, seed + trials)]
     with Executor(workers) as ex, progress_bar("task trials", len(jobs), quiet) as bar:
         rows = ex.map(trial_task, jobs, on_done=bar)
