@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from a2l.experiments.lasa_config import LasaConfig
 from a2l.experiments.lasa_methods import (
     dmp_reproductions,
     ds_reproductions,
@@ -58,13 +59,13 @@ class TuningShape:
     ----------
     name : str
         The shape (:func:`a2l.experiments.lasa_methods.lasa_shapes`).
-    config : a2l.experiments.lasa.LasaConfig
+    config : a2l.experiments.lasa_config.LasaConfig
         The benchmark's parameters; each DS candidate replaces its ``beta``, ``mu`` and
         ``arrival``.
     """
 
     name: str
-    config: Any
+    config: LasaConfig
 
 
 def tune_shape(task: TuningShape) -> dict[str, list[float]]:
