@@ -4,6 +4,7 @@ random waypoint trajectories, the effect-directed budget of stuck pairs, and the
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 import subprocess
@@ -334,12 +335,17 @@ def test_erase_loops_cuts_a_return_before_contact() -> None:
                       ([0, 0, 0], [0.05, 0, 0], [0, 0.05, 0], [0, 0.10, 0]))
     o0, o1 = np.zeros(3), np.array([0, 0.03, 0])
     r = Rollout(start=2, moves=[0, 1, 2, 2], eef=np.array([p0, p1, p0, p2, p3]),
-                obj=np.array([o0, o0, o0, o0, o1]), effect=1, stop="moved")
+                obj=np.array([o0, o0, o0, o0, o1]), effect=1, wanted=3, outcome="fail",
+                stop="moved", executed=4, fallbacks=2, true_effect=0)
     e = erase_loops(r)
     assert e.moves == [2, 2]               # out and back again: gone
     np.testing.assert_allclose(e.eef, [p0, p2, p3])
     np.testing.assert_allclose(e.obj, [o0, o0, o1])
-    assert (e.start, e.effect, e.stop) == (2, 1, "moved")
+    # every other field is the rollout's own (none back at its default)
+    kept = [f.name for f in dataclasses.fields(Rollout) if f.name not in ("moves", "eef", "obj")]
+    assert {n: getattr(e, n) for n in kept} == {n: getattr(r, n) for n in kept}
+    assert all(getattr(r, n) != f.default for f in dataclasses.fields(Rollout)
+               if (n := f.name) in kept and f.default is not dataclasses.MISSING)
 
 
 def test_a_rollout_table_reads_back_the_rollouts_it_stored(tmp_path: Path) -> None:

@@ -193,7 +193,6 @@ def erase_loops(r: Rollout, tol: float = 0.01) -> Rollout:
     return dataclasses.replace(r, moves=keep_m, eef=np.array(keep_e), obj=np.array(keep_o))
 
 
-
 def interaction_rows(rollouts: Sequence[Rollout], disc: Any, first_episode: int = 0
                      ) -> pd.DataFrame:
     """Raw dataset rows (:mod:`a2l.data.schema`) of rollouts that moved the object.
