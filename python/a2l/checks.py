@@ -14,8 +14,8 @@ from typing import Any
 
 from a2l.errors import ConfigError
 
-__all__ = ["check_choice", "check_count", "check_length", "check_names", "check_odd_or_zero",
-           "check_range"]
+__all__ = ["check_choice", "check_count", "check_fraction", "check_length", "check_names",
+           "check_odd_or_zero", "check_range"]
 
 
 def _name(owner: str, name: str) -> str:
@@ -36,6 +36,14 @@ def check_length(owner: str, name: str, value: Any, allow_zero: bool = False) ->
     if not ok:
         what = "a length >= 0" if allow_zero else "a positive length"
         raise ConfigError(_name(owner, name), f"must be {what}, got {value!r}")
+
+
+def check_fraction(owner: str, name: str, value: Any) -> None:
+    """`value` is a finite number in (0, 1]: a rate to reach."""
+    ok = (isinstance(value, int | float) and not isinstance(value, bool)
+          and math.isfinite(value) and 0 < value <= 1)
+    if not ok:
+        raise ConfigError(_name(owner, name), f"must be a rate in (0, 1], got {value!r}")
 
 
 def check_range(owner: str, low_name: str, high_name: str, low: float, high: float,

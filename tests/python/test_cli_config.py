@@ -37,7 +37,7 @@ def test_push_help_lists_every_framework_config_field(
     assert info.value.code == 0
     text = capsys.readouterr().out
     missing = [p for p in field_paths(FrameworkConfig) if f"--{p} " not in text]
-    assert missing == [] and len(field_paths(FrameworkConfig)) == 46
+    assert missing == [] and len(field_paths(FrameworkConfig)) == 51
     # each with its description from its part's docstring
     assert "Push effects of the effect variable." in text
     assert "context variables also fixed as" in text
@@ -225,3 +225,22 @@ def test_lfd_skills_records_a_command_that_reproduces_its_configuration(tmp_path
     assert path == ("experiment", "lfd-skills") and config_from(ns.lfd, LfDConfig) == cfg
     assert (ns.skills, ns.trials, ns.seed, ns.scene, ns.mode) == (
         "push_right", 1, 1000, "virtual", "table")
+
+
+def test_a_preset_sets_its_fields_in_place_and_later_options_override_it(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    from a2l.framework.config import PRESETS
+
+    fresh = ["--validation.starts", "fresh", "--discretization.n_dist", "5"]
+    _, ns, _ = parse(["experiment", "push", *fresh, "--preset", "thesis"])
+    cfg = config_from(ns, FrameworkConfig)
+    assert cfg == FrameworkConfig.preset("thesis")  # the preset, after them, wins
+    assert cfg.with_(PRESETS["thesis"]) == cfg
+    _, ns, _ = parse(["experiment", "sweep", "--seeds", "0", "--preset=thesis", *fresh])
+    cfg = config_from(ns, FrameworkConfig)
+    assert cfg.validation.starts == "fresh" and cfg.discretization.n_dist == 5
+    assert cfg.skill.step_cap == 12 and cfg.starts.radius == 0.2
+    err = _refused(["experiment", "push", "--preset", "thesys"], capsys)
+    assert "--preset: unknown 'thesys'; choose thesis" in err
+    with pytest.raises(ValueError, match="preset: unknown 'x'; choose 'thesis'"):
+        FrameworkConfig.preset("x")

@@ -50,6 +50,10 @@ class Parser(ArgumentParser):
     #: ``--discretization.n_orient``): read as that one, with a warning naming it.
     renamed: dict[str, str] = {}
 
+    #: Named sets of option values (``--preset NAME``, expanded in place by
+    #: :func:`normalize_argv`: options after it override it), by name.
+    presets: dict[str, dict[str, Any]] = {}
+
     #: The options whose value is a list (set by :func:`add_config_fields`).
     list_options: set[str] = set()
 
@@ -180,6 +184,8 @@ def normalize_argv(argv: Sequence[str], parser: ArgumentParser,
         A config file key that is no option, or of the flat form of an earlier version
         (through :meth:`Parser.error`, with the valid names or the names now).
     """
+    if isinstance(parser, Parser) and parser.presets:
+        argv = expand_presets(argv, parser)
     valid = set(option_names(parser))
     renamed = parser.renamed if isinstance(parser, Parser) else {}
     lists = parser.list_options if isinstance(parser, Parser) else set()
@@ -210,6 +216,32 @@ def normalize_argv(argv: Sequence[str], parser: ArgumentParser,
             out[i] = flag + eq + list_value(value)
     if isinstance(parser, Parser):
         parser.spelled = spelled
+    return out
+
+
+def expand_presets(argv: Sequence[str], parser: Parser) -> list[str]:
+    """`argv` with each ``--preset NAME`` (or ``--preset=NAME``) replaced, where it stands,
+    by the options it sets (so options after it override it); an unknown name exits through
+    :meth:`Parser.error` naming the presets."""
+    out: list[str] = []
+    words = list(argv)
+    i = 0
+    while i < len(words):
+        flag, eq, value = words[i].partition("=")
+        if flag != "--preset":
+            out.append(words[i])
+            i += 1
+            continue
+        if not eq:
+            if i + 1 >= len(words):
+                parser.error("--preset: expected a name: " + ", ".join(parser.presets))
+            value, i = words[i + 1], i + 1
+        if value not in parser.presets:
+            parser.error(f"--preset: unknown {value!r}; choose "
+                         + ", ".join(parser.presets))
+        for key, v in parser.presets[value].items():
+            out += [f"--{key}", str(v).lower() if isinstance(v, bool) else str(v)]
+        i += 1
     return out
 
 

@@ -18,7 +18,13 @@ from jsonargparse.typing import PositiveInt
 
 from a2l.cli.args import UsageError, check_cluster, check_record, parse_overrides, parse_seeds
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
-from a2l.framework.config import FALLBACK_RULES, FLAT_NAMES, FrameworkConfig, field_paths
+from a2l.framework.config import (
+    FALLBACK_RULES,
+    FLAT_NAMES,
+    PRESETS,
+    FrameworkConfig,
+    field_paths,
+)
 from a2l.rundir import command_line
 
 #: Short names of some FrameworkConfig flags, still accepted.
@@ -261,6 +267,10 @@ def add_push_parsers(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
         parser = make()
         parser.aliases = ALIASES
         parser.renamed = RENAMED
+        parser.presets = PRESETS
+        parser.add_argument("--preset", choices=list(PRESETS), default=None,
+                            help="a named configuration, in place: options after it override "
+                            "it (thesis: the thesis' loop and representation, the baseline)")
         add_config_option(parser)
         exps.add_subcommand(name, parser, help=help_)
         commands[("experiment", name)] = (parser, handler)

@@ -57,9 +57,11 @@ def results_table(history: list[dict[str, Any]]) -> str:
     rates = "heldout_success_rate" if held else "success_rate"
     effects = list(history[0][rates])
     moves = all("robot_movements_total" in m for m in history)
+    fresh = any(m.get("fresh_success") is not None for m in history)
     head = ["iteration", *(["held-out success"] if held_rate else []),
             *(f"{'held-out ' if held else ''}{e}" for e in effects),
             *(["held-out false positives"] if held else []),
+            *(["success (fresh starts)", "accepted skill there"] if fresh else []),
             "success (training starts)", "score", *(["held-out score"] if held else []),
             "false positives", "movements/action", "dataset rows", "accepted",
             *(["movements"] if moves else []), "wall (s)"]
@@ -69,6 +71,8 @@ def results_table(history: list[dict[str, Any]]) -> str:
                  *([f"**{_pct(m['heldout_success'])}**"] if held_rate else []),
                  *(_pct(m[rates][e]) for e in effects),
                  *([str(m["heldout_false_positives"])] if held else []),
+                 *([_pct(m.get("fresh_success")), _pct(m.get("fresh_accepted_success"))]
+                   if fresh else []),
                  _pct(m.get("success")), f"{m['score']:.1f}",
                  *([f"{m['heldout_score']:.1f}"] if held else []),
                  str(m["false_positives"]),
@@ -140,7 +144,7 @@ def movements_table(history: list[dict[str, Any]]) -> list[str]:
         "|" + "---|" * (len(MOVEMENT_PHASES) + 3),
     ]
     for m in history:
-        cells = [f"{m['robot_movements'][p]:,}" for p in MOVEMENT_PHASES]
+        cells = [f"{m['robot_movements'].get(p, 0):,}" for p in MOVEMENT_PHASES]
         lines.append(f"| {m['iteration']} | " + " | ".join(cells)
                      + f" | {m['robot_movements_total']:,} | "
                      f"{m['robot_movements_training']:,} |")
@@ -148,24 +152,33 @@ def movements_table(history: list[dict[str, Any]]) -> list[str]:
 
 
 def plot_scores(history: list[dict[str, Any]], path: Path) -> None:
-    """Score per iteration (PNG)."""
+    """Per iteration (PNG): the training score (the thesis' figure, 8 training starts), and
+    the success rates (%) from the held-out starts, which only measure, and from the
+    iteration's fresh validation starts, which decide acceptance (when the run has them);
+    an open marker is an iteration whose skill was not accepted."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     it = [m["iteration"] for m in history]
-    fig, ax = plt.subplots(figsize=(5, 3.2))
+    fig, ax = plt.subplots(figsize=(5.6, 3.4))
     ax.plot(it, [m["score"] for m in history], "o-", label="score (training starts)")
-    best = np.maximum.accumulate([m["score"] for m in history])
-    ax.step(it, best, where="post", ls="--", label="accepted (best so far)")
-    if all("heldout_score" in m for m in history):
-        ax.plot(it, [m["heldout_score"] for m in history], "s:",
-                label="score (held-out starts)")
-    ax.set(xlabel="iteration", ylabel="score", ylim=(0, 105), title="A2L push: score")
+    series = [("heldout_success", "s-", "success, held-out starts"),
+              ("fresh_success", "^:", "success, fresh validation starts")]
+    for key, style, label in series:
+        if all(m.get(key) is not None for m in history):
+            ax.plot(it, [100 * m[key] for m in history], style, label=label)
+    rejected = [m["iteration"] for m in history if not m["accepted"]]
+    if rejected:
+        ax.plot(rejected, [next(h["score"] for h in history if h["iteration"] == i)
+                           for i in rejected], "o", mfc="white", color="C0",
+                label="not accepted")
+    ax.set(xlabel="iteration", ylabel="score / success (%)", ylim=(0, 105),
+           title="A2L push: per iteration")
     ax.set_xticks(it)
     ax.grid(alpha=0.3)
-    ax.legend(loc="lower right")
+    ax.legend(loc="lower right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -32,12 +32,19 @@ from a2l.framework.parts import (
     LearningConfig,
     SkillConfig,
     StartsConfig,
+    ValidationConfig,
 )
-from a2l.framework.starts import heldout_offsets, heldout_redraw, spread_ranks
+from a2l.framework.starts import (
+    fresh_offsets,
+    fresh_redraw,
+    heldout_offsets,
+    heldout_redraw,
+    spread_ranks,
+)
 from a2l.rollout.env import ENV_SCENES
 from a2l.skills.discretization import DiscretizationConfig
 
-__all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "FLAT_NAMES", "PARTS",
+__all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "FLAT_NAMES", "PARTS", "PRESETS",
            "SCENES", "TRAIN_FALLBACK", "FrameworkConfig", "flat_renames"]
 
 #: The framework's scenes: the C++ kinematic push model and the PyBullet push scene (the
@@ -67,7 +74,25 @@ TRAIN_FALLBACK = {"virtual": "none", "baxter": "nearest"}
 PARTS: dict[str, type] = {
     "discretization": DiscretizationConfig, "starts": StartsConfig,
     "babbling": BabblingConfig, "learning": LearningConfig, "skill": SkillConfig,
-    "extension": ExtensionConfig, "directed": DirectedConfig, "heldout": HeldoutConfig,
+    "validation": ValidationConfig, "extension": ExtensionConfig,
+    "directed": DirectedConfig, "heldout": HeldoutConfig,
+}
+
+#: Named configurations (``FrameworkConfig.preset(name)``, ``--preset NAME``), each the
+#: fields it pins by their dotted names. ``thesis``: the thesis' loop and representation, the
+#: baseline of every push table (the loop validates, accepts, extends and stops on 8
+#: training starts on a 0.2 m circle; planar 5 cm movements; 16 orientation x 3 distance
+#: bins over [0.05, 0.20] m; a step cap of 12); what the thesis left open keeps the
+#: package's choices (structure constraints, smoothing, fallbacks, effect-directed
+#: babbling), as the push tables up to this preset measured them.
+PRESETS: dict[str, dict[str, Any]] = {
+    "thesis": {
+        "validation.starts": "fixed", "starts.n_starts": 8, "starts.layout": "circle",
+        "starts.radius": 0.2, "discretization.planar": True, "discretization.step": 0.05,
+        "discretization.n_orient": 16, "discretization.n_dist": 3,
+        "discretization.dist_low": 0.05, "discretization.dist_high": 0.20,
+        "discretization.n_incl": 0, "discretization.n_offset": 0, "skill.step_cap": 12,
+    },
 }
 
 #: The fields of the flat configuration of earlier versions (a ``config.json`` written
@@ -130,6 +155,9 @@ class FrameworkConfig:
         The Bayesian network's structure.
     skill : SkillConfig
         How the skill runs: step cap, smoothing, fallbacks.
+    validation : ValidationConfig
+        Where each iteration validates (fresh starts over the ring, or the training
+        starts), what accepts a skill and stops the run.
     extension : ExtensionConfig
         The dataset's extension from the validation trajectories.
     directed : DirectedConfig
@@ -156,6 +184,7 @@ class FrameworkConfig:
     babbling: BabblingConfig = field(default_factory=BabblingConfig)
     learning: LearningConfig = field(default_factory=LearningConfig)
     skill: SkillConfig = field(default_factory=SkillConfig)
+    validation: ValidationConfig = field(default_factory=ValidationConfig)
     extension: ExtensionConfig = field(default_factory=ExtensionConfig)
     directed: DirectedConfig = field(default_factory=DirectedConfig)
     heldout: HeldoutConfig = field(default_factory=HeldoutConfig)
@@ -218,6 +247,21 @@ class FrameworkConfig:
                               f"{', '.join(known)}")
         return cls(**d)
 
+    @classmethod
+    def preset(cls, name: str, **kwargs: Any) -> FrameworkConfig:
+        """The named configuration `name` (:data:`PRESETS`), with the top-level fields
+        `kwargs` (``FrameworkConfig.preset("thesis", scene="baxter", seed=3)``).
+
+        Raises
+        ------
+        ConfigError
+            An unknown preset (the message lists them).
+        """
+        if name not in PRESETS:
+            raise ConfigError("preset", f"unknown {name!r}; choose "
+                              + ", ".join(repr(p) for p in PRESETS))
+        return cls(**kwargs).with_(PRESETS[name])
+
     def with_(self, changes: Mapping[str, Any] | None = None, **kwargs: Any) -> FrameworkConfig:
         """A copy with fields changed, each named by its dotted path
         (``{"discretization.n_orient": 24}``) or, as keywords, by a top-level field (a part
@@ -269,6 +313,47 @@ class FrameworkConfig:
         else:
             r = s.r_low + (s.r_high - s.r_low) * spread_ranks(n) / (n - 1)
         return np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(a)], axis=1)
+
+    def fresh_starts(self, iteration: int) -> range:
+        """The start indices of iteration `iteration`'s fresh validation starts
+        (``validation.n_fresh`` of them, after the training starts and every earlier
+        iteration's: :meth:`start_offset` resolves each)."""
+        n = self.validation.n_fresh
+        first = self.starts.n_starts + iteration * n
+        return range(first, first + n)
+
+    def start_offset(self, start: int, attempt: int = 0) -> np.ndarray:
+        """Where training start `start` is, relative to the object, shape (3,): a training
+        start (``start < starts.n_starts``, :meth:`start_offsets`) or a fresh validation
+        start (:meth:`fresh_starts`: iteration ``i``'s ``k``-th,
+        :func:`a2l.framework.starts.fresh_offsets`). `attempt` > 0: the fresh start's
+        `attempt`-th redraw, for when the arm cannot reach it (a training start has none).
+
+        Raises
+        ------
+        ValueError
+            A negative `start`, or a redraw of a training start.
+        """
+        n = self.starts.n_starts
+        if start < 0:
+            raise ValueError(f"start: must be >= 0, got {start}")
+        if start < n:
+            if attempt:
+                raise ValueError(f"training start {start} has a fixed position, no redraw")
+            return self.start_offsets()[start]
+        v = self.validation
+        it, k = divmod(start - n, v.n_fresh)
+        if attempt:
+            return fresh_redraw(self.seed, it, k, attempt, v.r_low, v.r_high)
+        return fresh_offsets(self.seed, it, v.n_fresh, v.r_low, v.r_high)[k]
+
+    @property
+    def outer_start_radius(self) -> float:
+        """The largest distance from the object a training rollout may start at (m): the
+        training starts' outer radius, or the fresh starts' with ``validation.starts =
+        "fresh"``."""
+        r = self.starts.outer_radius
+        return max(r, self.validation.r_high) if self.validation.fresh else r
 
     def heldout_offsets(self) -> np.ndarray:
         """Held-out end-effector start positions relative to the object, shape

@@ -11,36 +11,33 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 
-from a2l.acquisition.interactions import (
-    Interactions,
-    Rollout,
-    interaction_rows,
-    rollouts_from_table,
-    rollouts_table,
-)
+from a2l.acquisition.interactions import Interactions, Rollout, interaction_rows, rollouts_table
 from a2l.acquisition.protocol import drive_ahead
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.random_babbling import BabbleTask, RandomBabbling, babble_task
 from a2l.framework.result import FrameworkResult
+from a2l.framework.run_state import MOVEMENT_PHASES, RunState, movement_record
 from a2l.framework.scoring import (
     FALSE_POSITIVE,
     SUCCESS,
+    FreshValidation,
     IterationResult,
     heldout_metrics,
     iteration_metrics,
+    miss_counts,
     score_of,
+    success_of,
 )
-from a2l.framework.validation import validate, validate_heldout
+from a2l.framework.validation import validate, validate_fresh, validate_heldout
 from a2l.framework.waypoints import EffectDirected, directed_outcome_task
 from a2l.parallel import Executor
-from a2l.rundir import latest_checkpoint, save_checkpoint
 
 if TYPE_CHECKING:
     from a2l.skills.compile import PolicyTable
@@ -50,9 +47,6 @@ __all__ = ["MOVEMENT_PHASES", "FirstAcquisition", "acquire", "bundle_with_fallba
            "generate_skill", "import_learning_ahead", "phase_seed", "run_framework",
            "training_bundle"]
 
-#: The phases of an iteration that move the robot, as ``metrics.json`` names them
-#: (``robot_movements``).
-MOVEMENT_PHASES = ("acquire", "extend", "validate", "validate_heldout")
 
 
 def _import_learning() -> None:
@@ -239,51 +233,6 @@ FirstAcquisition = Callable[[FrameworkConfig, Executor, int,
                              Callable[[str, int, int], None] | None], Interactions]
 
 
-@dataclass
-class _RunState:
-    """What a run carries from one iteration to the next (and what a checkpoint holds)."""
-
-    dataset: pd.DataFrame | None = None
-    best_val: list[Rollout] = field(default_factory=list)
-    history: list[dict[str, Any]] = field(default_factory=list)
-    best_score: float = -1.0
-    stuck: dict[tuple[int, int], int] = field(default_factory=dict)
-    heldout: list[dict[str, Any]] = field(default_factory=list)
-    best_held: list[Rollout] = field(default_factory=list)
-    #: None: resumed from a checkpoint written before movements were counted
-    movement_log: list[dict[str, Any]] | None = field(default_factory=list)
-    next_iteration: int = 0
-
-    @classmethod
-    def resume(cls, run_dir: Path) -> _RunState:
-        """The state after the newest checkpoint in `run_dir` (a fresh one without)."""
-        ck = latest_checkpoint(run_dir)
-        if ck is None:
-            return cls()
-        last, state, frames = ck
-        history = state["iterations"]
-        return cls(
-            dataset=frames["dataset"], best_val=rollouts_from_table(frames["validation"]),
-            history=history, best_score=float(state["best_score"]),
-            stuck={(int(k.split(",")[0]), int(k.split(",")[1])): int(v)
-                   for k, v in state["stuck"].items()},
-            heldout=state.get("heldout", []),
-            best_held=(rollouts_from_table(frames["heldout"]) if "heldout" in frames
-                       else []),
-            movement_log=state.get("movements", None if history else []),
-            next_iteration=last + 1)
-
-    def save(self, run_dir: Path, iteration: int) -> None:
-        """Write the checkpoint of iteration `iteration`."""
-        save_checkpoint(run_dir, iteration, {
-            "iterations": self.history, "best_score": self.best_score,
-            "stuck": {f"{s},{e}": n for (s, e), n in self.stuck.items()},
-            "heldout": self.heldout,
-            **({"movements": self.movement_log} if self.movement_log is not None else {}),
-        }, {"dataset": self.dataset, "validation": rollouts_table(self.best_val),
-            "heldout": rollouts_table(self.best_held)})
-
-
 def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
                   progress: Callable[[str, int, int], None] | None = None,
                   on_iteration: Callable[[IterationResult], None] | None = None,
@@ -320,11 +269,11 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
     """
     skills_dir = run_dir / "skills"
     skills_dir.mkdir(parents=True, exist_ok=True)
-    st = _RunState.resume(run_dir)
-    if st.next_iteration < cfg.max_iterations and st.best_score < 100.0:
+    st = RunState.resume(run_dir)
+    if st.next_iteration < cfg.max_iterations and not st.done(cfg):
         import_learning_ahead(executor)
     for it in range(st.next_iteration, cfg.max_iterations):
-        if st.best_score >= 100.0:
+        if st.done(cfg):
             break
         m = _iteration(cfg, executor, it, st, skills_dir / f"iter_{it:03d}.a2lb", robot,
                        progress, first_acquisition or acquire)
@@ -344,38 +293,25 @@ def run_framework(cfg: FrameworkConfig, run_dir: Path, executor: Executor,
         heldout_validation=rollouts_table(st.best_held), movements=st.movement_log or [])
 
 
-def _iteration(cfg: FrameworkConfig, executor: Executor, it: int, st: _RunState,
+def _iteration(cfg: FrameworkConfig, executor: Executor, it: int, st: RunState,
                bundle: Path, robot: dict[str, str] | None,
                progress: Callable[[str, int, int], None] | None,
                first: FirstAcquisition) -> IterationResult:
     """One iteration: acquire (or extend), learn the skill `bundle`, validate it, accept it
-    if its score did not drop, run the held-out starts; `st` updated in place."""
+    (:func:`_decide`), run the held-out starts; `st` updated in place."""
     t0 = time.perf_counter()
-    disc = cfg.discretization.discretizer()
     phase_moves = dict.fromkeys(MOVEMENT_PHASES, 0)
-    if st.dataset is None:
-        got = first(cfg, executor, it, progress)
-        phase_moves["acquire"] = got.movements
-        candidate = interaction_rows(got.rollouts, disc)
-    else:
-        extra = extend(cfg, executor, it, st.best_val, st.stuck)
-        phase_moves["extend"] = extra.movements
-        first_episode = int(st.dataset["episode"].max()) + 1 if len(st.dataset) else 0
-        candidate = pd.concat([st.dataset, interaction_rows(extra.rollouts, disc,
-                                                            first_episode)],
-                              ignore_index=True)
+    candidate = _candidate_dataset(cfg, executor, it, st, progress, first, phase_moves)
     generate_skill(cfg, candidate, bundle, robot)
-    val = validate(cfg, executor, training_bundle(cfg, bundle), progress)
+    train = training_bundle(cfg, bundle)
+    val = validate(cfg, executor, train, progress)
     phase_moves["validate"] = sum(r.executed for r in val)
-    score = score_of(val, cfg.discretization.n_effects, cfg.starts.n_starts)
-    accepted = score >= st.best_score
+    accepted, fresh = _decide(cfg, executor, it, st, train, val, progress, phase_moves)
     if accepted:
-        st.dataset, st.best_val, st.best_score = candidate, val, score
+        st.dataset = candidate
         (bundle.parent / "accepted.txt").write_text(bundle.name + "\n")
-    for r in val:
-        key = (r.start, r.wanted)
-        st.stuck[key] = 0 if r.outcome == SUCCESS else st.stuck.get(key, 0) + 1
-    m = iteration_metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0)
+    m = iteration_metrics(cfg, it, val, len(candidate), accepted, time.perf_counter() - t0,
+                          fresh)
     st.history.append(asdict(m))
     if cfg.heldout.n_starts:
         t1 = time.perf_counter()
@@ -386,21 +322,72 @@ def _iteration(cfg: FrameworkConfig, executor: Executor, it: int, st: _RunState,
         if accepted:
             st.best_held = held
     if st.movement_log is not None:
-        st.movement_log.append(_movement_record(
+        st.movement_log.append(movement_record(
             it, phase_moves, st.movement_log[-1] if st.movement_log else None))
     return m
 
 
-def _movement_record(it: int, phases: dict[str, int], last: dict[str, Any] | None
-                     ) -> dict[str, Any]:
-    """Iteration `it`'s robot movements: ``{"iteration", "robot_movements": {phase: n},
-    "robot_movements_total", "robot_movements_training"}``, the totals cumulative since
-    iteration 0 (`last` is the previous iteration's record), the training one without the
-    held-out rollouts (they only measure)."""
-    total = sum(phases.values())
-    training = total - phases["validate_heldout"]
-    if last is not None:
-        total += last["robot_movements_total"]
-        training += last["robot_movements_training"]
-    return {"iteration": it, "robot_movements": dict(phases),
-            "robot_movements_total": total, "robot_movements_training": training}
+def _candidate_dataset(cfg: FrameworkConfig, executor: Executor, it: int, st: RunState,
+                       progress: Callable[[str, int, int], None] | None,
+                       first: FirstAcquisition, phase_moves: dict[str, int]) -> pd.DataFrame:
+    """Iteration `it`'s dataset: the first acquisition, or the accepted dataset extended
+    from ``st.best_val`` and the stuck pairs; its movements counted in `phase_moves`."""
+    disc = cfg.discretization.discretizer()
+    if st.dataset is None:
+        got = first(cfg, executor, it, progress)
+        phase_moves["acquire"] = got.movements
+        return interaction_rows(got.rollouts, disc)
+    extra = extend(cfg, executor, it, st.best_val, st.stuck)
+    phase_moves["extend"] = extra.movements
+    first_episode = int(st.dataset["episode"].max()) + 1 if len(st.dataset) else 0
+    return pd.concat([st.dataset, interaction_rows(extra.rollouts, disc, first_episode)],
+                     ignore_index=True)
+
+
+def _decide(cfg: FrameworkConfig, executor: Executor, it: int, st: RunState, train: Path,
+            val: list[Rollout], progress: Callable[[str, int, int], None] | None,
+            phase_moves: dict[str, int]) -> tuple[bool, FreshValidation | None]:
+    """Accept the candidate (training bundle `train`, its rollouts `val` from the training
+    starts) or not, and set what the next extension grows from (``st.best_val``,
+    ``st.stuck``).
+
+    Either way, the stuck count of each (training start, effect) pair grows while it fails.
+    ``validation.starts = "fixed"`` (the thesis): accepted when the training score did not
+    drop; the extension grows from the accepted skill's training-start rollouts.
+    ``"fresh"``: the candidate and the skill accepted so far also run from the iteration's
+    fresh starts (:func:`validate_fresh`); accepted when its success rate over the training
+    and the fresh starts is not lower (the accepted skill's training-start rollouts are its
+    own iteration's); the extension grows from the accepted skill's rollouts from both, and
+    each failed fresh pair gets effect-directed babbling (a fresh start is validated once).
+    """
+    score = score_of(val, cfg.discretization.n_effects, cfg.starts.n_starts)
+    for r in val:
+        key = (r.start, r.wanted)
+        st.stuck[key] = 0 if r.outcome == SUCCESS else st.stuck.get(key, 0) + 1
+    if not cfg.validation.fresh:
+        accepted = score >= st.best_score
+        if accepted:
+            st.best_val, st.best_score = val, score
+        return accepted, None
+    bundles = [train]
+    if st.dataset is not None:
+        name = (train.parent / "accepted.txt").read_text().strip()
+        bundles.append(training_bundle(cfg, train.parent / name))
+    runs = validate_fresh(cfg, executor, it, bundles, progress)
+    phase_moves["validate_fresh"] = sum(r.executed for run in runs for r in run)
+    n = cfg.starts.n_starts
+    best_fixed = [r for r in st.best_val if r.start < n]
+    rate = success_of([*val, *runs[0]])
+    before = success_of([*best_fixed, *runs[1]]) if len(runs) > 1 else None
+    accepted = before is None or rate >= before
+    if accepted:
+        st.best_score, best_fixed = score, val
+    kept = runs[0] if accepted else runs[1]
+    st.best_val = [*best_fixed, *kept]
+    st.best_rate = success_of(kept)
+    st.stuck = {k: v for k, v in st.stuck.items() if k[0] < n}
+    st.stuck.update({(r.start, r.wanted): cfg.directed.stuck_after for r in kept
+                     if r.outcome != SUCCESS})
+    return accepted, FreshValidation(success_of(runs[0]),
+                                     success_of(runs[1]) if len(runs) > 1 else None,
+                                     miss_counts(runs[0]))

@@ -1,7 +1,8 @@
 """The parts of an A2L run's configuration (:class:`a2l.framework.FrameworkConfig`), each a
 frozen dataclass that validates itself when it is made: where training starts
 (:class:`StartsConfig`), babbling (:class:`BabblingConfig`), the network's structure
-(:class:`LearningConfig`), how the skill runs (:class:`SkillConfig`), the dataset's extension
+(:class:`LearningConfig`), how the skill runs (:class:`SkillConfig`), where each iteration
+validates, accepts and stops (:class:`ValidationConfig`), the dataset's extension
 (:class:`ExtensionConfig`), effect-directed babbling (:class:`DirectedConfig`) and the
 held-out starts (:class:`HeldoutConfig`). The discretization part is the one of the whole
 package, :class:`a2l.skills.discretization.DiscretizationConfig`.
@@ -14,10 +15,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from a2l.checks import check_choice, check_count, check_length, check_names, check_range
+from a2l.checks import (
+    check_choice,
+    check_count,
+    check_fraction,
+    check_length,
+    check_names,
+    check_range,
+)
 
 __all__ = ["FALLBACK_RULES", "BabblingConfig", "DirectedConfig", "ExtensionConfig",
-           "HeldoutConfig", "LearningConfig", "SkillConfig", "StartsConfig"]
+           "HeldoutConfig", "LearningConfig", "SkillConfig", "StartsConfig", "ValidationConfig"]
 
 #: The C++ step's rules for a context cell without data (``skill.fallback``,
 #: ``skill.train_fallback``).
@@ -159,6 +167,54 @@ class SkillConfig:
         for name in ("fallback", "train_fallback"):
             if getattr(self, name) is not None:
                 check_choice("skill", name, getattr(self, name), FALLBACK_RULES)
+
+
+@dataclass(frozen=True)
+class ValidationConfig:
+    """Where each iteration's skill is validated, and what accepts it and stops the run.
+
+    Attributes
+    ----------
+    starts : {"fixed", "fresh"}
+        ``"fixed"`` (the thesis' loop, default): each iteration validates from the training
+        starts (``starts``), accepts a skill whose score did not drop, extends from its
+        rollouts there and stops at score 100. ``"fresh"``: each iteration also validates
+        from ``n_fresh`` start positions drawn anew over the ring users start from
+        (``[r_low, r_high]`` from the object, uniform angle; the training seed stream,
+        never a held-out start: :func:`a2l.framework.starts.fresh_offsets`); the candidate
+        and the skill accepted so far both run from them, the candidate is accepted when
+        its success rate over the training and the fresh starts is not lower, the next
+        extension grows from the accepted skill's rollouts from both (effect-directed
+        babbling from each failed fresh pair), and the run stops when the training score is
+        100 and the success rate on the fresh starts reached ``stop_success``. Either way
+        ``score`` in ``metrics.json`` is the thesis' figure, from the training starts.
+    n_fresh : int
+        Fresh start positions per iteration (each runs every effect).
+    r_low, r_high : float
+        Range of their distance from the object (m).
+    stop_success : float
+        With ``"fresh"``: the success rate on an iteration's fresh starts, in (0, 1], that
+        stops the run (with the training score 100).
+    """
+
+    starts: str = "fixed"
+    n_fresh: int = 8
+    r_low: float = 0.10
+    r_high: float = 0.25
+    stop_success: float = 1.0
+
+    def __post_init__(self) -> None:
+        check_choice("validation", "starts", self.starts, ("fresh", "fixed"))
+        check_count("validation", "n_fresh", self.n_fresh)
+        for name in ("r_low", "r_high"):
+            check_length("validation", name, getattr(self, name))
+        check_range("validation", "r_low", "r_high", self.r_low, self.r_high)
+        check_fraction("validation", "stop_success", self.stop_success)
+
+    @property
+    def fresh(self) -> bool:
+        """Whether iterations validate from fresh starts."""
+        return self.starts == "fresh"
 
 
 @dataclass(frozen=True)

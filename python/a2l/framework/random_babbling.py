@@ -15,6 +15,7 @@ import numpy as np
 
 from a2l.acquisition.interactions import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig
+from a2l.framework.validation import reachable_start
 from a2l.rollout.env import scene_env
 
 __all__ = ["BabbleTask", "RandomBabbling", "babble_task", "random_walk"]
@@ -61,7 +62,7 @@ def random_walk(cfg: FrameworkConfig, start: int, prefix: Sequence[int], seed: i
     def choose(_eef: np.ndarray, _obj: np.ndarray) -> int:
         return int(rng.integers(n))
 
-    offset = cfg.start_offsets()[start]
+    offset = reachable_start(cfg, start)
     r = play(scene_env(cfg), disc, start, offset, prefix, choose, len(prefix) + steps)
     return erase_loops(r) if cfg.babbling.erase_loops else r
 

@@ -14,8 +14,9 @@ import numpy as np
 from a2l.acquisition.interactions import Rollout
 from a2l.framework.config import FrameworkConfig
 
-__all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "IterationResult", "heldout_metrics",
-           "iteration_metrics", "miss_counts", "outcome_of", "score_of", "success_of"]
+__all__ = ["FAIL", "FALSE_POSITIVE", "SUCCESS", "FreshValidation", "IterationResult",
+           "heldout_metrics", "iteration_metrics", "miss_counts", "outcome_of", "score_of",
+           "success_of"]
 
 #: Outcomes of one validation rollout.
 SUCCESS, FALSE_POSITIVE, FAIL = "success", "false_positive", "fail"
@@ -59,11 +60,35 @@ def miss_counts(rollouts: Sequence[Rollout]) -> dict[str, int]:
     return out
 
 
+@dataclass(frozen=True)
+class FreshValidation:
+    """An iteration's validation from its fresh starts (``validation.starts = "fresh"``).
+
+    Attributes
+    ----------
+    success : float
+        The candidate skill's success rate there.
+    accepted_success : float or None
+        The success rate there of the skill accepted before (None at iteration 0): the
+        candidate is accepted when ``success`` is not lower.
+    misses : dict
+        How the candidate's misses there ended (:func:`miss_counts`).
+    """
+
+    success: float
+    accepted_success: float | None
+    misses: dict[str, int]
+
+
 @dataclass
 class IterationResult:
     """Metrics of one iteration (one entry of ``metrics.json``'s ``iterations``):
     ``success``, the success rate over every (training start, effect) pair, leads;
-    ``success_rate`` per effect; ``score`` as ``docs/method.md`` defines it."""
+    ``success_rate`` per effect; ``score`` as ``docs/method.md`` defines it (the thesis'
+    figure, on the training starts); ``fresh_success`` and ``fresh_accepted_success``: the
+    candidate's and the skill accepted before's success rates from the iteration's fresh
+    starts (:class:`FreshValidation`; None with ``validation.starts = "fixed"``), which
+    decide acceptance then."""
 
     iteration: int
     success: float
@@ -74,12 +99,17 @@ class IterationResult:
     dataset_size: int
     accepted: bool
     wall_s: float
+    fresh_success: float | None = None
+    fresh_accepted_success: float | None = None
+    fresh_misses: dict[str, int] | None = None
 
 
 def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], size: int,
-                      accepted: bool, wall: float) -> IterationResult:
-    """The metrics of iteration `it` from its validation rollouts `val` (dataset of `size`
-    rows, `accepted` or not, `wall` seconds)."""
+                      accepted: bool, wall: float, fresh: FreshValidation | None = None
+                      ) -> IterationResult:
+    """The metrics of iteration `it` from its validation rollouts `val` from the training
+    starts (dataset of `size` rows, `accepted` or not, `wall` seconds) and its `fresh`
+    validation (None: none)."""
     rate = _success_rates(cfg, val)
     moves = [len(r.moves) for r in val if r.outcome == SUCCESS]
     return IterationResult(
@@ -87,7 +117,10 @@ def iteration_metrics(cfg: FrameworkConfig, it: int, val: Sequence[Rollout], siz
         score=score_of(val, cfg.discretization.n_effects, cfg.starts.n_starts), success_rate=rate,
         false_positives=sum(r.outcome == FALSE_POSITIVE for r in val),
         mean_movements=float(np.mean(moves)) if moves else float("nan"),
-        dataset_size=size, accepted=accepted, wall_s=wall)
+        dataset_size=size, accepted=accepted, wall_s=wall,
+        fresh_success=fresh.success if fresh else None,
+        fresh_accepted_success=fresh.accepted_success if fresh else None,
+        fresh_misses=fresh.misses if fresh else None)
 
 
 def heldout_metrics(cfg: FrameworkConfig, it: int, held: Sequence[Rollout]) -> dict[str, Any]:

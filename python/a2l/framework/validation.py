@@ -4,7 +4,7 @@ with another effect) or fail."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,11 +20,11 @@ from a2l.parallel import Executor
 from a2l.rollout.env import scene_env
 from a2l.skills.runner import CppSkillRunner
 
-__all__ = ["ValidationTask", "heldout_task", "reachable_heldout", "validate",
-           "validate_heldout", "validate_task"]
+__all__ = ["ValidationTask", "heldout_task", "reachable_heldout", "reachable_start",
+           "validate", "validate_fresh", "validate_heldout", "validate_task"]
 
-#: Reachable held-out offsets already probed in this process (:func:`reachable_heldout`),
-#: by (scene, seed, held-out starts, ring radii, start).
+#: Reachable drawn offsets already probed in this process (:func:`reachable_heldout`,
+#: :func:`reachable_start`), by scene, seed, the parts that draw them and the start.
 _REACHABLE: dict[tuple[Any, ...], np.ndarray] = {}
 
 @dataclass(frozen=True)
@@ -60,7 +60,7 @@ def validate_task(task: ValidationTask) -> Rollout:
     cap, unknown context: fail).
     """
     cfg = task.config
-    return _closed_loop(cfg, task.bundle, task.start, cfg.start_offsets()[task.start],
+    return _closed_loop(cfg, task.bundle, task.start, reachable_start(cfg, task.start),
                         task.wanted)
 
 
@@ -88,22 +88,49 @@ def reachable_heldout(cfg: FrameworkConfig, start: int) -> np.ndarray:
     UnreachableError
         None of the start and its :data:`HELDOUT_REDRAWS` redraws is reachable.
     """
-    key = (cfg.scene, cfg.seed, cfg.heldout, start)
+    offsets = cfg.heldout_offsets()
+    return _first_reachable(cfg, ("heldout", cfg.heldout, start), f"held-out start {start}",
+                            lambda attempt: (cfg.heldout_redraw(start, attempt) if attempt
+                                             else offsets[start]))
+
+
+def reachable_start(cfg: FrameworkConfig, start: int) -> np.ndarray:
+    """Training start `start`'s offset from the object, shape (3,)
+    (:meth:`~a2l.framework.config.FrameworkConfig.start_offset`): a training start as laid
+    out; a fresh validation start, when the arm cannot reach it, replaced by the first
+    reachable of its redraws (as :func:`reachable_heldout`), the same on every worker, so
+    the extension and effect-directed babbling from it start where its validation did.
+
+    Raises
+    ------
+    UnreachableError
+        A fresh start none of whose :data:`HELDOUT_REDRAWS` redraws is reachable.
+    """
+    if start < cfg.starts.n_starts:
+        return cfg.start_offset(start)
+    return _first_reachable(cfg, ("fresh", cfg.starts, cfg.validation, start),
+                            f"fresh validation start {start}",
+                            lambda attempt: cfg.start_offset(start, attempt))
+
+
+def _first_reachable(cfg: FrameworkConfig, key: tuple[Any, ...], what: str,
+                     draw: Callable[[int], np.ndarray]) -> np.ndarray:
+    """The first of ``draw(0)``, ``draw(1)``, ... (at most :data:`HELDOUT_REDRAWS` redraws)
+    the scene's arm can start from; probed once per process and start (`key`)."""
+    key = (cfg.scene, cfg.seed, *key)
     if key in _REACHABLE:  # probed once per process: every effect starts from it
         return _REACHABLE[key].copy()
-    offset = cfg.heldout_offsets()[start]
     env = scene_env(cfg)
     for attempt in range(HELDOUT_REDRAWS + 1):
-        if attempt:
-            offset = cfg.heldout_redraw(start, attempt)
+        offset = draw(attempt)
         try:
             env.begin(offset)
         except UnreachableError:
             continue
         _REACHABLE[key] = offset
         return offset.copy()
-    raise UnreachableError(f"held-out start {start}: neither it nor its {HELDOUT_REDRAWS} "
-                           f"redraws is reachable in scene {cfg.scene!r}")
+    raise UnreachableError(f"{what}: neither it nor its {HELDOUT_REDRAWS} redraws is "
+                           f"reachable in scene {cfg.scene!r}")
 
 
 def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarray,
@@ -140,13 +167,36 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
 
 
 def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
-             progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
-    """Run the skill for every (start, effect) pair; results in (start, effect) order."""
+             progress: Callable[[str, int, int], None] | None = None,
+             starts: Sequence[int] | None = None, phase: str = "validate") -> list[Rollout]:
+    """Run the skill for every (start, effect) pair; results in (start, effect) order.
+
+    `starts`: the start indices (:meth:`FrameworkConfig.start_offset`; default the training
+    starts); `phase`: the name progress reports."""
+    starts = range(cfg.starts.n_starts) if starts is None else starts
     tasks = [ValidationTask(cfg, str(bundle_path), s, e)
-             for s in range(cfg.starts.n_starts) for e in range(cfg.discretization.n_effects)]
+             for s in starts for e in range(cfg.discretization.n_effects)]
     total = len(tasks)
     return executor.map(validate_task, tasks,
-                        on_done=(lambda k: progress("validate", k, total)) if progress else None)
+                        on_done=(lambda k: progress(phase, k, total)) if progress else None)
+
+
+def validate_fresh(cfg: FrameworkConfig, executor: Executor, iteration: int,
+                   bundles: Sequence[Path],
+                   progress: Callable[[str, int, int], None] | None = None
+                   ) -> list[list[Rollout]]:
+    """Run each skill of `bundles` for every (fresh start of iteration `iteration`, effect)
+    pair (:meth:`FrameworkConfig.fresh_starts`): the same starts for all, so their success
+    rates compare pair by pair. Returns one list per bundle, in (start, effect) order."""
+    starts = cfg.fresh_starts(iteration)
+    per = len(starts) * cfg.discretization.n_effects
+    tasks = [ValidationTask(cfg, str(b), s, e) for b in bundles for s in starts
+             for e in range(cfg.discretization.n_effects)]
+    total = len(tasks)
+    out = executor.map(validate_task, tasks,
+                       on_done=(lambda k: progress("validate fresh", k, total)) if progress
+                       else None)
+    return [out[i * per:(i + 1) * per] for i in range(len(bundles))]
 
 
 

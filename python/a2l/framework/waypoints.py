@@ -15,6 +15,7 @@ import numpy as np
 from a2l.acquisition.interactions import Rollout, erase_loops, play
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.random_babbling import random_walk
+from a2l.framework.validation import reachable_start
 from a2l.rollout.env import scene_env
 
 __all__ = ["DirectedTask", "EffectDirected", "Missed", "directed_outcome_task", "directed_task",
@@ -123,9 +124,9 @@ def directed_task(task: DirectedTask) -> Rollout:
     d = cfg.discretization
     disc = d.discretizer()
     env = scene_env(cfg)
-    offset = cfg.start_offsets()[start]
+    offset = reachable_start(cfg, start)
     points = random_waypoints(np.random.default_rng(seed), env.home, cfg.directed.waypoints_max,
-                              d.dist_low, cfg.starts.outer_radius + d.step,
+                              d.dist_low, cfg.outer_start_radius + d.step,
                               cfg.directed.waypoint_aim)
     choose = heading_chooser(points, disc, env.home + offset)
     r = play(env, disc, start, offset, [], choose, steps)
