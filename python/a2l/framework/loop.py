@@ -123,7 +123,8 @@ def _ahead(executor: Executor) -> int:
 
 
 def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
-           validation: Sequence[Rollout], stuck: dict[tuple[int, int], int]) -> Interactions:
+           validation: Sequence[Rollout], stuck: dict[tuple[int, int], int],
+           progress: Callable[[str, int, int], None] | None = None) -> Interactions:
     """New trajectories for iteration `iteration` (the dataset extension, ``docs/method.md``).
 
     - successful and false-positive validation trajectories (themselves, with
@@ -138,7 +139,8 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
       rest of the dataset gets more votes each iteration.
 
     The movements are those of the extensions and of every effect-directed try told (the
-    validation trajectories reused are not played again).
+    validation trajectories reused are not played again). `progress` is told
+    ``("extend: stuck pairs", done, total)`` after each round of effect-directed tries.
     """
     ext, dr = cfg.extension, cfg.directed
     tasks = []
@@ -161,9 +163,14 @@ def extend(cfg: FrameworkConfig, executor: Executor, iteration: int,
         directed.append(EffectDirected(cfg, start, effect,
                                        lambda i, j=j: phase_seed(cfg, iteration, 2 + j, i),
                                        want=dr.per_pair * grow, cap=dr.try_cap * grow))
+
+    def report() -> None:
+        if progress:
+            progress("extend: stuck pairs", sum(d.done for d in directed), len(directed))
+
     drive_ahead(directed, lambda pairs: executor.submit(
         directed_outcome_task, [c for _, c in pairs], batches=_pair_batches(executor, pairs)),
-        batch=DIRECTED_BATCH, ahead=_ahead(executor))
+        batch=DIRECTED_BATCH, ahead=_ahead(executor), on_round=report)
     for d in directed:
         out.extend(d.found)
         movements += d.movements
@@ -337,7 +344,7 @@ def _candidate_dataset(cfg: FrameworkConfig, executor: Executor, it: int, st: Ru
         got = first(cfg, executor, it, progress)
         phase_moves["acquire"] = got.movements
         return interaction_rows(got.rollouts, disc)
-    extra = extend(cfg, executor, it, st.best_val, st.stuck)
+    extra = extend(cfg, executor, it, st.best_val, st.stuck, progress)
     phase_moves["extend"] = extra.movements
     first_episode = int(st.dataset["episode"].max()) + 1 if len(st.dataset) else 0
     return pd.concat([st.dataset, interaction_rows(extra.rollouts, disc, first_episode)],
