@@ -132,6 +132,9 @@ def movements_table(history: list[dict[str, Any]]) -> list[str]:
     if not history or not all("robot_movements" in m for m in history):
         return []
     last = history[-1]
+    # the fresh starts' column only for a run that validated from them
+    phases = [p for p in MOVEMENT_PHASES if p != "validate_fresh"
+              or any(m["robot_movements"].get(p) for m in history)]
     lines = [
         f"Robot movements: **{last['robot_movements_total']:,}** discrete movements in all "
         f"({last['robot_movements_training']:,} for training, the rest from the held-out "
@@ -139,12 +142,12 @@ def movements_table(history: list[dict[str, Any]]) -> list[str]:
         "trajectories thrown away included (`metrics.json`: `robot_movements` per phase, "
         "`robot_movements_total` and `robot_movements_training` cumulative).",
         "",
-        "| iteration | " + " | ".join(f"`{p}`" for p in MOVEMENT_PHASES)
+        "| iteration | " + " | ".join(f"`{p}`" for p in phases)
         + " | total so far | training so far |",
-        "|" + "---|" * (len(MOVEMENT_PHASES) + 3),
+        "|" + "---|" * (len(phases) + 3),
     ]
     for m in history:
-        cells = [f"{m['robot_movements'].get(p, 0):,}" for p in MOVEMENT_PHASES]
+        cells = [f"{m['robot_movements'].get(p, 0):,}" for p in phases]
         lines.append(f"| {m['iteration']} | " + " | ".join(cells)
                      + f" | {m['robot_movements_total']:,} | "
                      f"{m['robot_movements_training']:,} |")
