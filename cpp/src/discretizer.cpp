@@ -1,5 +1,6 @@
 #include "a2l/discretizer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -10,6 +11,60 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2.0 * kPi;
 }  // namespace
+
+Result check_edges(const Variable& v, const std::string& where) {
+  if (v.edges.empty()) return Result::success();
+  if (v.kind != VariableKind::distance) {
+    return Result::failure(Status::invalid_argument,
+                           where + ".edges: only a distance variable may have edges, this is " +
+                               "of kind '" + variable_kind_name(v.kind) + "'");
+  }
+  const std::size_t n = v.edges.size();
+  if (n > static_cast<std::size_t>(kMaxBins - 1)) {
+    return Result::failure(Status::invalid_argument, where + ".edges: at most " +
+                                                         std::to_string(kMaxBins - 1) +
+                                                         " edges, got " + std::to_string(n));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = v.edges[k];
+    if (!std::isfinite(x) || !(x > 0.0) || (k > 0 && !(x > v.edges[k - 1]))) {
+      std::ostringstream ss;
+      ss << where << ".edges[" << k << "]: " << x
+         << " (edges must be finite, > 0 and strictly increasing)";
+      return Result::failure(Status::invalid_argument, ss.str());
+    }
+  }
+  if (static_cast<std::size_t>(v.n_bins) != n + 1) {
+    return Result::failure(Status::invalid_argument,
+                           where + ".n_bins: " + std::to_string(v.n_bins) + ", but " +
+                               std::to_string(n) + " edges make " + std::to_string(n + 1) +
+                               " bins");
+  }
+  return Result::success();
+}
+
+double first_bin_edge(const Variable& v) noexcept {
+  if (!v.edges.empty()) return v.edges.front();
+  return v.low + (v.high - v.low) / v.n_bins;
+}
+
+double range_upper_end(const Variable& v) noexcept {
+  if (!v.edges.empty()) return v.edges.back();
+  return v.high;
+}
+
+double bin_centre(const Variable& v, int b) noexcept {
+  const std::size_t n = v.edges.size();
+  if (n == 0) {
+    const double w = (v.high - v.low) / v.n_bins;
+    return v.low + (b + 0.5) * w;
+  }
+  const auto k = static_cast<std::size_t>(std::clamp(b, 0, static_cast<int>(n)));
+  const double lo = k == 0 ? 0.0 : v.edges[k - 1];
+  if (k < n) return 0.5 * (lo + v.edges[k]);
+  const double before = n == 1 ? 0.0 : v.edges[n - 2];  // the last bin: as wide as the one before
+  return lo + 0.5 * (lo - before);
+}
 
 const char* variable_kind_name(VariableKind kind) noexcept {
   switch (kind) {
@@ -86,6 +141,7 @@ Result Discretizer::create(std::vector<Variable> variables, Discretizer& out) {
         return Result::failure(Status::invalid_argument, ss.str());
       }
     }
+    if (Result r = check_edges(v, where); !r.ok()) return r;
     if (v.kind != VariableKind::high_level && ++count[k] > 1) {
       return Result::failure(Status::invalid_argument, where + ": a second variable of kind '" +
                                                            variable_kind_name(v.kind) +
@@ -111,6 +167,11 @@ int Discretizer::distance_bin(double d, double low, double high, int n) noexcept
   if (!(x >= 0.0)) return 0;
   if (x >= n - 1) return n - 1;
   return static_cast<int>(x);
+}
+
+int Discretizer::edges_bin(double d, const double* edges, int n_edges) noexcept {
+  if (!std::isfinite(d)) return -1;
+  return static_cast<int>(std::upper_bound(edges, edges + n_edges, d) - edges);
 }
 
 int Discretizer::orientation_bin(double theta, int n) noexcept {
@@ -140,8 +201,13 @@ int Discretizer::context_bin(const Variable& v, const Eigen::Vector3d& eef,
   // definition, as a point on a bin edge must fall in the same bin on every path.
   const double planar2 = r.x() * r.x() + r.y() * r.y();
   switch (v.kind) {
-    case VariableKind::distance:
-      return distance_bin(std::sqrt(planar2 + r.z() * r.z()), v.low, v.high, v.n_bins);
+    case VariableKind::distance: {
+      const double d = std::sqrt(planar2 + r.z() * r.z());
+      if (!v.edges.empty()) {
+        return edges_bin(d, v.edges.data(), static_cast<int>(v.edges.size()));
+      }
+      return distance_bin(d, v.low, v.high, v.n_bins);
+    }
     case VariableKind::orientation:
       return orientation_bin(std::atan2(r.y(), r.x()), v.n_bins);
     case VariableKind::inclination:

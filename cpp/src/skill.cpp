@@ -94,8 +94,8 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
   for (int i = 0; i < discretizer.n_variables(); ++i) {
     const Variable& v = discretizer.variable(i);
     if (v.kind == VariableKind::distance) {
-      out.fallback_reach_ = v.high;
-      out.fallback_near_ = v.low + (v.high - v.low) / v.n_bins;
+      out.fallback_reach_ = range_upper_end(v);
+      out.fallback_near_ = first_bin_edge(v);
       break;
     }
   }

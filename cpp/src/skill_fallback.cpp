@@ -95,7 +95,6 @@ void compile_targets(const Discretizer& disc, const PolicyTable& table,
   if (id < 0 || io < 0 || others > 0) return;
   const Variable& vd = disc.variable(id);
   const Variable& vo = disc.variable(io);
-  const double wd = (vd.high - vd.low) / vd.n_bins;
   const double wo = 2.0 * std::acos(-1.0) / vo.n_bins;
   const std::size_t rows = table.n_rows();
   out.assign(2 * rows, 0.0);
@@ -103,7 +102,7 @@ void compile_targets(const Discretizer& disc, const PolicyTable& table,
   for (std::size_t r = 0; r < rows; ++r) {
     if (fallback[r] < 0) continue;
     bins_of(table, static_cast<std::size_t>(fallback[r]), b.data());
-    const double d = vd.low + (b[static_cast<std::size_t>(id)] + 0.5) * wd;
+    const double d = bin_centre(vd, b[static_cast<std::size_t>(id)]);
     const double a = -std::acos(-1.0) + b[static_cast<std::size_t>(io)] * wo;  // bin centre
     out[2 * r] = d * std::cos(a);
     out[2 * r + 1] = d * std::sin(a);

@@ -1,7 +1,8 @@
-// The context bins (Discretizer::context_bin) and the effect classification (classify_effect),
-// the one implementation the runtime step and the Python learning side share: unknown
-// contexts, the object at the end-effector, agreement with discretize(), and no allocation and
-// no exception over 1e5 random inputs (NaN, inf, huge and ordinary coordinates).
+// The context bins (Discretizer::context_bin; a distance with equal bins or explicit edges) and
+// the effect classification (classify_effect), the one implementation the runtime step and the
+// Python learning side share: unknown contexts, the object at the end-effector, agreement with
+// discretize(), and no allocation and no exception over 1e5 random inputs (NaN, inf, huge and
+// ordinary coordinates).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -104,34 +105,42 @@ TEST(ContextBin, OffsetsAreDistanceBinsOfTheEefOffsetAlongXAndY) {
 }
 
 TEST(ContextBin, DiscretizeUsesContextBin) {
-  std::vector<Variable> vars = {
-      variable(VariableKind::distance, 5, 0.02, 0.3), variable(VariableKind::orientation, 12),
-      variable(VariableKind::inclination, 6), variable(VariableKind::offset_x, 3, -0.12, 0.12),
-      variable(VariableKind::offset_y, 5, -0.2, 0.2)};
-  Discretizer disc;
-  ASSERT_TRUE(Discretizer::create(vars, disc).ok());
-  std::mt19937_64 rng(5);
-  int bins[a2l::kMaxVariables];
-  for (int k = 0; k < 20000; ++k) {
-    a2l::Context c;
-    c.eef = V(coordinate(rng), coordinate(rng), coordinate(rng));
-    c.object = V(coordinate(rng), coordinate(rng), coordinate(rng));
-    const a2l::Status s = disc.discretize(c, bins);
-    bool unknown = false;
-    for (int j = 0; j < static_cast<int>(vars.size()); ++j) {
-      const int b = Discretizer::context_bin(vars[static_cast<size_t>(j)], c.eef, c.object);
-      ASSERT_EQ(bins[j], b) << k << " " << j;
-      unknown = unknown || b < 0;
+  Variable edges = variable(VariableKind::distance, 4, 0.02, 0.3);
+  edges.edges = {0.05, 0.1, 0.2};
+  for (const Variable& distance : {variable(VariableKind::distance, 5, 0.02, 0.3), edges}) {
+    std::vector<Variable> vars = {distance, variable(VariableKind::orientation, 12),
+                                  variable(VariableKind::inclination, 6),
+                                  variable(VariableKind::offset_x, 3, -0.12, 0.12),
+                                  variable(VariableKind::offset_y, 5, -0.2, 0.2)};
+    Discretizer disc;
+    ASSERT_TRUE(Discretizer::create(vars, disc).ok());
+    std::mt19937_64 rng(5);
+    int bins[a2l::kMaxVariables];
+    for (int k = 0; k < 20000; ++k) {
+      a2l::Context c;
+      c.eef = V(coordinate(rng), coordinate(rng), coordinate(rng));
+      c.object = V(coordinate(rng), coordinate(rng), coordinate(rng));
+      const a2l::Status s = disc.discretize(c, bins);
+      bool unknown = false;
+      for (int j = 0; j < static_cast<int>(vars.size()); ++j) {
+        const int b = Discretizer::context_bin(vars[static_cast<size_t>(j)], c.eef, c.object);
+        ASSERT_EQ(bins[j], b) << k << " " << j;
+        unknown = unknown || b < 0;
+      }
+      EXPECT_EQ(s == a2l::Status::unknown_context, unknown);
     }
-    EXPECT_EQ(s == a2l::Status::unknown_context, unknown);
   }
 }
 
 TEST(BinsNoAlloc, ContextBinAndClassifyEffectAllocateNothingThrowNothing) {
-  const Variable vars[5] = {
-      variable(VariableKind::distance, 3, 0.05, 0.20), variable(VariableKind::orientation, 16),
-      variable(VariableKind::inclination, 8), variable(VariableKind::offset_x, 3, -0.135, 0.135),
-      variable(VariableKind::offset_y, 3, -0.1575, 0.1575)};
+  Variable edges = variable(VariableKind::distance, 4, 0.05, 0.20);
+  edges.edges = {0.07, 0.10, 0.15};  // explicit edges (filled before the guarded section)
+  const Variable vars[6] = {variable(VariableKind::distance, 3, 0.05, 0.20),
+                            variable(VariableKind::orientation, 16),
+                            variable(VariableKind::inclination, 8),
+                            variable(VariableKind::offset_x, 3, -0.135, 0.135),
+                            variable(VariableKind::offset_y, 3, -0.1575, 0.1575),
+                            edges};
   std::mt19937_64 rng(11);
   const int n = 100000;
   std::vector<V> eef(static_cast<size_t>(n)), obj(static_cast<size_t>(n));

@@ -113,20 +113,20 @@ class Skill {
                              : fallback_[row];
   }
   //! How far a fallback step may carry the end-effector from the object (m): the upper end
-  //! of the skill's first `distance` variable, or a negative value when it has none (no
-  //! limit). A fallback movement may not end farther than max(current distance, this).
+  //! of the skill's first `distance` variable (range_upper_end(): high, or its last edge),
+  //! or a negative value when it has none (no limit). A fallback movement may not end
+  //! farther than max(current distance, this).
   double fallback_reach() const noexcept { return fallback_reach_; }
   //! How close a fallback step may carry the end-effector to the object (m): the upper edge
-  //! of the first bin of the skill's first `distance` variable (negative without one). A
-  //! fallback movement may not end nearer than min(current distance, this): contact with
-  //! the object is left to cells with data.
+  //! of the first bin of the skill's first `distance` variable (first_bin_edge(); negative
+  //! without one). A fallback movement may not end nearer than min(current distance, this):
+  //! contact with the object is left to cells with data.
   double fallback_near() const noexcept { return fallback_near_; }
   //! With the `approach` fallback, whether uniform row `row` heads for a point, and the
   //! point (eef - object, m, in the table plane): the centre of its fallback row's cell
-  //! (the middle of its distance bin, the last bin's middle for the saturated one, at the
-  //! middle angle of its orientation bin). False for an informative row, without the
-  //! `approach` fallback, or unless the skill's geometric variables are one distance and
-  //! one orientation.
+  //! (the middle of its distance bin, bin_centre(), at the middle angle of its orientation
+  //! bin). False for an informative row, without the `approach` fallback, or unless the
+  //! skill's geometric variables are one distance and one orientation.
   bool fallback_target(std::size_t row, double& x, double& y) const noexcept {
     if (targets_.empty() || table_.argmax(row) >= 0 || fallback_[row] < 0) return false;
     x = targets_[2 * row];
