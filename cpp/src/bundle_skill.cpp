@@ -1,5 +1,7 @@
 // The skill sections of a bundle's manifest (docs/bundle_format.md): robot, variables,
 // movements (directions, labels, actions) and execution settings.
+#include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,49 @@ bool bundle_detail::parse_robot(const json& m, RobotInfo& robot, Errors& e) {
          get_string(*r, "robot.", "base_link", robot.base_link, e) &&
          get_string(*r, "robot.", "tip_link", robot.tip_link, e);
 }
+
+namespace {
+
+// The optional "edges" of variable `jv` (`where` = "variables[i].") into v.edges: a distance
+// only, 1 to kMaxBins - 1 finite numbers, > 0, strictly increasing, n_bins = edges + 1.
+bool parse_edges(const json& jv, const std::string& where, Variable& v, Errors& e) {
+  const auto it = jv.find("edges");
+  if (it == jv.end()) return true;
+  if (v.kind != VariableKind::distance) {
+    return e.parse(where + "edges: '" + v.name + "' is of kind " + variable_kind_name(v.kind) +
+                   ", only a distance variable may have edges");
+  }
+  if (!it->is_array()) {
+    return e.parse(where + "edges: must be an array of numbers, got " + type_name(*it));
+  }
+  if (it->empty() || it->size() > static_cast<size_t>(kMaxBins - 1)) {
+    return e.parse(where + "edges: needs 1 to " + std::to_string(kMaxBins - 1) + " edges, got " +
+                   std::to_string(it->size()));
+  }
+  for (size_t k = 0; k < it->size(); ++k) {
+    const json& x = (*it)[k];
+    const std::string field = where + "edges[" + std::to_string(k) + "]";
+    if (!x.is_number()) return e.parse(field + ": must be a number, got " + type_name(x));
+    const double d = x.get<double>();
+    std::ostringstream ss;
+    ss << field << ": " << d;
+    if (!std::isfinite(d) || !(d > 0.0)) return e.parse(ss.str() + " (must be finite and > 0)");
+    if (k > 0 && !(d > v.edges.back())) {
+      ss << " is not above edges[" << k - 1 << "] = " << v.edges.back()
+         << " (edges must be strictly increasing)";
+      return e.parse(ss.str());
+    }
+    v.edges.push_back(d);
+  }
+  if (static_cast<size_t>(v.n_bins) != v.edges.size() + 1) {
+    return e.parse(where + "n_bins: " + std::to_string(v.n_bins) + ", but " +
+                   std::to_string(v.edges.size()) + " edges make " +
+                   std::to_string(v.edges.size() + 1) + " bins ('" + v.name + "')");
+  }
+  return true;
+}
+
+}  // namespace
 
 bool bundle_detail::parse_variables(const json& m, std::vector<Variable>& vars, Errors& e) {
   const json* arr = nullptr;
@@ -71,6 +116,7 @@ bool bundle_detail::parse_variables(const json& m, std::vector<Variable>& vars, 
       }
       if (!(v.low < v.high)) return e.parse(where + "low/high: requires low < high");
     }
+    if (!parse_edges(jv, where, v, e)) return false;
     vars.push_back(std::move(v));
   }
   return true;

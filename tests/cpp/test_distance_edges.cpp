@@ -1,8 +1,8 @@
-// Distance bins between explicit edges (Variable::edges): the bin is the number of edges <= d,
-// NaN an unknown context; Discretizer::create refuses edges that are not finite, not > 0 or
-// not increasing, a count that does not give n_bins, edges on another kind; the fallback
-// limits and approach targets follow the edges (first_bin_edge, range_upper_end,
-// bin_centre), and equal bins keep their formulas.
+// Distance bins between explicit edges (Variable::edges, the manifest's "edges"): the bin is
+// the number of edges <= d, NaN an unknown context; Discretizer::create and the bundle loader
+// refuse edges that are not finite, not > 0 or not increasing, a count that does not give
+// n_bins, edges on another kind; the skill's fallback limits and approach targets follow the
+// edges (first_bin_edge, range_upper_end, bin_centre), and equal bins keep their formulas.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "a2l/bundle.hpp"
 #include "a2l/discretizer.hpp"
+#include "a2l/skill.hpp"
+#include "bundle_builder.hpp"
 
 namespace {
 
@@ -18,6 +21,7 @@ using a2l::Discretizer;
 using a2l::Status;
 using a2l::Variable;
 using a2l::VariableKind;
+using a2l::testing::json;
 using V = Eigen::Vector3d;
 
 Variable distance(std::vector<double> edges, double low = 0.05, double high = 0.20) {
@@ -139,6 +143,85 @@ TEST(DistanceEdges, FallbackLimitsAndBinCentresFollowTheEdges) {
   for (int b = 0; b < 3; ++b) {
     const double w = (q.high - q.low) / q.n_bins;
     EXPECT_EQ(a2l::bin_centre(q, b), q.low + (b + 0.5) * w);
+  }
+}
+
+// sample_parts' distance (3 bins) with the edges 0.07 and 0.10.
+a2l::testing::BundleParts parts_with_edges() {
+  auto p = a2l::testing::sample_parts(9, 0.6);
+  p.manifest["variables"][1]["edges"] = {0.07, 0.10};
+  return p;
+}
+
+a2l::Result load(const a2l::testing::BundleParts& p, a2l::Skill& s) {
+  const auto b = a2l::testing::build(p);
+  return a2l::load_bundle_from_memory(b.data(), b.size(), s, "edges.a2lb");
+}
+
+TEST(DistanceEdges, ABundleWithEdgesLoadsAndItsSkillUsesThem) {
+  auto p = parts_with_edges();
+  p.manifest["execution"]["fallback"] = "nearest";
+  a2l::Skill skill;
+  const a2l::Result r = load(p, skill);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const Variable& v = skill.discretizer().variable(1);
+  EXPECT_EQ(v.edges, (std::vector<double>{0.07, 0.10}));
+  EXPECT_DOUBLE_EQ(v.low, 0.05);  // read, but not used by the bins
+  EXPECT_EQ(skill.fallback_near(), 0.07);
+  EXPECT_EQ(skill.fallback_reach(), 0.10);
+  a2l::Context c;
+  c.object = V(0.7, 0.0, 0.04);
+  int bins[a2l::kMaxVariables];
+  for (const auto& [d, b] : std::vector<std::pair<double, int>>{{0.06, 0}, {0.08, 1}, {0.3, 2}}) {
+    c.eef = c.object + V(0.0, d, 0.0);
+    ASSERT_EQ(skill.discretizer().discretize(c, bins), Status::ok);
+    EXPECT_EQ(bins[1], b) << d;
+  }
+  // Without the key: equal bins over [0.05, 0.20], as before.
+  a2l::Skill plain;
+  ASSERT_TRUE(load(a2l::testing::sample_parts(9, 0.6), plain).ok());
+  EXPECT_TRUE(plain.discretizer().variable(1).edges.empty());
+  c.eef = c.object + V(0.0, 0.08, 0.0);
+  ASSERT_EQ(plain.discretizer().discretize(c, bins), Status::ok);
+  EXPECT_EQ(bins[1], 0);
+  EXPECT_DOUBLE_EQ(plain.fallback_near(), 0.10);
+  EXPECT_DOUBLE_EQ(plain.fallback_reach(), 0.20);
+}
+
+TEST(DistanceEdges, TheLoaderRefusesMalformedEdges) {
+  struct Case {
+    json edges;
+    int variable;
+    std::string needle;
+  };
+  const std::vector<Case> cases = {
+      {"0.07", 1, "variables[1].edges: must be an array of numbers, got string"},
+      {0.07, 1, "variables[1].edges: must be an array of numbers, got number"},
+      {json::object(), 1, "variables[1].edges: must be an array"},
+      {json::array(), 1, "variables[1].edges: needs 1 to 1023 edges, got 0"},
+      {{0.07, "0.1"}, 1, "variables[1].edges[1]: must be a number, got string"},
+      {{0.07, nullptr}, 1, "variables[1].edges[1]: must be a number, got null"},  // a NaN
+      {{0.10, 0.07}, 1, "variables[1].edges[1]: 0.07 is not above edges[0] = 0.1"},
+      {{0.07, 0.07}, 1, "variables[1].edges[1]: 0.07 is not above edges[0]"},
+      {{0.0, 0.07}, 1, "variables[1].edges[0]: 0 (must be finite and > 0)"},
+      {{-0.1, 0.07}, 1, "variables[1].edges[0]: -0.1 (must be finite and > 0)"},
+      {{0.07}, 1, "variables[1].n_bins: 3, but 1 edges make 2 bins ('distance')"},
+      {{0.07, 0.1, 0.15}, 1, "variables[1].n_bins: 3, but 3 edges make 4 bins"},
+      {{1.0, 2.0},
+       2,
+       "variables[2].edges: 'orientation' is of kind orientation, only a "
+       "distance variable may have edges"},
+      {{1.0}, 0, "variables[0].edges: 'effect' is of kind effect"},
+  };
+  for (const Case& c : cases) {
+    auto p = a2l::testing::sample_parts(9, 0.6);
+    p.manifest["variables"][static_cast<std::size_t>(c.variable)]["edges"] = c.edges;
+    a2l::Skill s;
+    const a2l::Result r = load(p, s);
+    EXPECT_EQ(r.status, Status::parse_error) << c.needle;
+    EXPECT_NE(r.message.find(c.needle), std::string::npos)
+        << "message '" << r.message << "' does not name '" << c.needle << "'";
+    EXPECT_NE(r.message.find("edges.a2lb"), std::string::npos) << r.message;
   }
 }
 

@@ -60,13 +60,14 @@ int random_index(std::mt19937_64& rng, int n) {
   }
 }
 
-// (smoothing, nearest-cell fallback)
-class StepNoAlloc : public ::testing::TestWithParam<std::tuple<bool, bool>> {};
+// (smoothing, nearest-cell fallback, distance bins between explicit edges)
+class StepNoAlloc : public ::testing::TestWithParam<std::tuple<bool, bool, bool>> {};
 
 TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
-  const auto [smoothing, fallback] = GetParam();
+  const auto [smoothing, fallback, edges] = GetParam();
   auto parts = a2l::testing::sample_parts(11, 0.3, smoothing);
   if (fallback) parts.manifest["execution"]["fallback"] = "nearest";
+  if (edges) parts.manifest["variables"][1]["edges"] = {0.07, 0.10};
   const auto bytes = a2l::testing::build(parts);
   a2l::Skill skill;
   ASSERT_TRUE(a2l::load_bundle_from_memory(bytes.data(), bytes.size(), skill).ok());
@@ -127,15 +128,19 @@ TEST_P(StepNoAlloc, RandomContextsAllocateNothingThrowNothingAndNeverGuess) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(SmoothingFallback, StepNoAlloc,
-                         ::testing::Combine(::testing::Bool(), ::testing::Bool()));
+INSTANTIATE_TEST_SUITE_P(SmoothingFallbackEdges, StepNoAlloc,
+                         ::testing::Combine(::testing::Bool(), ::testing::Bool(),
+                                            ::testing::Bool()));
 
 // The `approach` fallback on a planar table (effect, distance, orientation, light: the push
-// skills' kind of variables, where it heads for a cell's centre), with and without smoothing.
+// skills' kind of variables, where it heads for a cell's centre), with and without smoothing,
+// the distance in equal bins or between explicit edges.
 TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
-  for (const bool smoothing : {false, true}) {
+  for (const int variant : {0, 1, 2, 3}) {
+    const bool smoothing = variant % 2 == 1, edges = variant >= 2;
     auto parts = a2l::testing::sample_parts(11, 0.3, smoothing);
     parts.manifest["variables"].erase(3);  // no inclination
+    if (edges) parts.manifest["variables"][1]["edges"] = {0.07, 0.10};
     parts.shape = {4, 3, 8, 2};
     parts.argmax.resize(4 * 3 * 8 * 2);
     parts.posterior.resize(parts.argmax.size() * 8);
@@ -172,7 +177,8 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
       allocations = guard.allocations();
     }
     EXPECT_FALSE(threw);
-    EXPECT_EQ(allocations, 0u) << "step() allocated (smoothing " << smoothing << ")";
+    EXPECT_EQ(allocations, 0u) << "step() allocated (smoothing " << smoothing << ", edges " << edges
+                               << ")";
     EXPECT_EQ(wrong, 0);
     EXPECT_GT(fallbacks, 1000);
   }
