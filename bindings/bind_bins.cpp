@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "a2l/discretizer.hpp"
@@ -22,8 +21,6 @@ namespace a2l::bindings {
 namespace {
 
 using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
-//! (kind, n_bins, low, high) of one context variable, as Python gives it.
-using VariableTuple = std::tuple<std::string, int, double, double>;
 
 std::string shape_of(const py::array& a) {
   std::string s = "(";
@@ -41,43 +38,65 @@ py::ssize_t n_points(const Points& a, const char* what) {
         std::string(what) + " must have shape (n, 3) or (3,), got " + shape_of(a));
 }
 
-//! The C++ variables of `variables`, validated (the message names the entry and the check).
-std::vector<Variable> to_variables(const std::vector<VariableTuple>& variables) {
-  if (variables.size() > static_cast<size_t>(kMaxVariables)) {
-    raise(Status::invalid_argument, "variables: at most " + std::to_string(kMaxVariables) +
-                                        ", got " + std::to_string(variables.size()));
+//! The variable of entry `where` of context_bins' list: a tuple (kind, n_bins, low, high) or
+//! (kind, n_bins, low, high, edges), as Python gives it, unchecked.
+Variable from_tuple(const py::sequence& t, const std::string& where) {
+  if (t.size() != 4 && t.size() != 5) {
+    raise(Status::invalid_argument, where +
+                                        ": must be (kind, n_bins, low, high) or (kind, "
+                                        "n_bins, low, high, edges), got " +
+                                        std::to_string(t.size()) + " items");
   }
-  std::vector<Variable> out;
-  for (size_t i = 0; i < variables.size(); ++i) {
-    const auto& [kind_name, n_bins, low, high] = variables[i];
-    const std::string where = "variables[" + std::to_string(i) + "]";
-    Variable v;
-    v.name = where;
+  Variable v;
+  v.name = where;
+  try {
+    const auto kind_name = t[0].cast<std::string>();
     if (!parse_variable_kind(kind_name, v.kind) || !is_geometric(v.kind)) {
       raise(Status::invalid_argument, where +
                                           ": kind must be 'distance', 'orientation', "
                                           "'inclination', 'offset_x' or 'offset_y', got '" +
                                           kind_name + "'");
     }
-    if (n_bins < 1 || n_bins > kMaxBins) {
+    v.n_bins = t[1].cast<int>();
+    v.low = t[2].cast<double>();
+    v.high = t[3].cast<double>();
+    if (t.size() == 5) v.edges = t[4].cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    raise(Status::invalid_argument, where +
+                                        ": kind must be a str, n_bins an int, low and high "
+                                        "numbers and edges a sequence of numbers");
+  }
+  return v;
+}
+
+//! The C++ variables of `variables`, validated (the message names the entry and the check).
+std::vector<Variable> to_variables(const std::vector<py::sequence>& variables) {
+  if (variables.size() > static_cast<size_t>(kMaxVariables)) {
+    raise(Status::invalid_argument, "variables: at most " + std::to_string(kMaxVariables) +
+                                        ", got " + std::to_string(variables.size()));
+  }
+  std::vector<Variable> out;
+  for (size_t i = 0; i < variables.size(); ++i) {
+    const std::string where = "variables[" + std::to_string(i) + "]";
+    Variable v = from_tuple(variables[i], where);
+    if (v.n_bins < 1 || v.n_bins > kMaxBins) {
       raise(Status::invalid_argument, where + ": n_bins must be in [1, " +
                                           std::to_string(kMaxBins) + "], got " +
-                                          std::to_string(n_bins));
+                                          std::to_string(v.n_bins));
     }
-    if (has_range(v.kind) && !(std::isfinite(low) && std::isfinite(high) && low < high)) {
+    if (has_range(v.kind) && !(std::isfinite(v.low) && std::isfinite(v.high) && v.low < v.high)) {
       raise(Status::invalid_argument, where + ": need finite low < high, got [" +
-                                          std::to_string(low) + ", " + std::to_string(high) + "]");
+                                          std::to_string(v.low) + ", " + std::to_string(v.high) +
+                                          "]");
     }
-    v.n_bins = n_bins;
-    v.low = low;
-    v.high = high;
+    if (Result r = check_edges(v, where); !r.ok()) raise(Status::invalid_argument, r.message);
     out.push_back(std::move(v));
   }
   return out;
 }
 
 py::array_t<std::int32_t> context_bins(const Points& eef, const Points& object,
-                                       const std::vector<VariableTuple>& variables) {
+                                       const std::vector<py::sequence>& variables) {
   const py::ssize_t n = n_points(eef, "eef");
   if (n_points(object, "object") != n || eef.ndim() != object.ndim()) {
     raise(Status::size_mismatch,
@@ -139,10 +158,12 @@ Parameters
 ----------
 eef, object : array_like, shape (n, 3) or (3,)
     End-effector and object positions (m).
-variables : list of (str, int, float, float)
-    ``(kind, n_bins, low, high)`` of each context variable; kind is ``"distance"``,
-    ``"orientation"``, ``"inclination"``, ``"offset_x"`` or ``"offset_y"``; low and high (m)
-    are read for a distance and the offsets only.
+variables : list of tuple
+    ``(kind, n_bins, low, high)`` or ``(kind, n_bins, low, high, edges)`` of each context
+    variable; kind is ``"distance"``, ``"orientation"``, ``"inclination"``, ``"offset_x"``
+    or ``"offset_y"``; low and high (m) are read for a distance and the offsets only; edges
+    (m; a distance only, optional, empty for none): the interior bin edges, finite, > 0 and
+    strictly increasing, with n_bins = len(edges) + 1 (bin = the number of edges <= d).
 
 Returns
 -------

@@ -32,6 +32,9 @@ void bind_discretizer(py::module_& m) {
       .def_readonly("low", &Variable::low)
       .def_readonly("high", &Variable::high)
       .def_readonly("values", &Variable::values)
+      .def_readonly(
+          "edges", &Variable::edges,
+          "distance only: the interior bin edges (m); empty: equal bins over [low, high].")
       .def("__repr__", [](const Variable& v) {
         return "<a2l.Variable '" + v.name + "' " + variable_kind_name(v.kind) + ", " +
                std::to_string(v.n_bins) + " bins>";

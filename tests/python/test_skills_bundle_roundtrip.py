@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -9,8 +10,11 @@ import numpy as np
 import pytest
 
 from a2l import _core
+from a2l.errors import BundleError
+from a2l.rollout.recording import step_bins
 from a2l.skills import (
     Discretizer,
+    DistanceBins,
     HighLevelState,
     MovementRepertoire,
     OffsetBins,
@@ -22,6 +26,7 @@ from a2l.skills import (
     push_dataset,
     save_bundle,
 )
+from a2l.skills.bundle_format import BundleView
 
 
 def _contexts(n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -93,6 +98,61 @@ def test_learned_push_skill_round_trip(tmp_path: Path, offsets: bool) -> None:
         ]
         best = table.argmax(ev)
         assert skill.table.lookup(bins) == (-1 if best is None else table.target_states.index(best))
+
+
+def test_distance_edges_round_trip(tmp_path: Path) -> None:
+    """A skill whose distance has explicit edges: the bundle keeps them, the C++ loader reads
+    them, and the runtime's step bins every context as the Python learning side did (on
+    the edges too), so it looks up the row Python compiled."""
+    edges = (0.07, 0.10, 0.15)
+    disc = Discretizer(distance=DistanceBins(edges=edges),
+                       movements=MovementRepertoire(planar=True))
+    net = learn_network(disc.discretize(push_dataset(1500, seed=2)), "hand-coded")
+    table = compile_policy(net, "move", disc.evidence)
+    assert "distance" in table.variables
+    path = save_bundle(make_skill_spec(table, disc, name="push"), tmp_path / "push.a2l")
+    back = load_bundle(path)
+    (dist,) = [v for v in back.variables if v.kind == "distance"]
+    assert (dist.n_bins, dist.edges, dist.low, dist.high) == (4, edges, 0.05, 0.20)
+    manifest = BundleView.parse(path.read_bytes()).manifest
+    (entry,) = [v for v in manifest["variables"] if v["kind"] == "distance"]
+    assert entry == {"name": "distance", "kind": "distance", "n_bins": 4, "low": 0.05,
+                     "high": 0.2, "edges": [0.07, 0.1, 0.15]}
+
+    skill = _core.load_bundle(path)
+    axes = {v.name: i for i, v in enumerate(skill.variables)}
+    assert skill.variables[axes["distance"]].edges == list(edges)
+    eef, obj = _contexts(2000, 1)
+    rng = np.random.default_rng(5)
+    k = 600  # exactly on an edge (d = |rx|) and just below one
+    on = np.asarray(edges)[rng.integers(0, 3, k)]
+    on[::2] = np.nextafter(on[::2], 0.0)
+    eef[:k] = obj[:k] + np.c_[on * rng.choice([-1.0, 1.0], k), np.zeros((k, 2))]
+    py_bins = disc.context_bins(eef, obj)
+    assert set(py_bins["distance"].tolist()) == {0, 1, 2, 3}
+    effects = rng.integers(0, 4, len(eef))
+    for i in range(len(eef)):
+        ctx = skill.context(eef[i], obj[i], effect=int(effects[i]))
+        status, bins = skill.discretizer.discretize(ctx)
+        assert bins[axes["distance"]] == py_bins["distance"][i], i
+        ev = {"effect": disc.effects.values[effects[i]]}
+        ev.update({v: int(py_bins[v][i]) for v in table.variables if v != "effect"})
+        best = table.argmax(ev)
+        assert skill.table.lookup(bins) == (-1 if best is None else table.target_states.index(best))
+    # recording's bins of a loaded skill (a2l.rollout.recording.step_bins) agree too
+    assert [b["distance"] for b in step_bins(skill, eef[:50], obj[:50])] == \
+        py_bins["distance"][:50].tolist()
+
+
+def test_a_bundle_writer_refuses_edges_off_a_distance(tmp_path: Path) -> None:
+    disc = Discretizer(movements=MovementRepertoire(planar=True))
+    net = learn_network(disc.discretize(push_dataset(300, seed=2)), "hand-coded")
+    spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
+    i = [v.kind for v in spec.variables].index("orientation")
+    spec.variables[i] = dataclasses.replace(spec.variables[i], edges=(1.0,))
+    with pytest.raises(BundleError, match=r"variables\[\d\] \('orientation'\)\.edges: only a "
+                       "distance variable may have edges"):
+        save_bundle(spec, tmp_path / "x.a2l")
 
 
 def test_high_level_state_round_trip(tmp_path: Path) -> None:

@@ -177,6 +177,58 @@ def test_context_bins_equal_the_runtime_discretizer() -> None:
             assert one.shape == (1, 1) and one[0, 0] == got[i, j], (i, j)
 
 
+@pytest.mark.parametrize("edges", [(0.07, 0.10, 0.15), (0.1,), (0.02, 0.05, 0.08, 0.3)])
+def test_distance_edges_bin_the_number_of_edges_at_or_below(edges: tuple[float, ...]) -> None:
+    """Explicit edges: the bin of d is the number of edges <= d (numpy's searchsorted on the
+    same d), on random points, on every edge and just below it, NaN, inf and overflow; the
+    C++ scalar step of the runtime (Discretizer.discretize of a loaded variable) agrees."""
+    eef, obj = context_points(5, 3, 16, 8, 0.05, 0.20)
+    k = N // 7
+    rng = np.random.default_rng(6)
+    on = np.asarray(edges)[rng.integers(0, len(edges), k)]
+    on[::2] = np.nextafter(on[::2], 0.0)  # just below an edge
+    obj[:k] = 0.0
+    eef[:k] = 0.0
+    eef[np.arange(k), rng.integers(0, 3, k)] = on * rng.choice([-1.0, 1.0], k)  # d == |on|
+    bins = DistanceBins(edges=edges)
+    assert bins.n_bins == len(edges) + 1
+    got = bins.bins(eef, obj)
+    with np.errstate(invalid="ignore", over="ignore"):
+        r = eef - obj
+        d = np.sqrt(r[:, 0] * r[:, 0] + r[:, 1] * r[:, 1] + r[:, 2] * r[:, 2])
+    ref = np.where(np.isfinite(d), np.searchsorted(edges, d, side="right"), -1)
+    assert np.array_equal(got, ref), np.flatnonzero(got != ref)[:5]
+    assert set(np.unique(got)) == {-1, *range(len(edges) + 1)}
+    core = bins.core_variable()
+    assert core == ("distance", len(edges) + 1, 0.05, 0.20, tuple(edges))
+    for i in range(0, N, 211):  # one point at a time, as the runtime's step bins it
+        one = _core.context_bins(eef[i], obj[i], [core])
+        assert one[0, 0] == got[i], i
+    # without edges, the 4-tuple and the equal bins of before
+    assert DistanceBins().core_variable() == ("distance", 3, 0.05, 0.20)
+
+
+def test_bad_distance_edges_are_named() -> None:
+    bad = {(0.1, 0.07): r"variables\[0\]\.edges\[1\]: 0\.07",
+           (0.0,): r"variables\[0\]\.edges\[0\]: 0 ",
+           (math.nan,): r"variables\[0\]\.edges\[0\]: nan"}
+    for edges, message in bad.items():
+        with pytest.raises(A2LValueError, match=message):
+            _core.context_bins(np.zeros(3), np.ones(3),
+                               [("distance", len(edges) + 1, 0.05, 0.2, edges)])
+        with pytest.raises(ValueError, match="edges must be finite, > 0 and strictly increasing"):
+            DistanceBins(edges=edges)
+    with pytest.raises(A2LValueError, match=r"variables\[0\]\.n_bins: 3, but 1 edges make 2"):
+        _core.context_bins(np.zeros(3), np.ones(3), [("distance", 3, 0.05, 0.2, (0.1,))])
+    with pytest.raises(A2LValueError, match=r"variables\[1\]\.edges: only a distance"):
+        _core.context_bins(np.zeros(3), np.ones(3), [("distance", 3, 0.05, 0.2, ()),
+                                                     ("offset_x", 2, -0.1, 0.1, (0.05,))])
+    with pytest.raises(A2LValueError, match=r"variables\[0\]: must be \(kind, n_bins, low, "):
+        _core.context_bins(np.zeros(3), np.ones(3), [("distance", 3, 0.05)])
+    with pytest.raises(A2LValueError, match=r"variables\[0\]: kind must be a str"):
+        _core.context_bins(np.zeros(3), np.ones(3), [("distance", 3, 0.05, 0.2, "x")])
+
+
 @pytest.mark.parametrize("n_effects", [4, 8])
 def test_effects_equal_the_old_numpy_effects(n_effects: int) -> None:
     rng = np.random.default_rng(11 + n_effects)

@@ -63,6 +63,7 @@ def bundle_summary(path: Path) -> dict[str, Any]:
         **out, "kind": "skill", "name": spec.name,
         "variables": [{"name": v.name, "kind": v.kind, "bins": v.n_bins,
                        **({"range": [v.low, v.high]} if v.low is not None else {}),
+                       **({"edges": list(v.edges)} if v.edges else {}),
                        **({"values": list(v.values)} if v.values else {})}
                       for v in spec.variables],
         "movements": {"step": spec.step, "labels": list(spec.labels),
@@ -87,7 +88,8 @@ def _print_summary(s: dict[str, Any]) -> None:
           f"{'on' if s['smoothing'] else 'off'}")
     print("  variables:")
     for v in s["variables"]:
-        detail = (f"{v['range'][0]:g}..{v['range'][1]:g}" if "range" in v
+        detail = ("edges " + ", ".join(f"{x:g}" for x in v["edges"]) if "edges" in v
+                  else f"{v['range'][0]:g}..{v['range'][1]:g}" if "range" in v
                   else ", ".join(v.get("values", [])))
         print(f"    {v['name']} ({v['kind']}): {v['bins']} bins {detail}".rstrip())
     mv = s["movements"]

@@ -190,17 +190,20 @@ def scene_frame(scene: Any, image: bool = True) -> dict[str, Any]:
     return out
 
 
-def context_variables(skill: Any) -> list[tuple[str, tuple[str, int, float, float]]]:
+def context_variables(skill: Any) -> list[tuple[str, tuple[Any, ...]]]:
     """The context variables of a loaded :class:`a2l._core.Skill`: ``(name, (kind, n_bins,
-    low, high))`` as :func:`a2l._core.context_bins` takes them."""
-    out = []
+    low, high))``, or ``(name, (kind, n_bins, low, high, edges))`` for a distance with
+    explicit edges, as :func:`a2l._core.context_bins` takes them."""
+    out: list[tuple[str, tuple[Any, ...]]] = []
     for v in skill.variables:
         kind = v.kind.name
         if kind in ("effect", "high_level"):
             continue
         low = float(v.low) if v.low is not None else 0.0
         high = float(v.high) if v.high is not None else 0.0
-        out.append((str(v.name), (kind, int(v.n_bins), low, high)))
+        edges = tuple(float(x) for x in getattr(v, "edges", ()))
+        core = (kind, int(v.n_bins), low, high) + ((edges,) if edges else ())
+        out.append((str(v.name), core))
     return out
 
 

@@ -8,7 +8,8 @@ vectors are expressed in the robot's base frame (x forward, y left, z up).
 ==========================  ================================================================
 variable                    bin
 ==========================  ================================================================
-``distance``                d = ‖object − eef‖; clamp(floor((d − low)/(high − low)·n), 0, n−1)
+``distance``                d = ‖object − eef‖; clamp(floor((d − low)/(high − low)·n), 0, n−1),
+                            or with explicit edges the number of edges ≤ d
 ``orientation``             θ = atan2(dy, dx) of (eef − object); w = 2π/n;
                             floor(((θ + π + w/2) mod 2π)/w) mod n (bin k centred on −π + k·w)
 ``inclination``             φ = atan2(√(dx² + dy²), dz) of (eef − object); min(floor(φ/π·n), n−1)
@@ -34,8 +35,13 @@ import numpy as np
 from a2l import _core
 from a2l.skills.spec import VariableSpec
 
-__all__ = ["ContextBins", "DistanceBins", "InclinationBins", "OffsetBins", "OrientationBins",
-           "as_points", "context_bins"]
+__all__ = ["ContextBins", "CoreVariable", "DistanceBins", "InclinationBins", "OffsetBins",
+           "OrientationBins", "as_points", "context_bins"]
+
+
+#: One variable as :func:`a2l._core.context_bins` takes it: ``(kind, n_bins, low, high)``,
+#: or ``(kind, n_bins, low, high, edges)`` for a distance with explicit edges.
+CoreVariable = tuple[str, int, float, float] | tuple[str, int, float, float, tuple[float, ...]]
 
 
 def as_points(a: np.ndarray | Sequence[float], what: str) -> np.ndarray:
@@ -105,35 +111,54 @@ class _Bins:
 
 @dataclass(frozen=True)
 class DistanceBins(_Bins):
-    """Equal bins of the eef→object distance over [low, high], saturating at both ends.
+    """Bins of the eef→object distance, saturating at both ends: equal bins over [low, high],
+    or bins between explicit edges.
 
     Parameters
     ----------
     n_bins : int
-        Number of bins (default 3).
+        Number of equal bins (default 3); with `edges`, ``len(edges) + 1`` (set from them).
     low, high : float
-        Range in metres (default [0.05, 0.20]); distances outside fall in the end bins.
+        Range in metres (default [0.05, 0.20]); distances outside fall in the end bins. With
+        `edges` they are still checked and written to a bundle but do not shape the bins.
     name : str
         Variable name in the dataset and the network.
+    edges : tuple of float
+        Interior bin edges (m), finite, > 0, strictly increasing (at most 1023); the bin of d
+        is the number of edges ≤ d: ``(0.07, 0.10, 0.15)`` gives d < 0.07, [0.07, 0.10),
+        [0.10, 0.15) and d ≥ 0.15. Empty (default): equal bins.
     """
 
     n_bins: int = 3
     low: float = 0.05
     high: float = 0.20
     name: str = "distance"
+    edges: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
+        if self.edges:
+            edges = tuple(float(x) for x in self.edges)
+            object.__setattr__(self, "edges", edges)
+            object.__setattr__(self, "n_bins", len(edges) + 1)
+            for k, x in enumerate(edges):
+                if not (math.isfinite(x) and x > 0 and (k == 0 or x > edges[k - 1])):
+                    raise ValueError(f"{self.name}: edges must be finite, > 0 and strictly "
+                                     f"increasing, got {list(edges)}")
         self._check_n_bins()
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             raise ValueError(f"{self.name}: need finite low < high, got [{self.low}, {self.high}]")
 
-    def core_variable(self) -> tuple[str, int, float, float]:
-        """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
+    def core_variable(self) -> CoreVariable:
+        """``(kind, n_bins, low, high)``, with ``edges`` as a fifth item when there are any,
+        as ``a2l._core.context_bins`` takes it."""
+        if self.edges:
+            return ("distance", self.n_bins, self.low, self.high, self.edges)
         return ("distance", self.n_bins, self.low, self.high)
 
     def spec(self) -> VariableSpec:
         """The bundle variable of this discretization."""
-        return VariableSpec(self.name, "distance", self.n_bins, low=self.low, high=self.high)
+        return VariableSpec(self.name, "distance", self.n_bins, low=self.low, high=self.high,
+                            edges=self.edges)
 
 
 @dataclass(frozen=True)
@@ -154,7 +179,7 @@ class OrientationBins(_Bins):
     def __post_init__(self) -> None:
         self._check_n_bins()
 
-    def core_variable(self) -> tuple[str, int, float, float]:
+    def core_variable(self) -> CoreVariable:
         """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
         return ("orientation", self.n_bins, 0.0, 0.0)
 
@@ -181,7 +206,7 @@ class InclinationBins(_Bins):
     def __post_init__(self) -> None:
         self._check_n_bins()
 
-    def core_variable(self) -> tuple[str, int, float, float]:
+    def core_variable(self) -> CoreVariable:
         """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
         return ("inclination", self.n_bins, 0.0, 0.0)
 
@@ -256,7 +281,7 @@ class OffsetBins(_Bins):
         """The bundle kind: ``"offset_x"`` or ``"offset_y"``."""
         return f"offset_{self.axis}"
 
-    def core_variable(self) -> tuple[str, int, float, float]:
+    def core_variable(self) -> CoreVariable:
         """``(kind, n_bins, low, high)``, as ``a2l._core.context_bins`` takes it."""
         return (self.kind, self.n_bins, self.low, self.high)
 

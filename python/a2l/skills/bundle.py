@@ -58,6 +58,9 @@ def _variable_json(v: VariableSpec, i: int) -> dict[str, Any]:
         )
     if v.kind in RANGED_KINDS and (v.low is None or v.high is None):
         raise BundleError(f"variables[{i}] ('{v.name}'): a {v.kind} variable needs low and high")
+    if v.edges and v.kind != "distance":
+        raise BundleError(f"variables[{i}] ('{v.name}').edges: only a distance variable may "
+                          f"have edges, this is a {v.kind} variable")
     return v.to_json()
 
 
@@ -211,6 +214,7 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
                 low=float(v["low"]) if v["kind"] in RANGED_KINDS else None,
                 high=float(v["high"]) if v["kind"] in RANGED_KINDS else None,
                 values=values,
+                edges=tuple(float(x) for x in v.get("edges", ())),
             )
         )
     mv, ex = manifest["movements"], manifest["execution"]

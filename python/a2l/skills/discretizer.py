@@ -227,6 +227,8 @@ class Discretizer:
             d[b.name] = {"kind": b.spec().kind, "n_bins": b.n_bins}
             if isinstance(b, DistanceBins | OffsetBins):
                 d[b.name].update(low=b.low, high=b.high)  # type: ignore[union-attr]
+            if isinstance(b, DistanceBins) and b.edges:
+                d[b.name]["edges"] = list(b.edges)
         m = self.movements
         d["move"] = {
             "name": m.name,

@@ -45,6 +45,9 @@ class VariableSpec:
         Range of a ``distance``, ``offset_x`` or ``offset_y`` variable (m); None otherwise.
     values : tuple of str
         Value names of an ``effect`` or ``high_level`` variable; empty otherwise.
+    edges : tuple of float
+        A ``distance`` variable's explicit interior bin edges (m; manifest key ``edges``),
+        with ``n_bins = len(edges) + 1``; empty: ``n_bins`` equal bins over [low, high].
     """
 
     name: str
@@ -53,6 +56,7 @@ class VariableSpec:
     low: float | None = None
     high: float | None = None
     values: tuple[str, ...] = ()
+    edges: tuple[float, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         """The manifest entry of this variable."""
@@ -64,6 +68,8 @@ class VariableSpec:
         if self.kind in RANGED_KINDS:
             d["low"] = float(self.low)  # type: ignore[arg-type]
             d["high"] = float(self.high)  # type: ignore[arg-type]
+        if self.edges:
+            d["edges"] = [float(x) for x in self.edges]
         return d
 
 
