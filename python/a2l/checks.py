@@ -14,8 +14,8 @@ from typing import Any
 
 from a2l.errors import ConfigError
 
-__all__ = ["check_choice", "check_count", "check_fraction", "check_length", "check_names",
-           "check_odd_or_zero", "check_range"]
+__all__ = ["check_choice", "check_count", "check_edges", "check_fraction", "check_length",
+           "check_names", "check_odd_or_zero", "check_range"]
 
 
 def _name(owner: str, name: str) -> str:
@@ -75,3 +75,15 @@ def check_names(owner: str, name: str, value: Any) -> None:
     """`value` is a tuple of strings."""
     if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
         raise ConfigError(_name(owner, name), f"must be a list of names, got {value!r}")
+
+
+def check_edges(owner: str, name: str, value: Any, most: int = 1023) -> None:
+    """`value` is a tuple of at most `most` bin edges: lengths (finite numbers > 0, not bools)
+    in strictly increasing order; empty is fine."""
+    ok = (isinstance(value, tuple) and len(value) <= most
+          and all(isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
+                  and x > 0 for x in value)
+          and all(a < b for a, b in zip(value, value[1:], strict=False)))
+    if not ok:
+        raise ConfigError(_name(owner, name), f"must be a list of at most {most} bin edges "
+                          f"(lengths > 0, strictly increasing), got {value!r}")

@@ -37,7 +37,7 @@ def test_push_help_lists_every_framework_config_field(
     assert info.value.code == 0
     text = capsys.readouterr().out
     missing = [p for p in field_paths(FrameworkConfig) if f"--{p} " not in text]
-    assert missing == [] and len(field_paths(FrameworkConfig)) == 51
+    assert missing == [] and len(field_paths(FrameworkConfig)) == 52
     # each with its description from its part's docstring
     assert "Push effects of the effect variable." in text
     assert "context variables also fixed as" in text
@@ -96,6 +96,26 @@ def test_a_list_option_takes_what_a_user_types() -> None:
             "distance", "orientation"), value
     _, ns, _ = parse(["experiment", "push", "--learning.fixed_parents=distance"])
     assert config_from(ns, FrameworkConfig).learning.fixed_parents == ("distance",)
+
+
+def test_a_list_of_numbers_takes_what_a_user_types(capsys: pytest.CaptureFixture[str]) -> None:
+    for value in ("0.07,0.10,0.15", "0.07, 0.1, 0.15", "[0.07,0.10,0.15]", "[0.07, 0.1, 0.15]"):
+        _, ns, _ = parse(["experiment", "push", "--discretization.dist_edges", value])
+        d = config_from(ns, FrameworkConfig).discretization
+        assert d.dist_edges == (0.07, 0.10, 0.15), value
+        assert d.discretizer().distance.n_bins == 4
+    _, ns, _ = parse(["experiment", "push", "--discretization.dist_edges=0.1"])
+    assert config_from(ns, FrameworkConfig).discretization.dist_edges == (0.1,)
+    _, ns, _ = parse(["experiment", "push", "--discretization.dist_edges", "[]"])
+    assert config_from(ns, FrameworkConfig).discretization.dist_edges == ()
+    err = _refused(["experiment", "push", "--discretization.dist_edges", "0.1,0.07"], capsys)
+    assert "argument --discretization.dist_edges: must be a list of at most 1023 bin edges" in err
+    err = _refused(["experiment", "push", "--discretization.dist_edges", "0.1,near"], capsys)
+    assert "argument --discretization.dist_edges:" in err
+    # the command a run records parses back to its edges
+    cfg = FrameworkConfig(discretization={"dist_edges": (0.07, 0.1)})
+    command = command_line(["experiment", "push", "--out", "x"], cfg)
+    assert config_from(parse(shlex.split(command))[1], FrameworkConfig) == cfg
 
 
 def test_a_misspelt_variable_is_refused_before_any_run_directory(
@@ -231,7 +251,8 @@ def test_a_preset_sets_its_fields_in_place_and_later_options_override_it(
         capsys: pytest.CaptureFixture[str]) -> None:
     from a2l.framework.config import PRESETS
 
-    fresh = ["--validation.starts", "fresh", "--discretization.n_dist", "5"]
+    fresh = ["--validation.starts", "fresh", "--discretization.n_dist", "5",
+             "--discretization.dist_edges", "0.1"]
     _, ns, _ = parse(["experiment", "push", *fresh, "--preset", "thesis"])
     cfg = config_from(ns, FrameworkConfig)
     assert cfg == FrameworkConfig.preset("thesis")  # the preset, after them, wins
@@ -239,6 +260,7 @@ def test_a_preset_sets_its_fields_in_place_and_later_options_override_it(
     _, ns, _ = parse(["experiment", "sweep", "--seeds", "0", "--preset=thesis", *fresh])
     cfg = config_from(ns, FrameworkConfig)
     assert cfg.validation.starts == "fresh" and cfg.discretization.n_dist == 5
+    assert cfg.discretization.dist_edges == (0.1,)
     assert cfg.skill.step_cap == 12 and cfg.starts.radius == 0.2
     err = _refused(["experiment", "push", "--preset", "thesys"], capsys)
     assert "--preset: unknown 'thesys'; choose thesis" in err

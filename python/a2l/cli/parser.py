@@ -240,7 +240,8 @@ def expand_presets(argv: Sequence[str], parser: Parser) -> list[str]:
             parser.error(f"--preset: unknown {value!r}; choose "
                          + ", ".join(parser.presets))
         for key, v in parser.presets[value].items():
-            out += [f"--{key}", str(v).lower() if isinstance(v, bool) else str(v)]
+            out += [f"--{key}", str(v).lower() if isinstance(v, bool)
+                    else json.dumps(list(v)) if isinstance(v, list | tuple) else str(v)]
         i += 1
     return out
 

@@ -82,7 +82,7 @@ PARTS: dict[str, type] = {
 #: fields it pins by their dotted names. ``thesis``: the thesis' loop and representation, the
 #: baseline of every push table (the loop validates, accepts, extends and stops on 8
 #: training starts on a 0.2 m circle; planar 5 cm movements; 16 orientation x 3 distance
-#: bins over [0.05, 0.20] m; a step cap of 12); what the thesis left open keeps the
+#: equal bins over [0.05, 0.20] m; a step cap of 12); what the thesis left open keeps the
 #: package's choices (structure constraints, smoothing, fallbacks, effect-directed
 #: babbling), as the push tables up to this preset measured them.
 PRESETS: dict[str, dict[str, Any]] = {
@@ -91,7 +91,8 @@ PRESETS: dict[str, dict[str, Any]] = {
         "starts.radius": 0.2, "discretization.planar": True, "discretization.step": 0.05,
         "discretization.n_orient": 16, "discretization.n_dist": 3,
         "discretization.dist_low": 0.05, "discretization.dist_high": 0.20,
-        "discretization.n_incl": 0, "discretization.n_offset": 0, "skill.step_cap": 12,
+        "discretization.dist_edges": (), "discretization.n_incl": 0,
+        "discretization.n_offset": 0, "skill.step_cap": 12,
     },
 }
 

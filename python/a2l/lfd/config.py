@@ -123,8 +123,11 @@ class LfDConfig:
         return replace(self, **top)
 
     def to_json(self) -> dict[str, Any]:
-        """The fields as a JSON-able dict (the discretization as a nested dict)."""
-        return asdict(self)
+        """The fields as a JSON-able dict (the discretization as a nested dict, its
+        ``dist_edges`` a list: what a ``config.json`` holds and reads back)."""
+        d = asdict(self)
+        d["discretization"]["dist_edges"] = list(self.discretization.dist_edges)
+        return d
 
 
 #: The configuration every skill uses (selected by the parametrization study).

@@ -65,7 +65,6 @@ from a2l.rollout.effect_tests import RETREAT
 from a2l.rollout.protocol import SceneProtocol
 from a2l.skills import (
     Discretizer,
-    DistanceBins,
     HighLevelState,
     InclinationBins,
     MovementRepertoire,
@@ -259,13 +258,13 @@ def phase_rows(phase: Phase, fields: Sequence[Any], effect: str, cfg: LfDConfig,
 
 def manipulation_discretizer(skill: str, cfg: LfDConfig = CONFIG) -> Any:
     """The discretizer of a manipulation skill: of ``cfg.discretization``, distance
-    (``n_dist`` over ``[dist_low, dist_high]``), orientation (``n_orient``) and 26
-    directions of ``step`` plus its actions; inclination (:data:`N_INCLINATION`), its
-    high-level states, its named effect."""
+    (``n_dist`` over ``[dist_low, dist_high]``, or between ``dist_edges``), orientation
+    (``n_orient``) and 26 directions of ``step`` plus its actions; inclination
+    (:data:`N_INCLINATION`), its high-level states, its named effect."""
     states = _HIGH_LEVEL[skill]
     d = cfg.discretization
     return Discretizer(
-        distance=DistanceBins(d.n_dist, d.dist_low, d.dist_high),
+        distance=d.distance_bins(),
         orientation=OrientationBins(d.n_orient), inclination=InclinationBins(N_INCLINATION),
         movements=MovementRepertoire(step=d.step, actions=_ACTIONS[skill]),
         effects=NamedEffects((_EFFECTS[skill],)),  # type: ignore[arg-type]
