@@ -13,11 +13,15 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["GRIPPER_DOWN", "PANDA_DOWN", "gripper_down", "rotation_angle"]
+__all__ = ["BAXTER_FINGER_OPEN", "GRIPPER_DOWN", "PANDA_DOWN", "gripper_down", "rotation_angle"]
 
 #: Orientation (3, 3) of Baxter's gripper frame when it points down: z to the floor, fingers
 #: closing along the base's y axis.
 GRIPPER_DOWN: NDArray[np.float64] = np.diag([-1.0, 1.0, -1.0])
+
+#: Opening (m) of each of Baxter's two prismatic finger joints when the gripper is open: the
+#: left finger joint's upper limit, the right one's lower limit with a minus sign (0 closes).
+BAXTER_FINGER_OPEN: float = 0.020833
 
 #: The same for the Panda's hand (``panda_hand_tcp``: z out of the hand, fingers along y).
 PANDA_DOWN: NDArray[np.float64] = np.diag([1.0, -1.0, -1.0])

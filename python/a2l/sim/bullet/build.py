@@ -9,6 +9,7 @@ import numpy as np
 
 import a2l
 from a2l.robot import BAXTER_ARMS, arm_spec, pybullet_urdf
+from a2l.robot.gripper import BAXTER_FINGER_OPEN
 from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
 from a2l.sim.bodies import BodyCache
@@ -16,7 +17,7 @@ from a2l.sim.bodies import BodyCache
 __all__ = ["FINGER_OPEN", "FLOOR_Z", "PARK", "BuildMixin", "SceneObject"]
 
 FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
-FINGER_OPEN = 0.020833
+FINGER_OPEN = BAXTER_FINGER_OPEN  # one home: a2l.robot.gripper (Baxter's gripper entry)
 #: PyBullet's collision filter group of static bodies (``btBroadphaseProxy::StaticFilter``):
 #: a body without mass on a fixed base (the floor, the table) is in it, and its mask leaves it
 #: out, so that two static bodies are never tested against each other.
