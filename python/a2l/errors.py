@@ -9,6 +9,7 @@ __all__ = [
     "BundleError",
     "ConfigError",
     "IKError",
+    "RobotEntryError",
     "URDFError",
     "UnknownLinkError",
     "UnreachableError",
@@ -42,6 +43,28 @@ class ConfigError(A2LValueError):
     def __init__(self, field: str, message: str) -> None:
         super().__init__(f"{field}: {message}")
         self.field = field
+        self.message = message
+
+
+class RobotEntryError(A2LValueError):
+    """A robot entry (a robot file, or a built-in robot) is wrong: a missing or unknown key,
+    a link or joint the URDF does not have, a value of the wrong size or not finite.
+
+    Parameters
+    ----------
+    source : str
+        What holds the entry: ``robot file '/path/arm.yaml'``, ``robot 'panda'``.
+    key : str
+        The key at fault (``base_link``, ``gripper.joints``, ``mount.xyz``...); empty when the
+        fault is the file's as a whole (not YAML, not a mapping).
+    message : str
+        What is wrong with it (valid keys, links or joints included).
+    """
+
+    def __init__(self, source: str, key: str, message: str) -> None:
+        super().__init__(f"{source}: {key}: {message}" if key else f"{source}: {message}")
+        self.source = source
+        self.key = key
         self.message = message
 
 

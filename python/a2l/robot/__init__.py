@@ -1,15 +1,20 @@
-"""Robot descriptions: locating URDFs and preparing them for PyBullet.
+"""Robot descriptions: a robot is data.
 
-Baxter's URDF and meshes come from the PyPI package ``example-robot-data``; any other URDF
-path is accepted wherever a robot is asked for.
+A :class:`RobotEntry` names a robot's URDF, its arm chain (base and tool links), a neutral
+pose, the tool's downward orientation, its gripper and where it stands at the table; what
+follows from the URDF (the joints, their limits, the reach) is computed. The built-in robots
+(:data:`BUILTIN_ROBOTS`: Baxter's two arms, the Panda, the UR5, the SO-101, the PR2's right
+arm) use the URDFs of the PyPI package ``example-robot-data`` (:func:`builtin_robot`;
+:func:`check_entry` checks an entry against its URDF). :func:`arm_spec` gives the
+:class:`ArmSpec` view the scenes use; :func:`pybullet_urdf` a copy of a URDF PyBullet can load.
 """
 
 from __future__ import annotations
 
+from a2l.robot.builtin_robots import BUILTIN_ROBOTS, arm_spec, builtin_robot
 from a2l.robot.descriptions import (
     BAXTER_ARMS,
     ArmSpec,
-    arm_spec,
     baxter_urdf,
     panda_urdf,
     pybullet_urdf,
@@ -17,15 +22,23 @@ from a2l.robot.descriptions import (
     robots_dir,
     urdf_sha256,
 )
+from a2l.robot.entries import Gripper, Mount, RobotEntry
+from a2l.robot.entry_checks import check_entry
 from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN, gripper_down, rotation_angle
 
 __all__ = [
     "BAXTER_ARMS",
+    "BUILTIN_ROBOTS",
     "GRIPPER_DOWN",
     "PANDA_DOWN",
     "ArmSpec",
+    "Gripper",
+    "Mount",
+    "RobotEntry",
     "arm_spec",
     "baxter_urdf",
+    "builtin_robot",
+    "check_entry",
     "gripper_down",
     "panda_urdf",
     "pybullet_urdf",

@@ -12,12 +12,11 @@ from pathlib import Path
 
 from a2l.atomic import atomic_write_text
 from a2l.errors import A2LFileNotFoundError, URDFError
-from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN
+from a2l.robot.gripper import GRIPPER_DOWN
 
 __all__ = [
     "BAXTER_ARMS",
     "ArmSpec",
-    "arm_spec",
     "baxter_urdf",
     "panda_urdf",
     "pybullet_urdf",
@@ -32,7 +31,8 @@ _ROBOTS_SUFFIX = ("share", "example-robot-data", "robots")
 
 @dataclass(frozen=True)
 class ArmSpec:
-    """One arm of a robot: the chain the kinematics and the skills use.
+    """One arm of a robot: the chain the kinematics and the skills use (the view of a
+    :class:`~a2l.robot.RobotEntry` that :func:`~a2l.robot.arm_spec` gives).
 
     Attributes
     ----------
@@ -128,28 +128,6 @@ def resolve_urdf(robot: str | os.PathLike[str]) -> Path:
     if not path.is_file():
         raise A2LFileNotFoundError(f"URDF file '{path}' does not exist")
     return path.resolve()
-
-
-def arm_spec(robot: str | os.PathLike[str] = "baxter", arm: str = "right") -> ArmSpec:
-    """The arm chain of a known robot.
-
-    Parameters
-    ----------
-    robot : str or PathLike
-        ``"baxter"`` or ``"panda"``.
-    arm : str
-        ``"right"`` or ``"left"`` for Baxter; ignored for the Panda.
-    """
-    if robot == "baxter":
-        if arm not in BAXTER_ARMS:
-            raise ValueError(f"unknown Baxter arm '{arm}'; choose one of {sorted(BAXTER_ARMS)}")
-        base, tip, neutral = BAXTER_ARMS[arm]
-        return ArmSpec(baxter_urdf(), base, tip, neutral)
-    if robot == "panda":
-        return ArmSpec(panda_urdf(), "panda_link0", "panda_hand_tcp",
-                       (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785),
-                       tuple(map(tuple, PANDA_DOWN.tolist())))
-    raise ValueError(f"no built-in arm for robot '{robot}'; build an ArmSpec from its URDF")
 
 
 def urdf_sha256(path: str | os.PathLike[str]) -> str:
