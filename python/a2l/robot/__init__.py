@@ -4,7 +4,8 @@ A :class:`RobotEntry` names a robot's URDF, its arm chain (base and tool links),
 pose, the tool's downward orientation, its gripper and where it stands at the table; what
 follows from the URDF (the joints, their limits, the reach) is computed. The built-in robots
 (:data:`BUILTIN_ROBOTS`: Baxter's two arms, the Panda, the UR5, the SO-101, the PR2's right
-arm) use the URDFs of the PyPI package ``example-robot-data`` (:func:`builtin_robot`;
+arm) use the URDFs of the PyPI package ``example-robot-data`` (:func:`builtin_robot`); a
+user's arm is a robot file (:func:`load_robot`; :func:`robot_entry` takes a name or a file;
 :func:`check_entry` checks an entry against its URDF). :func:`arm_spec` gives the
 :class:`ArmSpec` view the scenes use; :func:`pybullet_urdf` a copy of a URDF PyBullet can load.
 """
@@ -25,6 +26,7 @@ from a2l.robot.descriptions import (
 from a2l.robot.entries import Gripper, Mount, RobotEntry
 from a2l.robot.entry_checks import check_entry
 from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN, gripper_down, rotation_angle
+from a2l.robot.robot_file import load_robot, robot_entry
 
 __all__ = [
     "BAXTER_ARMS",
@@ -40,9 +42,11 @@ __all__ = [
     "builtin_robot",
     "check_entry",
     "gripper_down",
+    "load_robot",
     "panda_urdf",
     "pybullet_urdf",
     "resolve_urdf",
+    "robot_entry",
     "robots_dir",
     "rotation_angle",
     "urdf_sha256",
