@@ -264,3 +264,19 @@ def test_a_missing_or_unreadable_robot_file_is_refused(tmp_path: Path) -> None:
     with pytest.raises(RobotEntryError, match=r"urdf: '.*broken.urdf' is not XML"):
         load_robot(_write(tmp_path, _edit("urdf", "broken.urdf")))
 
+
+def test_the_docs_table_of_builtin_robots_is_computed() -> None:
+    """docs/robots.md lists every built-in robot with its URDF, chain, joints, reach and tool
+    height as computed."""
+    text = (Path(__file__).resolve().parents[2] / "docs" / "robots.md").read_text()
+    rows = {m.group(1): m.groups() for m in re.finditer(
+        r"^\| `([\w-]+)` \| `([^`]+)` \| `([^`]+)` → `([^`]+)` \| (\d+) \| ([\d.]+) \| "
+        r"([\d.]+) \|", text, flags=re.MULTILINE)}
+    assert set(rows) == set(BUILTIN_ROBOTS)
+    for name, (_, urdf, base, tool, joints, reach, height) in rows.items():
+        entry = robot_entry(name)
+        assert entry.urdf == robots_dir() / urdf
+        assert (base, tool, int(joints)) == (entry.base_link, entry.tool_link, entry.n_joints)
+        assert (reach, height) == (f"{entry.reach:.2f}", f"{entry.tool_height:.2f}"), name
+    z1 = yaml.safe_load(re.search(r"```yaml\n(.*?)```", text, flags=re.S).group(1))
+    assert z1 == Z1, "the robot file example is the one the tests load"
