@@ -197,6 +197,11 @@ bool bundle_detail::parse_execution(const json& m, SkillSettings& s, Errors& e) 
   if (!get_bool(*x, "execution.", "smoothing", s.smoothing, e)) return false;
   if (!get_number(*x, "execution.", "uniform_tolerance", s.uniform_tolerance, e)) return false;
   if (s.uniform_tolerance < 0.0) return e.parse("execution.uniform_tolerance: must be >= 0");
+  s.clearance = 0.0;  // optional key: bundles written before it have no clearance rule
+  if (x->contains("clearance")) {
+    if (!get_number(*x, "execution.", "clearance", s.clearance, e)) return false;
+    if (s.clearance < 0.0) return e.parse("execution.clearance: must be >= 0 (m)");
+  }
   s.fallback = Fallback::none;  // optional key: bundles written before it have none
   if (x->contains("fallback")) {
     std::string name;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 
+#include "a2l/effects.hpp"
 #include "skill_fallback.hpp"
 
 namespace a2l {
@@ -78,7 +79,18 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
     return Result::failure(Status::invalid_argument,
                            "execution.uniform_tolerance: must be finite and >= 0");
   }
+  if (!std::isfinite(settings.clearance) || settings.clearance < 0.0) {
+    return Result::failure(Status::invalid_argument,
+                           "execution.clearance: must be finite and >= 0");
+  }
   if (Result r = check_ds_phases(ds_phases); !r.ok()) return r;
+  std::vector<Eigen::Vector2d> push_directions;
+  if (discretizer.effect_axis() >= 0) {
+    for (const std::string& value : discretizer.variable(discretizer.effect_axis()).values) {
+      const Eigen::Vector2d u = effect_direction(effect_index(value));
+      push_directions.push_back(u.norm() > 0.0 ? Eigen::Vector2d(u.normalized()) : u);
+    }
+  }
   std::vector<std::int32_t> fallback;
   if (settings.fallback != Fallback::none) {
     if (Result r = detail::compile_fallback(discretizer, table, fallback); !r.ok()) return r;
@@ -89,6 +101,7 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
   }
   out.fallback_ = std::move(fallback);
   out.targets_ = std::move(targets);
+  out.push_directions_ = std::move(push_directions);
   out.fallback_reach_ = -1.0;
   out.fallback_near_ = -1.0;
   for (int i = 0; i < discretizer.n_variables(); ++i) {

@@ -2,6 +2,7 @@
 // row), the reach of a fallback step, the approach fallback, smoothing and no undo.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "a2l/skill.hpp"
@@ -228,6 +229,43 @@ void avoid_undo(const Skill& skill, const Reach& reach, int last, const double* 
   }
 }
 
+// Whether the end-effector, at `r` = eef - object, is within 45 degrees of the side push
+// effect `effect` pushes from (opposite the object's motion); true for an effect that is
+// not a push (the rule then never applies) or a point at the object.
+bool on_pushing_side(const Skill& skill, const Eigen::Vector3d& r, int effect) noexcept {
+  const Eigen::Vector2d u = skill.push_direction(effect);
+  const Eigen::Vector2d planar(r.x(), r.y());
+  const double n = planar.norm() * u.norm();
+  if (n <= 0.0) return true;
+  return -planar.dot(u) >= std::cos(0.25 * 3.14159265358979323846) * n;
+}
+
+// The clearance rule (SkillSettings::clearance): away from the pushing side, a `chosen`
+// movement ending nearer the object than the clearance gives way to the best-scored allowed
+// one that does not (by `score`, at least kClearanceRatio of the chosen's; not undoing
+// `last`), into `chosen` and `prob`; unchanged if there is none.
+void keep_clearance(const Skill& skill, const Context& context, const Reach& reach, int last,
+                    const double* score, int& chosen, double& prob) noexcept {
+  const double c = skill.settings().clearance;
+  if (c <= 0.0 || on_pushing_side(skill, reach.r, context.effect)) return;
+  auto end_distance = [&](int m) noexcept {
+    const Eigen::Vector3d e = reach.r + skill.movements().displacement(m);
+    return std::hypot(e.x(), e.y());
+  };
+  if (end_distance(chosen) >= c) return;
+  const double bar = kClearanceRatio * score[chosen];
+  int alt = -1;
+  for (int m = 0; m < skill.n_moves(); ++m) {
+    if (m == chosen || score[m] < bar || score[m] <= 0.0 || undoes(skill, m, last)) continue;
+    if (!reach.allows(skill, m) || end_distance(m) < c) continue;
+    if (alt < 0 || score[m] > score[alt]) alt = m;
+  }
+  if (alt >= 0) {
+    chosen = alt;
+    prob = score[alt];
+  }
+}
+
 // The chosen movement into the step's output and record.
 void emit(const Skill& skill, int chosen, double prob, StepOutput& out) noexcept {
   out.movement = chosen;
@@ -271,6 +309,7 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   if (!approach) {
     const double* score = smooth ? state.average_.data() : skill.table().posterior_row(row);
     avoid_undo(skill, reach, last, score, chosen, prob);
+    keep_clearance(skill, context, reach, last, score, chosen, prob);
   }
   ++state.steps_;
   emit(skill, chosen, prob, out);

@@ -145,6 +145,7 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
     parts.argmax.resize(4 * 3 * 8 * 2);
     parts.posterior.resize(parts.argmax.size() * 8);
     parts.manifest["execution"]["fallback"] = "approach";
+    if (variant == 0 || variant == 3) parts.manifest["execution"]["clearance"] = 0.10;
     const auto bytes = a2l::testing::build(parts);
     a2l::Skill skill;
     ASSERT_TRUE(a2l::load_bundle_from_memory(bytes.data(), bytes.size(), skill).ok());

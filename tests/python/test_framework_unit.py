@@ -215,13 +215,27 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     net = learn_network(disc.discretize(push_dataset(300, seed=1)), "hand-coded")
     spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
     path = tmp_path / "iter_000.a2lb"
-    save_bundle(replace(spec, fallback="approach"), path)
+    save_bundle(replace(spec, fallback="approach", clearance=0.10), path)
     train = training_bundle(base, path)
     assert train == tmp_path / "iter_000.train.a2lb"
     got, run = load_bundle(train), load_bundle(path)
     assert (got.fallback, run.fallback) == ("nearest", "approach")
+    # the exported skill keeps the clearance rule; the training validation runs without it
+    assert (got.clearance, run.clearance) == (0.0, 0.10)
     assert np.array_equal(got.posterior, run.posterior) and got.extra == run.extra
-    assert training_bundle(base.with_({"skill.train_fallback": "approach"}), path) == path
+    same = base.with_({"skill.train_fallback": "approach", "skill.clearance": 0.0})
+    assert training_bundle(same, path) == path
+    # a rule of the same fallback but a clearance still trains on a copy without it
+    copy = training_bundle(base.with_({"skill.train_fallback": "approach"}), path)
+    assert copy != path and load_bundle(copy).clearance == 0.0
+
+
+@pytest.mark.parametrize("value", [-0.01, float("nan"), "0.1", True])
+def test_clearance_must_be_a_length(value: object) -> None:
+    with pytest.raises(ValueError, match="^skill.clearance:"):
+        FrameworkConfig().with_({"skill.clearance": value})
+    assert FrameworkConfig().skill.clearance == 0.10
+    assert FrameworkConfig.preset("thesis").skill.clearance == 0.0
 
 
 def test_default_config_is_valid_and_round_trips() -> None:

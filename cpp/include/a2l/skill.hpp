@@ -58,7 +58,16 @@ struct SkillSettings {
   bool smoothing = false;              //!< neighbour smoothing (docs/method.md)
   double uniform_tolerance = 1e-9;     //!< a row within this of uniform carries no information
   Fallback fallback = Fallback::none;  //!< the answer for a cell with no information
+  //! The clearance rule (m; 0 = off): away from the side the wanted push effect pushes from
+  //! (more than 45 degrees off it, seen from the object), a movement that would end nearer
+  //! the object than this gives way to the best-scored one that does not, if that one scores
+  //! at least kClearanceRatio of it (a near-equal choice, never a rare one).
+  double clearance = 0.0;
 };
+
+//! The clearance rule's bar: an alternative keeps clearance only if its (smoothed)
+//! probability is at least this share of the chosen movement's.
+constexpr double kClearanceRatio = 0.5;
 
 //! Most row-pair comparisons Skill::create may spend on the nearest-cell fallback
 //! (uniform rows x cells sharing their effect and high-level values); a larger table is
@@ -127,6 +136,16 @@ class Skill {
   //! (the middle of its distance bin, bin_centre(), at the middle angle of its orientation
   //! bin). False for an informative row, without the `approach` fallback, or unless the
   //! skill's geometric variables are one distance and one orientation.
+  //! The planar direction (unit) the object moves for value `effect` of the skill's effect
+  //! variable, when that value names a push effect (effect_direction()); zero otherwise
+  //! (another effect, no effect variable, an index out of range). The clearance rule's
+  //! pushing side is opposite it.
+  Eigen::Vector2d push_direction(int effect) const noexcept {
+    if (effect < 0 || static_cast<std::size_t>(effect) >= push_directions_.size()) {
+      return Eigen::Vector2d::Zero();
+    }
+    return push_directions_[static_cast<std::size_t>(effect)];
+  }
   bool fallback_target(std::size_t row, double& x, double& y) const noexcept {
     if (targets_.empty() || table_.argmax(row) >= 0 || fallback_[row] < 0) return false;
     x = targets_[2 * row];
@@ -146,6 +165,7 @@ class Skill {
   double fallback_reach_ = -1.0;        // fallback_reach()
   double fallback_near_ = -1.0;         // fallback_near()
   std::vector<double> targets_;         // 2 per row, with Fallback::approach (fallback_target())
+  std::vector<Eigen::Vector2d> push_directions_;  // per effect value (push_direction())
 };
 
 //! One step of a skill as the trace records it (docs/method.md: context bins, movement,

@@ -226,11 +226,12 @@ def _cmd_heldout(ns: Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
     m = rerun_heldout(run, out, iteration=ns.iteration, fallback=ns.fallback,
-                      workers=ns.workers, record=ns.record)
+                      workers=ns.workers, record=ns.record, clearance=ns.clearance)
     if not ns.quiet:
         print(f"held-out success {m['heldout_success']:.1%} ("
               + ", ".join(f"{e} {v:.0%}" for e, v in m["heldout_success_rate"].items())
-              + f"); fallback {m['fallback']}; misses explained in {out / 'report.md'}")
+              + f"); fallback {m['fallback']}, clearance {m['clearance']:g} m; misses "
+              f"explained in {out / 'report.md'}")
     return 0
 
 
@@ -248,6 +249,8 @@ def _heldout_parser() -> Parser:
                    "skills/push.a2lb)")
     p.add_argument("--fallback", choices=FALLBACK_RULES, default=None,
                    help="the step's answer in a cell without data (default the bundle's)")
+    p.add_argument("--clearance", type=float, default=None, metavar="M",
+                   help="the step's clearance rule in m, 0 off (default the bundle's)")
     p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                    help="local worker processes for the rollouts (default 1)")
     p.add_argument("--record", metavar="FILE.rrd", default=None,

@@ -1,10 +1,11 @@
 """A push run's skill from its held-out starts again, with the run's execution settings or
-another fallback (``a2l experiment heldout``): the paired comparison of the step's answers
-on one skill, and its misses explained (:mod:`a2l.experiments.push_misses`).
+another fallback or clearance rule (``a2l experiment heldout``): the paired comparison of
+the step's answers on one skill, and its misses explained (:mod:`a2l.experiments.push_misses`).
 
 The rollouts are the framework's held-out validation
 (:func:`a2l.framework.validation.validate_heldout`) on a copy of the run's bundle whose
-``skill.fallback`` is replaced; the run directory itself is not written to.
+``skill.fallback`` (or ``skill.clearance``) is replaced; the run directory itself is not
+written to.
 """
 
 from __future__ import annotations
@@ -32,7 +33,8 @@ __all__ = ["rerun_heldout"]
 
 def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = None,
                   fallback: str | None = None, workers: int = 1,
-                  record: str | Path | None = None) -> dict[str, Any]:
+                  record: str | Path | None = None,
+                  clearance: float | None = None) -> dict[str, Any]:
     """Run the skill of push run `run_dir` from the run's held-out starts again and write
     `out`: ``metrics.json`` (:func:`~a2l.framework.scoring.heldout_metrics`),
     ``heldout.parquet``, ``heldout_misses.csv``, ``heldout_misses.png`` and ``report.md``.
@@ -53,11 +55,14 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     record : path, optional
         A Rerun recording (``.rrd``) of the held-out rollouts, one rollout each, as ``a2l
         experiment push --record`` writes a validation's.
+    clearance : float, optional
+        The step's clearance rule (m; 0: off); default the bundle's own.
 
     Returns
     -------
     dict
-        The metrics written, with ``"fallback"``, ``"bundle"`` and ``"wall_s"``.
+        The metrics written, with ``"fallback"``, ``"clearance"``, ``"bundle"`` and
+        ``"wall_s"``.
     """
     run_dir, out = Path(run_dir), Path(out)
     cfg_path = run_dir / "config.json"
@@ -69,9 +74,11 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         raise ConfigError("iteration", f"'{src}' does not exist")
     if fallback is not None:
         cfg = cfg.with_({"skill.fallback": fallback})  # names an unknown rule
+    if clearance is not None:
+        cfg = cfg.with_({"skill.clearance": clearance})  # names a bad value
     out.mkdir(parents=True, exist_ok=True)
     bundle = out / "skill.a2lb"
-    spec = bundle_with_fallback(src, bundle, fallback)
+    spec = bundle_with_fallback(src, bundle, fallback, clearance)
     t0 = time.perf_counter()
     with Executor(workers=workers) as ex:
         held = validate_heldout(cfg, ex, bundle)
@@ -84,14 +91,15 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     table = miss_table(cfg, frame, bundle)
     metrics = {**heldout_metrics(cfg, it, held), "heldout_miss_causes": miss_causes(table),
                "run": str(run_dir), "bundle": str(src), "fallback": spec.fallback,
-               "wall_s": wall}
+               "clearance": spec.clearance, "wall_s": wall}
     write_json(out / "metrics.json", metrics)
     atomic_write_text(out / "heldout_misses.csv", table.to_csv(index=False))
     if not table.empty:
         plot_misses(cfg, frame, table, out / "heldout_misses.png")
     rates = ", ".join(f"{e} {v:.1%}" for e, v in metrics["heldout_success_rate"].items())
     text = "\n".join([
-        f"# Held-out starts again: {src} (fallback `{spec.fallback}`)", "",
+        f"# Held-out starts again: {src} (fallback `{spec.fallback}`, clearance "
+        f"{spec.clearance:g} m)", "",
         f"Run `{run_dir}` ({cfg.scene} scene, {cfg.discretization.n_effects} effects, "
         f"seed {cfg.seed}); "
         f"{cfg.heldout.n_starts} held-out starts x {cfg.discretization.n_effects} effects.", "",

@@ -208,30 +208,36 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
     learned = learn_bundle(dataset, disc, bundle_path, name="push",
                            structure=learning.structure, constraints=constraints, robot=robot,
                            step_cap=skill.step_cap, smoothing=skill.smoothing,
-                           fallback=skill.fallback, extra={"framework": cfg.to_dict()})
+                           fallback=skill.fallback, clearance=skill.clearance,
+                           extra={"framework": cfg.to_dict()})
     return learned.table
 
 
-def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None) -> SkillSpec:
-    """Write the push skill bundle `src` to `dst` with the fallback `rule` (None: its own),
-    the same table otherwise; returns the skill written."""
+def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
+                         clearance: float | None = None) -> SkillSpec:
+    """Write the push skill bundle `src` to `dst` with the fallback `rule` and the clearance
+    rule `clearance` (m; None: its own), the same table otherwise; returns the skill
+    written."""
     from a2l.skills.bundle import load_bundle, save_bundle
 
     spec = load_bundle(src)
     if rule is not None:
         spec = replace(spec, fallback=rule)
+    if clearance is not None:
+        spec = replace(spec, clearance=float(clearance))
     save_bundle(spec, dst)
     return spec
 
 
 def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     """The skill the training validation runs: `bundle` itself, or, when
-    ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback``, a copy beside it
-    (``<name>.train.a2lb``) with the training rule (the same table otherwise)."""
-    if cfg.skill.train_fallback == cfg.skill.fallback:
+    ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback`` or the skill keeps
+    a clearance (``cfg.skill.clearance``), a copy beside it (``<name>.train.a2lb``) with the
+    training rule and no clearance rule (the same table otherwise)."""
+    if cfg.skill.train_fallback == cfg.skill.fallback and not cfg.skill.clearance:
         return bundle
     out = bundle.with_suffix(".train.a2lb")
-    bundle_with_fallback(bundle, out, cfg.skill.train_fallback)
+    bundle_with_fallback(bundle, out, cfg.skill.train_fallback, clearance=0.0)
     return out
 
 

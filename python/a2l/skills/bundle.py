@@ -124,6 +124,8 @@ def bundle_bytes(
             "smoothing": bool(spec.smoothing),
             "uniform_tolerance": float(spec.uniform_tolerance),
             "fallback": str(spec.fallback),
+            # written when the rule is on: a bundle without it is the same bytes as before
+            **({"clearance": float(spec.clearance)} if spec.clearance else {}),
         },
         "extra": spec.extra,
     }
@@ -230,6 +232,7 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
         smoothing=bool(ex["smoothing"]),
         uniform_tolerance=float(ex["uniform_tolerance"]),
         fallback=str(ex.get("fallback", "none")),
+        clearance=float(ex.get("clearance", 0.0)),
         robot=None if manifest["robot"] is None else dict(manifest["robot"]),
         extra=view.extra,
         actions=[str(x) for x in mv["actions"]],

@@ -23,6 +23,7 @@ def make_skill_spec(
     step_cap: int = 12,
     smoothing: bool = False,
     fallback: str = "none",
+    clearance: float = 0.0,
     extra: dict[str, Any] | None = None,
 ) -> SkillSpec:
     """Build the bundle content of a skill from its compiled table.
@@ -48,6 +49,8 @@ def make_skill_spec(
         Neighbour smoothing (``docs/method.md``) in the runtime.
     fallback : {"none", "nearest", "approach"}
         The runtime's answer in a cell with no data (:class:`SkillSpec`).
+    clearance : float
+        The step's clearance rule (m; 0: off, :class:`SkillSpec`).
     extra : dict, optional
         Free-form metadata; the discretizer's description is added under ``"discretizer"``.
 
@@ -113,6 +116,7 @@ def make_skill_spec(
         step_cap=step_cap,
         smoothing=smoothing,
         fallback=fallback,
+        clearance=clearance,
         uniform_tolerance=table.uniform_tolerance,
         robot=robot,
         extra=meta,

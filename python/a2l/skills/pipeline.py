@@ -76,6 +76,7 @@ def learn_bundle(
     step_cap: int = 12,
     smoothing: bool = False,
     fallback: str = "none",
+    clearance: float = 0.0,
     extra: Extra | None = None,
     ds: DSArrays | None = None,
     ds_phases: Sequence[DSPhase] | None = None,
@@ -107,6 +108,8 @@ def learn_bundle(
         The runtime's neighbour smoothing.
     fallback : {"none", "nearest", "approach"}
         The runtime's answer in a context cell with no data (:class:`SkillSpec`).
+    clearance : float
+        The step's clearance rule (m; 0: off, :class:`SkillSpec`).
     extra : mapping or callable, optional
         The bundle's ``extra`` metadata, or ``extra(rows)`` giving it from the number of
         usable rows (the discretizer's description is added).
@@ -140,7 +143,7 @@ def learn_bundle(
     t3 = time.perf_counter()
     meta = extra(len(discrete)) if callable(extra) else extra
     spec = make_skill_spec(table, discretizer, name=name, robot=robot, step_cap=step_cap,
-                           smoothing=smoothing, fallback=fallback,
+                           smoothing=smoothing, fallback=fallback, clearance=clearance,
                            extra=dict(meta) if meta is not None else None)
     out = save_bundle(spec, path, ds_phases=ds_phases or None, ds=ds)
     timings = {"discretize": t1 - t0, "learn": t2 - t1, "compile": t3 - t2,

@@ -106,6 +106,10 @@ class SkillSpec:
         effect and high-level values (``nearest``), or the movement heading for that cell
         (``approach``); compiled when the bundle is loaded, the trace marks the step
         (``docs/runtime.md``).
+    clearance : float
+        The step's clearance rule (m; 0: off): away from the side the wanted push effect
+        pushes from, a movement that would end nearer the object than this gives way to a
+        near-equal one that does not (``docs/runtime.md``).
     robot : dict or None
         ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
     extra : dict
@@ -126,6 +130,7 @@ class SkillSpec:
     smoothing: bool = False
     uniform_tolerance: float = 1e-9
     fallback: str = "none"
+    clearance: float = 0.0
     robot: dict[str, str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     actions: list[str] = field(default_factory=list)

@@ -1,0 +1,147 @@
+// The clearance rule (execution.clearance): away from the side the wanted push effect pushes
+// from, a movement that would end nearer the object than the clearance gives way to the
+// best-scored one that does not, if that one scores at least kClearanceRatio of it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "a2l/bundle.hpp"
+#include "a2l/effects.hpp"
+#include "a2l/skill.hpp"
+#include "bundle_builder.hpp"
+
+namespace {
+
+using a2l::Status;
+using a2l::testing::build;
+using a2l::testing::BundleParts;
+using a2l::testing::sample_parts;
+
+constexpr double kClearance = 0.10;
+
+a2l::Skill load(const BundleParts& p) {
+  const auto bytes = build(p);
+  a2l::Skill s;
+  const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+  EXPECT_TRUE(r.ok()) << r.message;
+  return s;
+}
+
+BundleParts with_clearance(BundleParts p, double c) {
+  p.manifest["execution"]["clearance"] = c;
+  return p;
+}
+
+double end_distance(const a2l::Skill& skill, const Eigen::Vector3d& r, int m) {
+  const Eigen::Vector3d e = r + skill.movements().displacement(m);
+  return std::hypot(e.x(), e.y());
+}
+
+// Whether `r` (eef - object) is within 45 degrees of the side effect `effect` pushes from.
+bool pushing_side(const Eigen::Vector3d& r, int effect) {
+  const Eigen::Vector2d u = a2l::effect_direction(effect).normalized();
+  const Eigen::Vector2d p(r.x(), r.y());
+  return -p.dot(u) >= std::cos(0.25 * 3.14159265358979323846) * p.norm();
+}
+
+TEST(Clearance, ANearEqualMovementThatKeepsClearGoesFirstAwayFromThePushingSide) {
+  // Without smoothing or fallback the step without the rule takes the row's argmax; with it,
+  // the answer changes exactly where the rule says, to the movement it says.
+  const BundleParts p = sample_parts(5, 0.0);
+  const a2l::Skill plain = load(p);
+  const a2l::Skill skill = load(with_clearance(p, kClearance));
+  EXPECT_EQ(plain.settings().clearance, 0.0);
+  EXPECT_EQ(skill.settings().clearance, kClearance);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coord(-0.25, 0.25), z(-0.02, 0.06);
+  std::uniform_int_distribution<int> effect(0, 3), light(0, 1);
+  int changed = 0, kept_near = 0, pushing = 0;
+  for (int i = 0; i < 20000; ++i) {
+    a2l::Context c;
+    c.object = {0.7, 0.0, 0.04};
+    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), z(rng));
+    c.effect = effect(rng);
+    c.high_level[4] = light(rng);
+    a2l::SkillState s0(plain), s1(skill);
+    a2l::StepOutput o0, o1;
+    const Status st0 = a2l::step(plain, s0, c, o0);
+    ASSERT_EQ(a2l::step(skill, s1, c, o1), st0);
+    if (st0 != Status::ok) continue;
+    const Eigen::Vector3d r = c.eef - c.object;
+    int bins[a2l::kMaxVariables];
+    ASSERT_EQ(skill.discretizer().discretize(c, bins), Status::ok);
+    const double* post = skill.table().posterior_row(skill.table().row_index(bins));
+    // what the rule should choose
+    int want = o0.movement;
+    const bool near = end_distance(skill, r, o0.movement) < kClearance;
+    if (near && !pushing_side(r, c.effect)) {
+      int alt = -1;
+      for (int m = 0; m < skill.n_moves(); ++m) {
+        if (m == o0.movement || post[m] <= 0.0) continue;
+        if (post[m] < a2l::kClearanceRatio * post[o0.movement]) continue;
+        if (end_distance(skill, r, m) < kClearance) continue;
+        if (alt < 0 || post[m] > post[alt]) alt = m;
+      }
+      if (alt >= 0) want = alt;
+      kept_near += alt < 0 ? 1 : 0;
+    }
+    if (near && pushing_side(r, c.effect)) ++pushing;
+    EXPECT_EQ(o1.movement, want) << "context " << i;
+    if (o1.movement != o0.movement) {
+      ++changed;
+      EXPECT_GE(end_distance(skill, r, o1.movement), kClearance);
+      EXPECT_EQ(o1.probability, post[o1.movement]);
+      EXPECT_EQ(o1.record.movement, o1.movement);
+    }
+  }
+  // every branch was taken: the rule changed answers, found no alternative, and left the
+  // pushing side alone
+  EXPECT_GT(changed, 200);
+  EXPECT_GT(kept_near, 200);
+  EXPECT_GT(pushing, 200);
+}
+
+TEST(Clearance, OffByDefaultAndTheSameAnswersAtZero) {
+  const BundleParts p = sample_parts(6, 0.1, true);
+  const a2l::Skill plain = load(p);
+  const a2l::Skill zero = load(with_clearance(p, 0.0));
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> coord(-0.25, 0.25);
+  for (int i = 0; i < 2000; ++i) {
+    a2l::Context c;
+    c.object = {0.7, 0.0, 0.04};
+    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), 0.0);
+    c.effect = i % 4;
+    a2l::SkillState s0(plain), s1(zero);
+    a2l::StepOutput o0, o1;
+    ASSERT_EQ(a2l::step(plain, s0, c, o0), a2l::step(zero, s1, c, o1));
+    EXPECT_EQ(o0.movement, o1.movement);
+    EXPECT_EQ(o0.probability, o1.probability);
+  }
+}
+
+TEST(Clearance, PushDirectionsComeFromTheEffectNames) {
+  const a2l::Skill skill = load(sample_parts());
+  // sample_parts' effect values: left (+y), right (-y), close (-x), far (+x)
+  EXPECT_TRUE(skill.push_direction(0).isApprox(Eigen::Vector2d(0, 1)));
+  EXPECT_TRUE(skill.push_direction(1).isApprox(Eigen::Vector2d(0, -1)));
+  EXPECT_TRUE(skill.push_direction(2).isApprox(Eigen::Vector2d(-1, 0)));
+  EXPECT_TRUE(skill.push_direction(3).isApprox(Eigen::Vector2d(1, 0)));
+  EXPECT_EQ(skill.push_direction(4), Eigen::Vector2d::Zero());
+  EXPECT_EQ(skill.push_direction(-1), Eigen::Vector2d::Zero());
+}
+
+TEST(Clearance, ANegativeOrNonNumericClearanceIsAParseError) {
+  for (const auto& bad : {nlohmann::json(-0.01), nlohmann::json("0.1"), nlohmann::json(nullptr)}) {
+    BundleParts p = sample_parts();
+    p.manifest["execution"]["clearance"] = bad;
+    const auto bytes = build(p);
+    a2l::Skill s;
+    const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+    EXPECT_EQ(r.status, Status::parse_error) << bad;
+    EXPECT_NE(r.message.find("execution.clearance"), std::string::npos) << r.message;
+  }
+}
+
+}  // namespace
