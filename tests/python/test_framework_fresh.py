@@ -125,6 +125,7 @@ def test_a_fresh_run_stops_only_at_score_100_and_the_fresh_rate(tmp_path: Path) 
     assert [m["score"] for m in its_low] == [m["score"] for m in its[:len(its_low)]]
 
 
+@pytest.mark.slow
 def test_acceptance_compares_both_skills_over_the_same_starts(tmp_path: Path) -> None:
     # tuning seed 3 of the virtual scene rejects candidates at iterations 3 and 4 (seen in a
     # sweep of seeds 0-9); the rule is checked at every iteration, accepted or not
@@ -154,6 +155,7 @@ def test_acceptance_compares_both_skills_over_the_same_starts(tmp_path: Path) ->
     assert st.best_rate == pytest.approx(rate)
 
 
+@pytest.mark.slow
 def test_a_fresh_run_resumed_ends_as_an_uninterrupted_one(tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=4, max_iterations=3,
                           heldout={"n_starts": 4}).with_(FRESH)
