@@ -2,6 +2,8 @@
 // and the runtime without Python. Not a test file itself (no test_ prefix).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -186,6 +188,16 @@ inline std::vector<std::uint8_t> serialise(json m, const std::vector<Array>& arr
     off += a.bytes.size();
   }
   return out;
+}
+
+//! The skill of bundle `p` (built with build()), loaded from memory; a load that fails is a
+//! test failure with the loader's message.
+inline a2l::Skill load_skill(const BundleParts& p) {
+  const auto bytes = build(p);
+  a2l::Skill s;
+  const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+  EXPECT_TRUE(r.ok()) << r.message;
+  return s;
 }
 
 }  // namespace a2l::testing

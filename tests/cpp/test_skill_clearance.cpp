@@ -20,13 +20,7 @@ using a2l::testing::sample_parts;
 
 constexpr double kClearance = 0.10;
 
-a2l::Skill load(const BundleParts& p) {
-  const auto bytes = build(p);
-  a2l::Skill s;
-  const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
-  EXPECT_TRUE(r.ok()) << r.message;
-  return s;
-}
+a2l::Skill load(const BundleParts& p) { return a2l::testing::load_skill(p); }
 
 BundleParts with_clearance(BundleParts p, double c) {
   p.manifest["execution"]["clearance"] = c;

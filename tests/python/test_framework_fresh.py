@@ -18,6 +18,9 @@ from a2l.framework.validation import reachable_start
 from a2l.parallel import Executor
 
 FRESH = {"validation.starts": "fresh"}
+#: Runs of the loop's mechanics need not learn much: smaller effect-directed budgets keep the
+#: datasets (and the learning time) small.
+QUICK = {**FRESH, "directed.per_pair": 10, "extension.max_extensions": 20}
 
 
 def test_fresh_starts_are_new_each_iteration_and_apart_from_the_heldout_ones() -> None:
@@ -83,7 +86,7 @@ def _run(cfg: FrameworkConfig, out: Path) -> tuple[object, list[dict]]:
 def test_a_fresh_run_validates_both_skills_from_each_iterations_new_starts(
         tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=9, max_iterations=4,
-                          heldout={"n_starts": 8}).with_(FRESH)
+                          heldout={"n_starts": 8}).with_(QUICK)
     res, its = _run(cfg, tmp_path / "run")
     assert its[0]["fresh_accepted_success"] is None  # nothing accepted before iteration 0
     for m in its:
@@ -110,14 +113,14 @@ def test_a_fresh_run_validates_both_skills_from_each_iterations_new_starts(
 
 
 def test_a_fresh_run_stops_only_at_score_100_and_the_fresh_rate(tmp_path: Path) -> None:
-    cfg = FrameworkConfig(scene="virtual", seed=3, max_iterations=6,
-                          heldout={"n_starts": 0}).with_(FRESH)
+    cfg = FrameworkConfig(scene="virtual", seed=3, max_iterations=4,
+                          heldout={"n_starts": 0}).with_(QUICK)
     _, its = _run(cfg, tmp_path / "a")
     st = RunState.resume(tmp_path / "a")
     if len(its) < cfg.max_iterations:  # stopped early: both rules held
         assert st.best_score == 100.0 and st.best_rate >= cfg.validation.stop_success
     else:  # ran out of iterations: one of them never held before the last
-        assert len(its) == 6
+        assert len(its) == 4
     # a lower bar stops no later (the same draws up to where either stops)
     low = cfg.with_({"validation.stop_success": 0.5})
     _, its_low = _run(low, tmp_path / "b")
@@ -158,7 +161,7 @@ def test_acceptance_compares_both_skills_over_the_same_starts(tmp_path: Path) ->
 @pytest.mark.slow
 def test_a_fresh_run_resumed_ends_as_an_uninterrupted_one(tmp_path: Path) -> None:
     cfg = FrameworkConfig(scene="virtual", seed=4, max_iterations=3,
-                          heldout={"n_starts": 4}).with_(FRESH)
+                          heldout={"n_starts": 0}).with_(QUICK)
     _, whole = _run(cfg, tmp_path / "whole")
     _, first = _run(cfg.with_(max_iterations=2), tmp_path / "part")
     assert len(first) == min(2, len(whole))

@@ -199,7 +199,7 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     """The training validation's skill is the learned one with ``train_fallback`` (a copy
     beside it when the rules differ, the same file when they agree); Baxter trains with
     ``nearest`` and runs with ``approach``, the virtual scene uses ``none`` for both."""
-    from a2l.framework.loop import training_bundle
+    from a2l.framework.rules import training_bundle
     from a2l.skills import Discretizer, MovementRepertoire
     from a2l.skills.bundle import load_bundle, save_bundle
     from a2l.skills.pipeline import compile_policy, learn_network, make_skill_spec

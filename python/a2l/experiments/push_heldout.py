@@ -21,7 +21,7 @@ from a2l.errors import ConfigError
 from a2l.experiments.push import record_validations
 from a2l.experiments.push_misses import miss_causes, miss_table, misses_markdown, plot_misses
 from a2l.framework.config import FrameworkConfig
-from a2l.framework.loop import bundle_with_fallback
+from a2l.framework.rules import bundle_with_fallback
 from a2l.framework.scoring import heldout_metrics
 from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor

@@ -11,7 +11,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, replace
+from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +23,7 @@ from a2l.acquisition.protocol import drive_ahead
 from a2l.framework.config import FrameworkConfig
 from a2l.framework.random_babbling import BabbleTask, RandomBabbling, babble_task
 from a2l.framework.result import FrameworkResult
+from a2l.framework.rules import training_bundle
 from a2l.framework.run_state import MOVEMENT_PHASES, RunState, movement_record
 from a2l.framework.scoring import (
     FALSE_POSITIVE,
@@ -41,11 +42,9 @@ from a2l.parallel import Executor
 
 if TYPE_CHECKING:
     from a2l.skills.compile import PolicyTable
-    from a2l.skills.spec import SkillSpec
 
-__all__ = ["MOVEMENT_PHASES", "FirstAcquisition", "acquire", "bundle_with_fallback", "extend",
-           "generate_skill", "import_learning_ahead", "phase_seed", "run_framework",
-           "training_bundle"]
+__all__ = ["MOVEMENT_PHASES", "FirstAcquisition", "acquire", "extend", "generate_skill",
+           "import_learning_ahead", "phase_seed", "run_framework"]
 
 
 
@@ -211,34 +210,6 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
                            fallback=skill.fallback, clearance=skill.clearance,
                            extra={"framework": cfg.to_dict()})
     return learned.table
-
-
-def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
-                         clearance: float | None = None) -> SkillSpec:
-    """Write the push skill bundle `src` to `dst` with the fallback `rule` and the clearance
-    rule `clearance` (m; None: its own), the same table otherwise; returns the skill
-    written."""
-    from a2l.skills.bundle import load_bundle, save_bundle
-
-    spec = load_bundle(src)
-    if rule is not None:
-        spec = replace(spec, fallback=rule)
-    if clearance is not None:
-        spec = replace(spec, clearance=float(clearance))
-    save_bundle(spec, dst)
-    return spec
-
-
-def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
-    """The skill the training validation runs: `bundle` itself, or, when
-    ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback`` or the skill keeps
-    a clearance (``cfg.skill.clearance``), a copy beside it (``<name>.train.a2lb``) with the
-    training rule and no clearance rule (the same table otherwise)."""
-    if cfg.skill.train_fallback == cfg.skill.fallback and not cfg.skill.clearance:
-        return bundle
-    out = bundle.with_suffix(".train.a2lb")
-    bundle_with_fallback(bundle, out, cfg.skill.train_fallback, clearance=0.0)
-    return out
 
 
 #: A first acquisition: ``(config, executor, iteration, progress) -> interactions``.

@@ -1,0 +1,45 @@
+"""The step's rules a skill bundle of a run carries: the exported skill's (``skill.fallback``,
+``skill.clearance``) and the training validation's (``skill.train_fallback``, no clearance),
+written as copies of one learned table (:func:`bundle_with_fallback`,
+:func:`training_bundle`)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from a2l.framework.config import FrameworkConfig
+
+if TYPE_CHECKING:
+    from a2l.skills.spec import SkillSpec
+
+__all__ = ["bundle_with_fallback", "training_bundle"]
+
+
+def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
+                         clearance: float | None = None) -> SkillSpec:
+    """Write the push skill bundle `src` to `dst` with the fallback `rule` and the clearance
+    rule `clearance` (m; None: its own), the same table otherwise; returns the skill
+    written."""
+    from a2l.skills.bundle import load_bundle, save_bundle
+
+    spec = load_bundle(src)
+    if rule is not None:
+        spec = replace(spec, fallback=rule)
+    if clearance is not None:
+        spec = replace(spec, clearance=float(clearance))
+    save_bundle(spec, dst)
+    return spec
+
+
+def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
+    """The skill the training validation runs: `bundle` itself, or, when
+    ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback`` or the skill keeps
+    a clearance (``cfg.skill.clearance``), a copy beside it (``<name>.train.a2lb``) with the
+    training rule and no clearance rule (the same table otherwise)."""
+    if cfg.skill.train_fallback == cfg.skill.fallback and not cfg.skill.clearance:
+        return bundle
+    out = bundle.with_suffix(".train.a2lb")
+    bundle_with_fallback(bundle, out, cfg.skill.train_fallback, clearance=0.0)
+    return out
