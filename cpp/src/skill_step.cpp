@@ -237,7 +237,8 @@ bool on_pushing_side(const Skill& skill, const Eigen::Vector3d& r, int effect) n
   const Eigen::Vector2d planar(r.x(), r.y());
   const double n = planar.norm() * u.norm();
   if (n <= 0.0) return true;
-  return -planar.dot(u) >= std::cos(0.25 * 3.14159265358979323846) * n;
+  constexpr double kCos45 = 0.70710678118654752440;  // the side's half-angle, 45 degrees
+  return -planar.dot(u) >= kCos45 * n;
 }
 
 // The clearance rule (SkillSettings::clearance): away from the pushing side, a `chosen`

@@ -85,10 +85,7 @@ def heldout_redraw(seed: int, start: int, attempt: int, r_low: float, r_high: fl
     neither the other starts nor the worker."""
     if attempt < 1:
         raise ValueError(f"attempt: must be >= 1, got {attempt}")
-    rng = np.random.default_rng(np.random.SeedSequence([seed, HELDOUT_STREAM, start, attempt]))
-    a = rng.uniform(0.0, 2 * np.pi)
-    r = rng.uniform(r_low, r_high)
-    return np.array([r * np.cos(a), r * np.sin(a), 0.0])
+    return ring_draw([seed, HELDOUT_STREAM, start, attempt], 1, r_low, r_high)[0]
 
 
 @functools.lru_cache(maxsize=16)

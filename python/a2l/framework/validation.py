@@ -167,18 +167,14 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
 
 
 def validate(cfg: FrameworkConfig, executor: Executor, bundle_path: Path,
-             progress: Callable[[str, int, int], None] | None = None,
-             starts: Sequence[int] | None = None, phase: str = "validate") -> list[Rollout]:
-    """Run the skill for every (start, effect) pair; results in (start, effect) order.
-
-    `starts`: the start indices (:meth:`FrameworkConfig.start_offset`; default the training
-    starts); `phase`: the name progress reports."""
-    starts = range(cfg.starts.n_starts) if starts is None else starts
+             progress: Callable[[str, int, int], None] | None = None) -> list[Rollout]:
+    """Run the skill for every (training start, effect) pair; results in (start, effect)
+    order."""
     tasks = [ValidationTask(cfg, str(bundle_path), s, e)
-             for s in starts for e in range(cfg.discretization.n_effects)]
+             for s in range(cfg.starts.n_starts) for e in range(cfg.discretization.n_effects)]
     total = len(tasks)
     return executor.map(validate_task, tasks,
-                        on_done=(lambda k: progress(phase, k, total)) if progress else None)
+                        on_done=(lambda k: progress("validate", k, total)) if progress else None)
 
 
 def validate_fresh(cfg: FrameworkConfig, executor: Executor, iteration: int,
