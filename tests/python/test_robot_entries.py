@@ -229,6 +229,11 @@ BAD_FILES = [
      r"cannot resolve 'package://nowhere_description/urdf/x.urdf'"),
     ("urdf", 3, "urdf", r"must be a non-empty string, got 3"),
     ("gripper", ["jointGripper"], "gripper", r"must be a mapping of joints, open, closed"),
+    ("rest", {"jointGrip": 0.0}, "rest.jointGrip", r"unknown joint: '.*z1.urdf' has the "
+     r"joints .*jointGripper"),
+    ("rest", [0.0], "rest", r"must map joint names to positions"),
+    ("work_point", [0.5, 0.0], "work_point", r"\(0.5, 0\) is off the table top"),
+    ("work_point", [0.0], "work_point", r"must be 2 numbers"),
 ]
 
 

@@ -25,6 +25,7 @@ from a2l.framework.config import (
     FrameworkConfig,
     field_paths,
 )
+from a2l.rollout.env import ROBOT_SCENES
 from a2l.rundir import command_line
 
 #: Short names of some FrameworkConfig flags, still accepted.
@@ -83,9 +84,9 @@ def _cmd_push(ns: Namespace) -> int:
                             quiet=ns.quiet)
         return 0
     cfg = framework_config(ns)
-    if ns.acquisition == "noveb" and cfg.scene != "baxter":
+    if ns.acquisition == "noveb" and cfg.scene not in ROBOT_SCENES:
         raise UsageError("--acquisition", "noveb sees the world through a camera: use "
-                         "--scene baxter (the virtual scene has none)")
+                         "--scene bullet (the virtual scene has none)")
     _check_out(None if ns.out is None else Path(ns.out), resume_hint=True)
     if ns.record is not None:
         check_record(Path(ns.record))

@@ -41,6 +41,7 @@ from a2l.experiments.push_report import (
 from a2l.framework import FrameworkConfig, FrameworkResult, IterationResult, run_framework
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars, print_tables
+from a2l.rollout.env import ROBOT_SCENES
 from a2l.rundir import command_line, make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -56,13 +57,13 @@ __all__ = [
 ]
 
 def _robot_entry(cfg: FrameworkConfig) -> dict[str, str] | None:
-    if cfg.scene != "baxter":
+    if cfg.scene not in ROBOT_SCENES:
         return None
-    from a2l.robot import arm_spec, urdf_sha256
+    from a2l.robot import robot_entry, urdf_sha256
 
-    spec = arm_spec("baxter", "right")
-    return {"name": "baxter", "urdf_sha256": urdf_sha256(spec.urdf),
-            "base_link": spec.base_link, "tip_link": spec.tip_link}
+    entry = robot_entry(cfg.robot)
+    return {"name": entry.name, "urdf_sha256": urdf_sha256(entry.urdf),
+            "base_link": entry.base_link, "tip_link": entry.tool_link}
 
 
 def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | None = None,

@@ -53,7 +53,7 @@ __all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "FLAT_NAMES", "PART
 SCENES = tuple(ENV_SCENES)
 
 #: Default ``directed.try_cap`` of each scene.
-DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
+DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "baxter": 100}
 
 #: Default ``skill.fallback`` of each scene (``docs/experiments/push.md``): on Baxter the
 #: held-out starts reach context cells the training never did (``unknown_context`` was half
@@ -61,7 +61,7 @@ DIRECTED_TRY_CAP = {"virtual": 2000, "baxter": 100}
 #: previous movement (``approach``), ends the two-cell loops that taking its movement
 #: (``nearest``) ran into (tuning seeds 3 and 4); on the virtual scene such cells are rare
 #: and the fallback measured no gain.
-FALLBACK = {"virtual": "none", "baxter": "approach"}
+FALLBACK = {"virtual": "none", "bullet": "approach", "baxter": "approach"}
 
 #: Default ``skill.train_fallback`` of each scene: the rule of the skill the training
 #: validation runs. A fallback that carries a rollout through a cell without data also hides
@@ -69,7 +69,7 @@ FALLBACK = {"virtual": "none", "baxter": "approach"}
 #: ``approach``, Baxter tuning seeds 3 and 4 reached 75.8 / 79.7 % held-out success at
 #: iteration 1; trained with ``nearest`` and run with ``approach``, 94.5 / 92.2 %
 #: (``docs/experiments/push.md``).
-TRAIN_FALLBACK = {"virtual": "none", "baxter": "nearest"}
+TRAIN_FALLBACK = {"virtual": "none", "bullet": "nearest", "baxter": "nearest"}
 
 #: The parts of a :class:`FrameworkConfig`, by field name.
 PARTS: dict[str, type] = {
@@ -126,8 +126,10 @@ class FrameworkConfig:
 
     Attributes
     ----------
-    scene : {"virtual", "baxter"}
-        ``"virtual"`` (C++ kinematic push model) or ``"baxter"`` (PyBullet push scene).
+    scene : {"virtual", "bullet", "baxter"}
+        ``"virtual"`` (C++ kinematic push model), ``"bullet"`` (the PyBullet push scene
+        with `robot`) or ``"baxter"`` (the PyBullet push scene with Baxter, as runs before
+        robots were data named it).
     discretization : DiscretizationConfig
         Bins of the context variables, the movement repertoire and the effects
         (``n_effects`` 4 or 8 push effects, ``step`` the movement length...).
@@ -158,6 +160,10 @@ class FrameworkConfig:
         the rendered frames, one frame per movement) or the simulator's truth. The virtual
         scene has no camera: both read its true state. A ``source`` (or ``context_source``)
         key of ``scene_config`` overrides it.
+    robot : str
+        The robot of a PyBullet scene: a built-in name (:data:`a2l.robot.BUILTIN_ROBOTS`)
+        or a robot file's path; its scene geometry follows from it
+        (:func:`a2l.robot.table_layout`). Scene ``"baxter"`` takes only ``"baxter"``.
     scene_config : dict
         Extra keyword arguments for :func:`a2l.sim.make_scene`.
     """
@@ -176,6 +182,7 @@ class FrameworkConfig:
     seed: int = 0
     context_source: str = "perceived"
     scene_config: dict[str, Any] = field(default_factory=dict)
+    robot: str = "baxter"
 
     def __post_init__(self) -> None:
         for name in PARTS:
@@ -200,6 +207,14 @@ class FrameworkConfig:
         included. (Every part checked its own fields when it was made.)"""
         check_count("", "max_iterations", self.max_iterations)
         check_count("", "seed", self.seed, minimum=0)
+        if not isinstance(self.robot, str) or not self.robot:
+            raise ConfigError("robot", f"must be a robot's name or a robot file's path, got "
+                              f"{self.robot!r}")
+        if self.scene == "baxter" and self.robot != "baxter":
+            raise ConfigError("robot", f"scene 'baxter' is Baxter's; for robot "
+                              f"'{self.robot}' use scene 'bullet'")
+        if "robot" in self.scene_config and self.scene_config["robot"] != self.robot:
+            raise ConfigError("scene_config", "names a robot: give it as the robot field")
         check_choice("", "context_source", self.context_source, ("perceived", "ground_truth"))
         names = self.discretization.context_names()
         unknown = [v for v in self.learning.fixed_parents if v not in names]

@@ -23,7 +23,7 @@ from a2l.acquisition.protocol import drive
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
 from a2l.framework.config import FrameworkConfig
 from a2l.parallel import Executor
-from a2l.rollout.env import scene_env
+from a2l.rollout.env import ROBOT_SCENES, scene_env
 from a2l.skills.repertoire import default_directions
 
 __all__ = ["NOVEB_START", "NOVEB_WORKSPACE", "NovebTask", "noveb_acquire", "noveb_task"]
@@ -118,9 +118,9 @@ def noveb_acquire(cfg: FrameworkConfig, executor: Executor, evaluations: int,
     movements : int
         Robot movements made in all.
     """
-    if cfg.scene != "baxter":
+    if cfg.scene not in ROBOT_SCENES:
         raise ValueError(f"NovEB sees the world through a camera: the {cfg.scene!r} scene has "
-                         "none; use scene 'baxter'")
+                         "none; use scene 'bullet'")
     noveb = NovEB(9, cfg.seed, evaluations,
                   NovEBConfig(mu=generation_size, lambda_=generation_size))
     kept: list[Rollout] = []

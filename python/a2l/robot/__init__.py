@@ -7,7 +7,8 @@ follows from the URDF (the joints, their limits, the reach) is computed. The bui
 arm) use the URDFs of the PyPI package ``example-robot-data`` (:func:`builtin_robot`); a
 user's arm is a robot file (:func:`load_robot`; :func:`robot_entry` takes a name or a file;
 :func:`check_entry` checks an entry against its URDF). :func:`arm_spec` gives the
-:class:`ArmSpec` view the scenes use; :func:`pybullet_urdf` a copy of a URDF PyBullet can load.
+:class:`ArmSpec` view the scenes use; :func:`pybullet_urdf` a copy of a URDF PyBullet can load;
+:func:`table_layout` where a robot's scenes stand (table, work point, scale, cameras).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from a2l.robot.descriptions import (
 from a2l.robot.entries import Gripper, Mount, RobotEntry
 from a2l.robot.entry_checks import check_entry
 from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN, gripper_down, rotation_angle
+from a2l.robot.layout import TableLayout, table_layout
 from a2l.robot.robot_file import load_robot, robot_entry
 
 __all__ = [
@@ -37,6 +39,7 @@ __all__ = [
     "Gripper",
     "Mount",
     "RobotEntry",
+    "TableLayout",
     "arm_spec",
     "baxter_urdf",
     "builtin_robot",
@@ -49,5 +52,6 @@ __all__ = [
     "robot_entry",
     "robots_dir",
     "rotation_angle",
+    "table_layout",
     "urdf_sha256",
 ]

@@ -22,19 +22,27 @@ from a2l.robot.gripper import BAXTER_FINGER_OPEN, GRIPPER_DOWN, PANDA_DOWN
 __all__ = ["BUILTIN_ROBOTS", "arm_spec", "builtin_robot"]
 
 _DOWN_Y = ((-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0))  # z down, y along y
-#: Baxter's mount: the scenes' table (SceneConfig: centre (0.75, -0.15), top at z = -0.20)
+#: Baxter's mount: the thesis' table (centre (0.75, -0.15) and top at z = -0.20 in Baxter's
+#: base frame); its work point: the thesis' box at (0.62, -0.25) in the base frame
 _BAXTER_MOUNT = Mount((-0.75, 0.15, 0.20), 0.0)
+_BAXTER_WORK_POINT = {"right": (-0.13, -0.10), "left": (-0.13, 0.40)}  # left: mirrored
 
 
 def _baxter(arm: str) -> RobotEntry:
     base, tip, neutral = BAXTER_ARMS[arm]
     p = arm[0]
+    other, other_p = ("left", "l") if arm == "right" else ("right", "r")
+    rest = [(f"{other}_{s}", q) for s, q in zip(("s0", "s1", "e0", "e1", "w0", "w1", "w2"),
+                                                 BAXTER_ARMS[other][2], strict=True)]
+    rest += [(f"{other_p}_gripper_l_finger_joint", BAXTER_FINGER_OPEN),
+             (f"{other_p}_gripper_r_finger_joint", -BAXTER_FINGER_OPEN)]
     return RobotEntry(
         name="baxter" if arm == "right" else "baxter-left", urdf=baxter_urdf(),
         base_link=base, tool_link=tip, neutral=neutral, mount=_BAXTER_MOUNT,
         tool_down=tuple(map(tuple, GRIPPER_DOWN.tolist())),  # type: ignore[arg-type]
         gripper=Gripper((f"{p}_gripper_l_finger_joint", f"{p}_gripper_r_finger_joint"),
-                        (BAXTER_FINGER_OPEN, -BAXTER_FINGER_OPEN), (0.0, 0.0)))
+                        (BAXTER_FINGER_OPEN, -BAXTER_FINGER_OPEN), (0.0, 0.0)),
+        work_point=_BAXTER_WORK_POINT[arm], rest=tuple(rest))
 
 
 def _panda() -> RobotEntry:
@@ -80,7 +88,7 @@ def _pr2() -> RobotEntry:
         neutral=(0.2, 0.0, -0.5, -math.pi, -0.8, 0.0, -1.2708, math.pi),
         mount=Mount((-0.70, 0.0, -0.673)),
         tool_down=((0.0, 0.0, 1.0), (0.0, 1.0, 0.0), (-1.0, 0.0, 0.0)),
-        gripper=Gripper(gripper, (0.548,) * 4, (0.0,) * 4))
+        gripper=Gripper(gripper, (0.25,) * 4, (0.0,) * 4))
 
 
 _BUILDERS: dict[str, Callable[[], RobotEntry]] = {

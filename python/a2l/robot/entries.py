@@ -122,6 +122,14 @@ class RobotEntry:
         about the vertical by a scene's ``gripper_yaw``); None when not given.
     gripper : Gripper or None
         The gripper's joints and their open and closed positions; None for a bare arm.
+    work_point : tuple of 2 float or None
+        Where the scenes put their objects, ``(x, y)`` in the table frame (m); None: computed
+        from what the arm reaches (:func:`a2l.robot.table_layout`). Baxter's is the thesis'
+        scene.
+    rest : tuple of (str, float)
+        Positions (rad, m) the robot's joints outside the chain and the gripper hold in the
+        scenes, by URDF joint name (Baxter's other arm at its neutral pose); a joint not
+        named holds 0, or its nearest limit.
     """
 
     name: str
@@ -132,9 +140,14 @@ class RobotEntry:
     mount: Mount
     tool_down: Matrix3 | None = None
     gripper: Gripper | None = None
+    work_point: tuple[float, float] | None = None
+    rest: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "urdf", Path(os.fspath(self.urdf)))
+        if self.work_point is not None:
+            object.__setattr__(self, "work_point", _floats(self.work_point))
+        object.__setattr__(self, "rest", tuple((str(n), float(v)) for n, v in self.rest))
         object.__setattr__(self, "neutral", _floats(self.neutral))
         if self.tool_down is not None:
             rows = tuple(_floats(r) for r in self.tool_down)  # type: ignore[union-attr]

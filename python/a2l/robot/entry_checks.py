@@ -19,6 +19,7 @@ import numpy as np
 
 from a2l.errors import RobotEntryError, UnknownLinkError, URDFError
 from a2l.robot.entries import Gripper, RobotEntry
+from a2l.robot.layout import TABLE_SIZE
 
 __all__ = ["ROTATION_TOLERANCE", "UrdfTree", "check_entry", "read_urdf_tree"]
 
@@ -95,7 +96,8 @@ def check_entry(entry: RobotEntry, source: str | None = None) -> None:
         missing or unreadable URDF, an unknown link (the URDF's links listed), no chain
         between the links, a `neutral` whose length is not the chain's joint count (both
         given) or outside the joint limits, gripper joints the URDF does not have or values
-        outside their limits, an arm that cannot reach the table (module docstring).
+        outside their limits, `rest` joints the URDF does not have, a `work_point` off the
+        table, an arm that cannot reach the table (module docstring).
     """
     src = source if source is not None else f"robot '{entry.name}'"
     _check_values(entry, src)
@@ -123,6 +125,16 @@ def check_entry(entry: RobotEntry, source: str | None = None) -> None:
                                   f"limits [{lo:g}, {hi:g}]")
     if entry.gripper is not None:
         _check_gripper(entry.gripper, tree, set(names), entry.urdf, src)
+    for joint, _ in entry.rest:
+        if joint not in tree.joints:
+            raise RobotEntryError(src, f"rest.{joint}", f"unknown joint: '{entry.urdf}' has "
+                                  f"the joints {', '.join(tree.joints)}")
+    if entry.work_point is not None:
+        x, y = entry.work_point
+        if not (abs(x) < TABLE_SIZE[0] / 2 and abs(y) < TABLE_SIZE[1] / 2):
+            raise RobotEntryError(src, "work_point", f"({x:g}, {y:g}) is off the table top "
+                                  f"(table frame: |x| < {TABLE_SIZE[0] / 2:g}, |y| < "
+                                  f"{TABLE_SIZE[1] / 2:g} m)")
     _check_table(entry, src)
 
 

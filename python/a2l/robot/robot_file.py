@@ -13,12 +13,16 @@ A robot file is a mapping (``docs/robots.md`` has an example)::
       open: [-1.0]
       closed: [0.0]
     mount: {xyz: [-0.4, 0.0, 0.0], yaw: 0.0}       # degrees
+    work_point: [0.0, -0.1]                        # optional: where the objects stand
+    rest: {jointGripper: 0.0}                      # optional: joints outside the chain
 
 ``urdf`` is a path relative to the file's folder (or absolute), or a ``package://PKG/PATH``
 URI: with PKG ``example-robot-data``, PATH inside the installed package's share folder;
 otherwise ``robots/PKG/PATH`` of the installed ``example-robot-data``, then ``PKG/PATH`` in
-the file's folder. Every key but ``name``, ``tool_down`` and ``gripper`` is required, and both
-``mount.xyz`` and ``mount.yaw``: nothing is guessed. The entry is then checked against its
+the file's folder. ``work_point`` is in the table frame (:mod:`a2l.robot.entries`); without
+it the scenes put their objects where the arm reaches best (:func:`a2l.robot.table_layout`).
+Every key but ``name``, ``tool_down``, ``gripper``, ``work_point`` and ``rest`` is required,
+and both ``mount.xyz`` and ``mount.yaw``: nothing is guessed. The entry is then checked against its
 URDF (:func:`a2l.robot.check_entry`).
 """
 
@@ -42,7 +46,7 @@ __all__ = ["ROBOT_FILE_KEYS", "ROBOT_FILE_SUFFIXES", "load_robot", "robot_entry"
 
 #: The keys of a robot file, required first.
 ROBOT_FILE_KEYS = ("urdf", "base_link", "tool_link", "neutral", "mount", "name", "tool_down",
-                   "gripper")
+                   "gripper", "work_point", "rest")
 _REQUIRED = ROBOT_FILE_KEYS[:5]
 _GRIPPER_KEYS = ("joints", "open", "closed")
 _MOUNT_KEYS = ("xyz", "yaw")
@@ -95,6 +99,14 @@ def load_robot(path: str | os.PathLike[str]) -> RobotEntry:
             raise RobotEntryError(src, "tool_down", f"must be 3 rows of 3 numbers, got "
                                   f"{tool_down!r}")
         tool_down = tuple(_numbers(row, "tool_down", src, 3) for row in tool_down)
+    work_point = data.get("work_point")
+    if work_point is not None:
+        work_point = _numbers(work_point, "work_point", src, 2)
+    rest = data.get("rest") or {}
+    if not isinstance(rest, Mapping):
+        raise RobotEntryError(src, "rest", f"must map joint names to positions, got {rest!r}")
+    rest_items = tuple((_string(k, "rest", src), _number(v, f"rest.{k}", src))
+                       for k, v in rest.items())
     entry = RobotEntry(
         name=_string(data.get("name", path.stem), "name", src),
         urdf=_resolve_urdf(_string(data["urdf"], "urdf", src), path.parent, src),
@@ -103,7 +115,8 @@ def load_robot(path: str | os.PathLike[str]) -> RobotEntry:
         neutral=_numbers(data["neutral"], "neutral", src),
         mount=Mount(_numbers(mount["xyz"], "mount.xyz", src, 3),  # type: ignore[arg-type]
                     _number(mount["yaw"], "mount.yaw", src)),
-        tool_down=tool_down, gripper=gripper)
+        tool_down=tool_down, gripper=gripper, work_point=work_point,  # type: ignore[arg-type]
+        rest=rest_items)
     check_entry(entry, src)
     return entry
 

@@ -19,10 +19,14 @@ from a2l.sim import make_scene
 if TYPE_CHECKING:
     from a2l.skills.discretization import DiscretizationConfig
 
-__all__ = ["ENV_SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
+__all__ = ["ENV_SCENES", "ROBOT_SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
 
-#: Framework scene name -> the a2l.sim scene it plays in (:data:`a2l.sim.SCENES` names those).
-ENV_SCENES = {"virtual": "virtual", "baxter": "push"}
+#: Framework scene name -> the a2l.sim scene it plays in (:data:`a2l.sim.SCENES` names those):
+#: ``bullet`` is the PyBullet push scene with the configuration's robot, ``baxter`` the same
+#: scene with Baxter (the name runs before robots were data used).
+ENV_SCENES = {"virtual": "virtual", "bullet": "push", "baxter": "push"}
+#: The framework scenes that have a robot and a camera (PyBullet).
+ROBOT_SCENES = ("bullet", "baxter")
 
 
 class SceneEnv:
@@ -111,12 +115,16 @@ class EnvSpec(Protocol):
     def discretization(self) -> DiscretizationConfig: ...
     @property
     def seed(self) -> int: ...
+    @property
+    def robot(self) -> str: ...
 
 
 def scene_env(cfg: EnvSpec) -> SceneEnv:
     """The scene of this thread for `cfg` (built once per thread and reused), reading the
     context from ``cfg.context_source`` unless ``cfg.scene_config`` names a source."""
     config = dict(cfg.scene_config)
+    if cfg.scene in ROBOT_SCENES:
+        config.setdefault("robot", cfg.robot)
     source = config.pop("source", None) or config.get("context_source") or getattr(
         cfg, "context_source", None)
     step = cfg.discretization.step

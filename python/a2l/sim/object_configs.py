@@ -4,12 +4,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, ClassVar
 
 from a2l import _core
 from a2l.sim.config_fields import RGBA, field_error, positive_field, vector_field
 from a2l.sim.scene_config import SceneConfig
 
-__all__ = ["GraspConfig", "GraspLightConfig", "PressConfig", "PushConfig"]
+__all__ = ["BOX_SIZE", "GraspConfig", "GraspLightConfig", "PressConfig", "PushConfig"]
+
+#: The thesis' box (m, at scale 1): the push scene's and the press scene's.
+BOX_SIZE = (0.07, 0.085, 0.08)
 
 
 @dataclass
@@ -30,11 +34,14 @@ class PushConfig(SceneConfig):
         RGBA colour; perception segments it by hue (purple: Baxter's own meshes are red).
     """
 
-    box_size: tuple[float, float, float] = (0.07, 0.085, 0.08)
+    box_size: tuple[float, float, float] = None  # type: ignore[assignment]
     box_mass: float = 0.3
     box_friction: float = 0.4
-    box_position: tuple[float, float] = (0.62, -0.25)
+    box_position: tuple[float, float] = None  # type: ignore[assignment]
     box_color: RGBA = (0.6, 0.15, 0.85, 1.0)
+
+    _SCALED: ClassVar[dict[str, Any]] = {**SceneConfig._SCALED, "box_size": BOX_SIZE}
+    _PLACES: ClassVar[dict[str, tuple[float, float]]] = {"box_position": (0.0, 0.0)}
 
     def _validate_objects(self) -> None:
         self._check_object("box")
@@ -51,11 +58,15 @@ class GraspConfig(SceneConfig):
     """
 
     lift_threshold: float = _core.LIFT_THRESHOLD
-    block_size: tuple[float, float, float] = (0.03, 0.03, 0.06)
+    block_size: tuple[float, float, float] = None  # type: ignore[assignment]
     block_mass: float = 0.05
     block_friction: float = 1.0
-    block_position: tuple[float, float] = (0.62, -0.25)
+    block_position: tuple[float, float] = None  # type: ignore[assignment]
     block_color: RGBA = (0.1, 0.7, 0.15, 1.0)
+
+    _SCALED: ClassVar[dict[str, Any]] = {**SceneConfig._SCALED,
+                                         "block_size": (0.03, 0.03, 0.06)}
+    _PLACES: ClassVar[dict[str, tuple[float, float]]] = {"block_position": (0.0, 0.0)}
 
     def _validate_objects(self) -> None:
         self._check_object("block")
@@ -80,8 +91,12 @@ class GraspLightConfig(GraspConfig):
         Radius of the lamp's sphere (m).
     """
 
-    lamp_position: tuple[float, float] = (0.85, -0.05)
-    lamp_radius: float = 0.03
+    lamp_position: tuple[float, float] = None  # type: ignore[assignment]
+    lamp_radius: float = None  # type: ignore[assignment]
+
+    _SCALED: ClassVar[dict[str, Any]] = {**GraspConfig._SCALED, "lamp_radius": 0.03}
+    _PLACES: ClassVar[dict[str, tuple[float, float]]] = {**GraspConfig._PLACES,
+                                                         "lamp_position": (0.23, 0.20)}
 
     def state_values(self) -> dict[str, tuple[str, ...]]:
         return {"gripper": ("open", "closed"), "light": ("off", "on")}
@@ -109,19 +124,27 @@ class PressConfig(SceneConfig):
         Where the lamp (a sphere whose colour the camera sees) stands on the table.
     """
 
-    button_size: tuple[float, float, float] = (0.06, 0.06, 0.02)
-    button_base_height: float = 0.025
-    button_travel: float = 0.02
-    button_trigger: float = 0.008
-    button_position: tuple[float, float] = (0.62, -0.1)
+    button_size: tuple[float, float, float] = None  # type: ignore[assignment]
+    button_base_height: float = None  # type: ignore[assignment]
+    button_travel: float = None  # type: ignore[assignment]
+    button_trigger: float = None  # type: ignore[assignment]
+    button_position: tuple[float, float] = None  # type: ignore[assignment]
     button_color: RGBA = (0.1, 0.25, 0.9, 1.0)
-    lamp_position: tuple[float, float] = (0.95, 0.2)
-    lamp_radius: float = 0.03
-    box_size: tuple[float, float, float] = (0.07, 0.085, 0.08)
+    lamp_position: tuple[float, float] = None  # type: ignore[assignment]
+    lamp_radius: float = None  # type: ignore[assignment]
+    box_size: tuple[float, float, float] = None  # type: ignore[assignment]
     box_mass: float = 0.3
     box_friction: float = 0.4
-    box_position: tuple[float, float] = (0.62, -0.35)
+    box_position: tuple[float, float] = None  # type: ignore[assignment]
     box_color: RGBA = (0.6, 0.15, 0.85, 1.0)
+
+    _SCALED: ClassVar[dict[str, Any]] = {
+        **SceneConfig._SCALED, "button_size": (0.06, 0.06, 0.02), "button_base_height": 0.025,
+        "button_travel": 0.02, "button_trigger": 0.008, "lamp_radius": 0.03,
+        "box_size": BOX_SIZE}
+    _PLACES: ClassVar[dict[str, tuple[float, float]]] = {
+        "button_position": (0.0, 0.15), "lamp_position": (0.33, 0.45),
+        "box_position": (0.0, -0.10)}
 
     def state_values(self) -> dict[str, tuple[str, ...]]:
         return {"gripper": ("open", "closed"), "light": ("off", "on")}

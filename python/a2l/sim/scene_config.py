@@ -1,16 +1,19 @@
 """The base scene configuration: what every PyBullet scene shares (world, robot, camera,
 rules), validated field by field.
 
-Every length is in metres, every position in the world frame, which is Baxter's ``base``
+Every length is in metres, every position in the world frame, which is the robot's base
 link frame (x forward, y to the robot's left, z up); the table top is the plane
 ``z = table_z``. An object position on the table is given as its centre ``(x, y)``; its
-height follows from its size.
+height follows from its size. The geometry a field left at None takes (the table, the
+cameras, the workspace, the objects' places and sizes, the movement length) follows from
+the robot (:func:`a2l.robot.table_layout`): on Baxter, the thesis' scene.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 from a2l.sim.config_fields import choice_field, field_error, positive_field, vector_field
 
@@ -23,14 +26,18 @@ class SceneConfig:
 
     Attributes
     ----------
+    robot : str
+        The robot: a built-in name (:data:`a2l.robot.BUILTIN_ROBOTS`) or the path of a
+        robot file (``docs/robots.md``).
     gui : bool
         Open the PyBullet GUI (default: DIRECT, no window) and run in real time.
     time_step : float
         Physics time step (s).
     arm : str
-        Baxter arm that acts: ``"right"`` (the other one holds its neutral pose).
+        Kept for earlier configurations: ``"right"`` (Baxter's left arm is the robot
+        ``"baxter-left"``).
     step : float
-        Length of one discrete movement (m).
+        Length of one discrete movement (m); None: 0.05 times the robot's scale.
     speed : float
         Cartesian speed of the end-effector during a movement (m/s); slower where a joint
         would exceed its URDF velocity limit.
@@ -63,7 +70,8 @@ class SceneConfig:
         Bounds of the end-effector point; a movement whose target leaves them is reported
         as ``workspace_limit``. ``workspace_min[2]`` is relative to the table top.
     table_z : float
-        Height of the table top (m).
+        Height of the table top (m). This field and the other geometry left at None (the
+        table, the workspace, the cameras) come from the robot's layout.
     table_center, table_size : tuple of 2 float
         Centre ``(x, y)`` and size ``(depth, width)`` of the table top (m).
     robot_visual : str
@@ -91,7 +99,8 @@ class SceneConfig:
     n_push_effects : int
         4 (axes only) or 8 (axes and diagonals) push effects.
     effect_threshold : float
-        Object displacement (m) below which the effect is ``none``.
+        Object displacement (m) below which the effect is ``none``; None: 0.01 times the
+        robot's scale.
     effect_ratio : float
         An axis effect when the dominant axis moved more than this times the other.
     lift_threshold : float
@@ -104,10 +113,11 @@ class SceneConfig:
         have are an error.
     """
 
+    robot: str = "baxter"
     gui: bool = False
     time_step: float = 1.0 / 240.0
     arm: str = "right"
-    step: float = 0.05
+    step: float = None  # type: ignore[assignment]
     speed: float = 0.25
     waypoint_spacing: float = 0.01
     max_joint_jump: float = 0.5
@@ -115,30 +125,74 @@ class SceneConfig:
     motor_force_scale: float = 4.0
     position_gain: float = 0.3
     gripper_yaw: float = 0.0
-    workspace_min: tuple[float, float, float] = (0.35, -0.75, 0.01)
-    workspace_max: tuple[float, float, float] = (0.95, 0.45, 0.45)
-    table_z: float = -0.20
-    table_center: tuple[float, float] = (0.75, -0.15)
-    table_size: tuple[float, float] = (0.7, 1.2)
+    workspace_min: tuple[float, float, float] = None  # type: ignore[assignment]
+    workspace_max: tuple[float, float, float] = None  # type: ignore[assignment]
+    table_z: float = None  # type: ignore[assignment]
+    table_center: tuple[float, float] = None  # type: ignore[assignment]
+    table_size: tuple[float, float] = None  # type: ignore[assignment]
     robot_visual: str = "collision"
     camera_width: int = 256
     camera_height: int = 192
-    camera_eye: tuple[float, float, float] = (1.55, -0.15, 0.85)
-    camera_target: tuple[float, float, float] = (0.75, -0.15, -0.2)
+    camera_eye: tuple[float, float, float] = None  # type: ignore[assignment]
+    camera_target: tuple[float, float, float] = None  # type: ignore[assignment]
     camera_fov: float = 55.0
-    extra_camera_eyes: tuple[tuple[float, float, float], ...] = (
-        (0.75, 0.95, 0.85), (0.75, -1.25, 0.85))
+    extra_camera_eyes: tuple[tuple[float, float, float], ...] = None  # type: ignore[assignment]
     min_visible: float = 0.9
     context_source: str = "perceived"
     n_push_effects: int = 8
-    effect_threshold: float = 0.01
+    effect_threshold: float = None  # type: ignore[assignment]
     effect_ratio: float = 3.0
     lift_threshold: float = 0.03
     object_jitter: float = 0.0
     states: dict[str, str] = field(default_factory=dict)
 
+    #: Geometry fields the robot's layout fills when left at None.
+    _LAYOUT_FIELDS: ClassVar[tuple[str, ...]] = (
+        "table_z", "table_center", "table_size", "workspace_min", "workspace_max",
+        "camera_eye", "camera_target", "extra_camera_eyes")
+    #: Lengths at scale 1 of fields left at None: multiplied by the robot's scale.
+    _SCALED: ClassVar[dict[str, Any]] = {"step": 0.05, "effect_threshold": 0.01}
+    #: Object positions left at None: their offset (table frame, m at scale 1) from the
+    #: robot's work point (:meth:`a2l.robot.TableLayout.place`).
+    _PLACES: ClassVar[dict[str, tuple[float, float]]] = {}
+
     def __post_init__(self) -> None:
+        self._apply_layout()
         self.validate()
+
+    def _apply_layout(self) -> None:
+        """Fill the fields left at None from the robot's layout (module docstring)."""
+        if not isinstance(self.robot, str) or not self.robot:
+            raise field_error("robot", f"must be a robot's name or a robot file's path, got "
+                              f"{self.robot!r}")
+        empty = [f for f in (*self._LAYOUT_FIELDS, *self._SCALED, *self._PLACES)
+                 if getattr(self, f) is None]
+        if not empty:
+            return
+        lay = self.layout()
+        for name in self._LAYOUT_FIELDS:
+            if getattr(self, name) is None:
+                setattr(self, name, getattr(lay, name))
+        for name, value in self._SCALED.items():
+            if getattr(self, name) is None:
+                setattr(self, name, _scaled(value, lay.scale))
+        for name, offset in self._PLACES.items():
+            if getattr(self, name) is None:
+                setattr(self, name, lay.place(offset))
+
+    def layout(self) -> Any:
+        """The robot's :class:`a2l.robot.TableLayout` (computed once per robot and process).
+
+        Raises
+        ------
+        a2l.A2LValueError
+            `robot` names no built-in robot and no readable robot file, or the robot
+            reaches no point of the table.
+        """
+        from a2l.robot import robot_entry
+        from a2l.robot.layout import table_layout
+
+        return table_layout(robot_entry(self.robot))
 
     # --- validation -------------------------------------------------------------
     def state_values(self) -> dict[str, tuple[str, ...]]:
@@ -245,3 +299,10 @@ class SceneConfig:
         out = {k: v[0] for k, v in self.state_values().items()}
         out.update(self.states)
         return out
+
+
+def _scaled(value: Any, scale: float) -> Any:
+    """`value` (a length or a tuple of lengths, m) times `scale`, to the micrometre."""
+    if isinstance(value, tuple):
+        return tuple(round(v * scale, 6) for v in value)
+    return round(value * scale, 6)

@@ -8,6 +8,7 @@ scene's, between it and the button.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, ClassVar
 
 from a2l import _core
 from a2l.sim.bullet import PressScene
@@ -22,8 +23,12 @@ class TaskConfig(PressConfig, GraspConfig):
     of :class:`a2l.sim.GraspConfig` (same fields); the box stands out of the way."""
 
     lift_threshold: float = _core.LIFT_THRESHOLD  # the grasp scene's (PressConfig's: 0.03)
-    block_position: tuple[float, float] = (0.62, -0.3)
-    box_position: tuple[float, float] = (0.95, -0.6)
+    block_position: tuple[float, float] = None  # type: ignore[assignment]
+    box_position: tuple[float, float] = None  # type: ignore[assignment]
+
+    _SCALED: ClassVar[dict[str, Any]] = {**PressConfig._SCALED, **GraspConfig._SCALED}
+    _PLACES: ClassVar[dict[str, tuple[float, float]]] = {
+        **PressConfig._PLACES, "block_position": (0.0, -0.05), "box_position": (0.33, -0.35)}
 
     def _validate_objects(self) -> None:
         PressConfig._validate_objects(self)

@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 from a2l.errors import A2LError, A2LValueError
 from a2l.sim._pybullet import p
 from a2l.sim.bodies import BodyCache
-from a2l.sim.bullet.build import FLOOR_Z, PARK, BuildMixin, SceneObject
+from a2l.sim.bullet.build import PARK, BuildMixin, SceneObject
 from a2l.sim.bullet.motion import MotionMixin
 from a2l.sim.bullet.transit import TransitMixin
 from a2l.sim.observation import Observation
@@ -239,7 +239,8 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         c = self._client
         orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)[1]
         k = list(self._objects).index(name)
-        self._teleport(o.body, (PARK[0], PARK[1] + 0.5 * k, FLOOR_Z + o.size[2] / 2 + 0.05),
+        z = self._floor_z + o.size[2] / 2 + 0.05
+        self._teleport(o.body, (PARK[0], PARK[1] + 0.5 * k, z),
                        orn)
         self._tick += 1
 

@@ -1,4 +1,5 @@
-"""Building a PyBullet scene: the floor, the table, Baxter and the boxes on the table."""
+"""Building a PyBullet scene: the floor, the table, the robot (its entry,
+:func:`a2l.robot.robot_entry`) and the boxes on the table."""
 
 from __future__ import annotations
 
@@ -8,16 +9,15 @@ from typing import Any
 import numpy as np
 
 import a2l
-from a2l.robot import BAXTER_ARMS, arm_spec, pybullet_urdf
-from a2l.robot.gripper import BAXTER_FINGER_OPEN
+from a2l.errors import A2LValueError
+from a2l.robot import pybullet_urdf, robot_entry
+from a2l.robot.layout import TABLE_HEIGHT
 from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
 from a2l.sim.bodies import BodyCache
 
-__all__ = ["FINGER_OPEN", "FLOOR_Z", "PARK", "BuildMixin", "SceneObject"]
+__all__ = ["PARK", "BuildMixin", "SceneObject"]
 
-FLOOR_Z = -0.92418  # bottom of Baxter's pedestal in the base frame (pedestal mesh)
-FINGER_OPEN = BAXTER_FINGER_OPEN  # one home: a2l.robot.gripper (Baxter's gripper entry)
 #: PyBullet's collision filter group of static bodies (``btBroadphaseProxy::StaticFilter``):
 #: a body without mass on a fixed base (the floor, the table) is in it, and its mask leaves it
 #: out, so that two static bodies are never tested against each other.
@@ -49,6 +49,8 @@ class BuildMixin:
 
     def _build_world(self) -> None:
         c, cfg = self._client, self.config
+        #: Height of the floor: the table stands on it (a2l.robot.layout.TABLE_HEIGHT).
+        self._floor_z = round(cfg.table_z - TABLE_HEIGHT, 6)
         floor = p.createCollisionShape(p.GEOM_PLANE, physicsClientId=c)
         # the software renderer fills a large floor slowly (16 ms of a 30 ms frame): the
         # floor is drawn only in the GUI. A body without a visual shape is drawn with its
@@ -58,14 +60,14 @@ class BuildMixin:
             p.GEOM_BOX, halfExtents=(3, 3, 0.001) if cfg.gui else (0.01, 0.01, 0.001),
             rgbaColor=(0.45, 0.45, 0.47, 1), physicsClientId=c)
         self._bodies.add("floor", baseMass=0, baseCollisionShapeIndex=floor,
-                         baseVisualShapeIndex=floor_vis, basePosition=(0, 0, FLOOR_Z))
+                         baseVisualShapeIndex=floor_vis, basePosition=(0, 0, self._floor_z))
         (cx, cy), (sx, sy) = cfg.table_center, cfg.table_size
         top_h = 0.04
         top = p.createCollisionShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
                                      physicsClientId=c)
         top_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(sx / 2, sy / 2, top_h / 2),
                                       rgbaColor=(0.78, 0.76, 0.72, 1), physicsClientId=c)
-        leg_len = cfg.table_z - top_h - FLOOR_Z
+        leg_len = cfg.table_z - top_h - self._floor_z
         legs = []
         if leg_len > 0:
             leg_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(0.025, 0.025, leg_len / 2),
@@ -88,52 +90,83 @@ class BuildMixin:
 
     def _build_robot(self) -> None:
         c, cfg = self._client, self.config
-        urdf = pybullet_urdf()
+        entry = robot_entry(cfg.robot)
+        if entry.tool_down is None:
+            raise A2LValueError(f"robot '{entry.name}' has no tool_down: the scenes move its "
+                                "tool pointing down")
+        #: The robot's entry (:class:`a2l.robot.RobotEntry`).
+        self.robot_entry = entry
+        urdf = pybullet_urdf(entry.urdf)
         if cfg.robot_visual == "collision":
             urdf = collision_render_urdf(urdf)
         with quiet():
             self._robot = p.loadURDF(str(urdf), (0, 0, 0), useFixedBase=True,
                                      flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=c)
+        gripper = entry.gripper
+        grip_names = set(gripper.joints) if gripper else set()
         self._joint_index: dict[str, int] = {}
         self._link_index: dict[str, int] = {}
         self._movable: list[int] = []
         self._effort: list[float] = []
+        limits: dict[int, tuple[float, float]] = {}
         for j in range(p.getNumJoints(self._robot, physicsClientId=c)):
             info = p.getJointInfo(self._robot, j, physicsClientId=c)
-            self._joint_index[info[1].decode()] = j
+            name = info[1].decode()
+            self._joint_index[name] = j
             self._link_index[info[12].decode()] = j
             if info[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC):
                 self._movable.append(j)
+                limits[j] = (float(info[8]), float(info[9]))
                 effort = float(info[10]) if info[10] > 0 else 50.0
-                finger = "finger" in info[1].decode()
-                self._effort.append(effort if finger else effort * cfg.motor_force_scale)
-        spec = arm_spec("baxter", cfg.arm)
-        self.kinematics = a2l.Kinematics(spec.urdf, spec.base_link, spec.tip_link)
+                # the motors of revolute joints hold the arms against gravity
+                # (motor_force_scale); the grippers' and the prismatic ones keep their limit
+                held = info[2] == p.JOINT_PRISMATIC or name in grip_names
+                self._effort.append(effort if held else effort * cfg.motor_force_scale)
+        self.kinematics = a2l.Kinematics(entry.urdf, entry.base_link, entry.tool_link)
         self._arm = [self._joint_index[n] for n in self.kinematics.joint_names]
         vmax = np.asarray(self.kinematics.velocity_limits, dtype=float)
         self._vmax = np.where(vmax > 0, vmax, np.inf)
-        self._neutral_q = np.asarray(spec.neutral, dtype=float)
-        prefix = cfg.arm[0]
-        self._fingers = [self._joint_index[f"{prefix}_gripper_l_finger_joint"],
-                         self._joint_index[f"{prefix}_gripper_r_finger_joint"]]
-        self._finger_links = set(self._fingers)
-        for name in (f"{prefix}_gripper_l_finger_tip", f"{prefix}_gripper_r_finger_tip"):
-            self._finger_links.add(self._link_index[name])
-            p.changeDynamics(self._robot, self._link_index[name], lateralFriction=1.5,
-                             physicsClientId=c)
-        for j in self._fingers:
-            p.changeDynamics(self._robot, j, lateralFriction=1.5, physicsClientId=c)
-        # the joint targets every movable joint holds: both arms neutral, head straight
-        self._targets = {j: 0.0 for j in self._movable}
-        for arm, (_, _, neutral) in BAXTER_ARMS.items():
-            for name, q in zip(
-                    [f"{arm}_{s}" for s in ("s0", "s1", "e0", "e1", "w0", "w1", "w2")],
-                    neutral, strict=True):
-                self._targets[self._joint_index[name]] = q
-        for arm in ("l", "r"):
-            self._targets[self._joint_index[f"{arm}_gripper_l_finger_joint"]] = FINGER_OPEN
-            self._targets[self._joint_index[f"{arm}_gripper_r_finger_joint"]] = -FINGER_OPEN
+        self._neutral_q = np.asarray(entry.neutral, dtype=float)
+        self._tool_down = np.asarray(entry.tool_down, dtype=float)
+        self._build_gripper()
+        # the joint targets every movable joint holds: 0 (or its nearest limit), the
+        # entry's rest positions, the arm neutral, the gripper open
+        self._targets = {j: _hold_zero(*limits[j]) for j in self._movable}
+        for name, q in entry.rest:
+            self._targets[self._named_joint(name, "rest")] = q
+        for j, q in zip(self._arm, self._neutral_q, strict=True):
+            self._targets[j] = float(q)
+        for j, q in zip(self._fingers, self._finger_open, strict=True):
+            self._targets[j] = q
         self._filter_still_links()
+
+    def _named_joint(self, name: str, what: str) -> int:
+        if name not in self._joint_index:
+            raise A2LValueError(f"robot '{self.robot_entry.name}': {what} names the joint "
+                                f"'{name}', which its URDF does not have")
+        return self._joint_index[name]
+
+    def _build_gripper(self) -> None:
+        """The gripper's joints, their open and closed positions, and the links they move
+        (grip friction 1.5 on every one of them)."""
+        c, gripper = self._client, self.robot_entry.gripper
+        self._fingers = [self._named_joint(n, "gripper") for n in
+                         (gripper.joints if gripper else ())]
+        self._finger_open = tuple(gripper.open) if gripper else ()
+        self._finger_closed = tuple(gripper.closed) if gripper else ()
+        parent = {j: p.getJointInfo(self._robot, j, physicsClientId=c)[16]
+                  for j in range(p.getNumJoints(self._robot, physicsClientId=c))}
+
+        def moved(link: int) -> bool:
+            while link >= 0:
+                if link in self._fingers:
+                    return True
+                link = parent[link]
+            return False
+
+        self._finger_links = {link for link in parent if moved(link)}
+        for link in sorted(self._finger_links):
+            p.changeDynamics(self._robot, link, lateralFriction=1.5, physicsClientId=c)
 
     def _filter_still_links(self) -> None:
         """Leave the robot's still links out of the collision tests with the static bodies.
@@ -181,3 +214,11 @@ class BuildMixin:
     def _lamp_rgba(self) -> tuple[float, float, float, float] | None:
         return None
 
+
+
+def _hold_zero(lower: float, upper: float) -> float:
+    """0, or the nearest limit of a joint whose range leaves 0 out (none when ``upper <
+    lower``: a continuous joint)."""
+    if upper < lower:
+        return 0.0
+    return min(max(0.0, lower), upper)

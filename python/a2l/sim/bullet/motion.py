@@ -14,7 +14,6 @@ import a2l
 from a2l.errors import A2LValueError, UnreachableError
 from a2l.robot.gripper import gripper_down
 from a2l.sim._pybullet import p
-from a2l.sim.bullet.build import FINGER_OPEN
 from a2l.sim.movement import MoveResult
 
 __all__ = ["MotionMixin"]
@@ -33,6 +32,9 @@ class MotionMixin:
     _effort: list[float]
     _arm: list[int]
     _fingers: list[int]
+    _finger_open: tuple[float, ...]
+    _finger_closed: tuple[float, ...]
+    _tool_down: NDArray[np.float64]
     _vmax: NDArray[np.float64]
     _neutral_q: NDArray[np.float64]
     _states: dict[str, str]
@@ -75,9 +77,10 @@ class MotionMixin:
             self._targets[j] = float(v)
 
     def _set_fingers(self, closed: bool) -> None:
-        l_, r_ = self._fingers
-        self._targets[l_] = 0.0 if closed else FINGER_OPEN
-        self._targets[r_] = 0.0 if closed else -FINGER_OPEN
+        """Gripper joint targets: closed or open (nothing for an arm without a gripper)."""
+        for j, q in zip(self._fingers, self._finger_closed if closed else self._finger_open,
+                        strict=True):
+            self._targets[j] = q
 
     @property
     def neutral_joint_positions(self) -> NDArray[np.float64]:
@@ -86,10 +89,10 @@ class MotionMixin:
 
     def gripper_down_pose(self, xyz: ArrayLike) -> NDArray[np.float64]:
         """Homogeneous pose (4, 4) of the end-effector at `xyz` (3,) with the gripper pointing
-        down, turned by the config's ``gripper_yaw`` (:func:`gripper_down`): the target every
-        movement and transit asks the IK for."""
+        down (the robot's ``tool_down``), turned by the config's ``gripper_yaw``
+        (:func:`gripper_down`): the target every movement and transit asks the IK for."""
         t = np.eye(4)
-        t[:3, :3] = gripper_down(getattr(self.config, "gripper_yaw", 0.0))
+        t[:3, :3] = gripper_down(getattr(self.config, "gripper_yaw", 0.0), self._tool_down)
         t[:3, 3] = np.asarray(xyz, dtype=float)
         return t
 

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from a2l.errors import A2LValueError
 from a2l.sim._pybullet import p
 from a2l.sim.bullet.base import BulletScene
 from a2l.sim.bullet.build import SceneObject
@@ -34,6 +35,10 @@ class GraspScene(BulletScene):
 
     def _build_objects(self) -> None:
         cfg = self.config
+        if not self._fingers:
+            raise A2LValueError(f"robot '{self.robot_entry.name}' has no gripper: the "
+                                f"{self.name} scene grasps its block (give the robot file a "
+                                "gripper, or use the push or press scene)")
         self._add_box("block", cfg.block_size, cfg.block_mass, cfg.block_friction,
                       cfg.block_position, cfg.block_color)
 

@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from a2l.sim._pybullet import p
 from a2l.sim.bodies import BodyCache
-from a2l.sim.bullet.build import FLOOR_Z, SceneObject
+from a2l.sim.bullet.build import SceneObject
 
 __all__ = ["TransitMixin"]
 
@@ -21,6 +21,7 @@ class TransitMixin:
     _client: int
     _robot: int
     _arm: list[int]
+    _floor_z: float
     _movable: list[int]
     _joint_index: dict[str, int]
     _link_index: dict[str, int]
@@ -64,7 +65,8 @@ class TransitMixin:
             button's housing and cap, the lamp...) and of the floor.
         """
         c = self._client
-        out = [("floor", np.array([0.0, 0.0, FLOOR_Z - 0.05]), np.array([3.0, 3.0, 0.05]))]
+        floor = np.array([0.0, 0.0, self._floor_z - 0.05])
+        out = [("floor", floor, np.array([3.0, 3.0, 0.05]))]
         ids = self._bodies.ids  # rebuilt at every reset: read the current ids
         bodies = [("table", ids["table"], [-1])]
         bodies += [(o.name, o.body, list(range(-1, p.getNumJoints(o.body, physicsClientId=c))))

@@ -1,0 +1,147 @@
+"""Every scene on every robot: the layout each robot's scenes stand in (Baxter's is the
+thesis' scene to the micrometre), pushes that move the box on each built-in arm and on an
+arm from a robot file, the scaled scene of a small arm, the refusals."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from a2l.errors import A2LValueError, ConfigError
+from a2l.framework import FrameworkConfig
+from a2l.robot import BUILTIN_ROBOTS, builtin_robot, table_layout
+from a2l.robot.layout import REFERENCE_RADIUS
+from a2l.rollout.env import scene_env
+from a2l.sim import make_scene
+from a2l.sim.config import make_config
+
+#: The thesis' scene as the scenes typed it before robots were data (Baxter's base frame).
+THESIS = {
+    "table_z": -0.20, "table_center": (0.75, -0.15), "table_size": (0.7, 1.2),
+    "workspace_min": (0.35, -0.75, 0.01), "workspace_max": (0.95, 0.45, 0.45),
+    "camera_eye": (1.55, -0.15, 0.85), "camera_target": (0.75, -0.15, -0.2),
+    "extra_camera_eyes": ((0.75, 0.95, 0.85), (0.75, -1.25, 0.85)), "step": 0.05,
+    "effect_threshold": 0.01,
+}
+THESIS_OBJECTS = {
+    "push": {"box_position": (0.62, -0.25), "box_size": (0.07, 0.085, 0.08)},
+    "grasp_light": {"block_position": (0.62, -0.25), "block_size": (0.03, 0.03, 0.06),
+                    "lamp_position": (0.85, -0.05), "lamp_radius": 0.03},
+    "press": {"button_position": (0.62, -0.1), "lamp_position": (0.95, 0.2),
+              "box_position": (0.62, -0.35), "button_size": (0.06, 0.06, 0.02),
+              "button_base_height": 0.025, "button_travel": 0.02, "button_trigger": 0.008},
+    "task": {"block_position": (0.62, -0.3), "box_position": (0.95, -0.6)},
+}
+
+
+@pytest.mark.parametrize("scene", sorted(THESIS_OBJECTS))
+def test_baxter_scenes_are_the_thesis_scenes(scene: str) -> None:
+    cfg = make_config(scene)
+    for name, value in {**THESIS, **THESIS_OBJECTS[scene]}.items():
+        assert getattr(cfg, name) == value, name  # exactly: the same floats
+
+
+def test_a_field_given_wins_over_the_layout() -> None:
+    cfg = make_config("push", robot="panda", box_position=(0.40, 0.10), step=0.04)
+    assert cfg.box_position == (0.40, 0.10) and cfg.step == 0.04
+    assert cfg.table_center == table_layout(builtin_robot("panda")).table_center
+
+
+@pytest.mark.parametrize("name", BUILTIN_ROBOTS)
+def test_each_robot_reaches_around_its_work_point(name: str) -> None:
+    lay = table_layout(builtin_robot(name))
+    assert 0 < lay.scale <= 1
+    assert lay.radius >= REFERENCE_RADIUS * lay.scale - 0.02  # the disc the scale rests on
+    # the table stands on the floor and the camera looks down at it from beyond
+    assert lay.floor_z < lay.table_z and lay.camera_eye[2] > lay.table_z
+    lo, hi = np.array(lay.workspace_min[:2]), np.array(lay.workspace_max[:2])
+    assert np.all(lo < lay.work_point) and np.all(lay.work_point < hi)
+
+
+def _push_once(scene: object, start: np.ndarray, direction: tuple[int, int, int],
+               moves: int) -> np.ndarray:
+    home = np.asarray(scene.ground_truth()["objects"]["box"])  # type: ignore[attr-defined]
+    scene.reset(eef=home + start, objects={"box": home[:2]})  # type: ignore[attr-defined]
+    for _ in range(moves):
+        assert scene.execute(direction)  # type: ignore[attr-defined]
+    return np.asarray(scene.ground_truth()["objects"]["box"]) - home  # type: ignore
+
+
+@pytest.mark.parametrize("name", [n for n in BUILTIN_ROBOTS if n != "baxter"])
+def test_a_push_moves_the_box_on_each_robot(name: str) -> None:
+    """From 0.10 m (scaled) behind the box, four movements along +x push it along +x, and
+    the camera sees it where it is."""
+    scene = make_scene("push", seed=0, robot=name)
+    try:
+        s = scene.config.layout().scale
+        moved = _push_once(scene, np.array([-0.10 * s, 0.0, 0.0]), (1, 0, 0), 4)
+        assert moved[0] > 0.05 * s and abs(moved[1]) < 0.5 * moved[0]
+        seen = scene.perceive()["objects"]["box"]
+        true = scene.ground_truth()["objects"]["box"]
+        assert np.linalg.norm(np.subtract(seen, true)[:2]) < 0.01 * s
+    finally:
+        scene.close()
+
+
+def test_a_small_arm_gets_a_scaled_scene() -> None:
+    lay = table_layout(builtin_robot("so101"))
+    assert 0.3 < lay.scale < 0.8  # the SO-101 reaches about a third of a Panda
+    cfg = make_config("push", robot="so101")
+    assert cfg.step == pytest.approx(0.05 * lay.scale, abs=1e-6)
+    assert cfg.box_size == pytest.approx(tuple(v * lay.scale for v in THESIS_OBJECTS["push"]
+                                               ["box_size"]), abs=1e-6)
+    assert cfg.box_position == lay.work_point
+    eye = np.subtract(cfg.camera_eye, cfg.camera_target)
+    assert np.linalg.norm(eye) == pytest.approx(lay.scale * np.hypot(0.80, 1.05), abs=1e-5)
+
+
+def test_an_arm_from_a_robot_file_pushes(tmp_path: Path) -> None:
+    """UFactory's xArm7, not a built-in robot, mounted turned by 90 degrees: its file names
+    no work point, the layout finds one beside the base, and the push scene pushes its box
+    along both axes, the camera (placed in the turned table frame) seeing it."""
+    path = tmp_path / "xarm.json"
+    path.write_text(json.dumps({
+        "urdf": "package://example-robot-data/robots/xarm_description/urdf/xarm7.urdf",
+        "base_link": "link_base", "tool_link": "link_eef",
+        "neutral": [0.0, -0.02, 0.0, 0.67, 0.0, 0.69, 0.0],
+        "tool_down": [[1, 0, 0], [0, -1, 0], [0, 0, -1]],
+        "mount": {"xyz": [-0.45, 0.0, 0.0], "yaw": 90}}))
+    scene = make_scene("push", seed=0, robot=str(path))
+    try:
+        lay = scene.config.layout()
+        assert lay.table_yaw == -90 and lay.table_center == (0.0, -0.45)
+        assert lay.camera_eye[1] < lay.table_center[1] - 0.5  # beyond the table
+        # along the base's x (across the table), then its -y (away from the base)
+        for start, direction, axis in (((-0.10, 0.0, 0.0), (1, 0, 0), 0),
+                                       ((0.0, 0.10, 0.0), (0, -1, 0), 1)):
+            moved = _push_once(scene, np.array(start), direction, 4)
+            assert abs(moved[axis]) > 0.05 and np.sign(moved[axis]) == sum(direction)
+            seen = scene.perceive()["objects"]["box"]
+            true = scene.ground_truth()["objects"]["box"]
+            assert np.linalg.norm(np.subtract(seen, true)[:2]) < 0.01
+    finally:
+        scene.close()
+
+
+def test_the_grasp_scene_refuses_an_arm_without_gripper() -> None:
+    with pytest.raises(A2LValueError, match="robot 'ur5' has no gripper: the grasp scene"):
+        make_scene("grasp", seed=0, robot="ur5")
+
+
+def test_an_unknown_robot_is_named() -> None:
+    with pytest.raises(A2LValueError, match="unknown robot 'kuka'"):
+        make_config("push", robot="kuka")
+
+
+def test_the_framework_runs_the_bullet_scene_on_its_robot() -> None:
+    cfg = FrameworkConfig(scene="bullet", robot="panda", context_source="ground_truth")
+    env = scene_env(cfg)
+    assert env.scene.config.robot == "panda"
+    assert env.scene.robot_entry.name == "panda"
+    with pytest.raises(ConfigError, match="scene 'baxter' is Baxter's; for robot 'panda'"):
+        FrameworkConfig(scene="baxter", robot="panda")
+    with pytest.raises(ConfigError, match="names a robot: give it as the robot field"):
+        FrameworkConfig(scene="bullet", robot="panda", scene_config={"robot": "ur5"})
