@@ -145,3 +145,15 @@ def test_the_framework_runs_the_bullet_scene_on_its_robot() -> None:
         FrameworkConfig(scene="baxter", robot="panda")
     with pytest.raises(ConfigError, match="names a robot: give it as the robot field"):
         FrameworkConfig(scene="bullet", robot="panda", scene_config={"robot": "ur5"})
+
+
+def test_a_small_arms_run_scales_the_lengths_left_at_their_defaults() -> None:
+    scale = table_layout(builtin_robot("so101")).scale
+    cfg = FrameworkConfig(scene="bullet", robot="so101", starts={"r_high": 0.2})
+    assert cfg.discretization.step == pytest.approx(0.05 * scale, abs=1e-6)
+    assert cfg.heldout.r_high == pytest.approx(0.25 * scale, abs=1e-6)
+    assert cfg.skill.clearance == pytest.approx(0.10 * scale, abs=1e-6)
+    assert cfg.starts.r_high == 0.2  # given: kept
+    assert FrameworkConfig.from_dict(cfg.to_dict()) == cfg  # a saved run reloads unchanged
+    panda = FrameworkConfig(scene="bullet", robot="panda")
+    assert panda.discretization == FrameworkConfig().discretization  # scale 1

@@ -35,6 +35,7 @@ from a2l.framework.parts import (
     ValidationConfig,
 )
 from a2l.framework.presets import PRESETS
+from a2l.framework.robots import check_robot, scaled_parts
 from a2l.framework.starts import (
     fresh_offsets,
     fresh_redraw,
@@ -163,7 +164,9 @@ class FrameworkConfig:
     robot : str
         The robot of a PyBullet scene: a built-in name (:data:`a2l.robot.BUILTIN_ROBOTS`)
         or a robot file's path; its scene geometry follows from it
-        (:func:`a2l.robot.table_layout`). Scene ``"baxter"`` takes only ``"baxter"``.
+        (:func:`a2l.robot.table_layout`). Scene ``"baxter"`` takes only ``"baxter"``. On a
+        robot whose scene is scaled (scale < 1: a small arm), the lengths left at their
+        defaults are scaled with it (:mod:`a2l.framework.robots`).
     scene_config : dict
         Extra keyword arguments for :func:`a2l.sim.make_scene`.
     """
@@ -200,6 +203,12 @@ class FrameworkConfig:
             raise ConfigError("scene_config", f"must be a mapping of scene options, got "
                               f"{self.scene_config!r}")
         self.validate()
+        self._scale_lengths()
+
+    def _scale_lengths(self) -> None:
+        """Scale the lengths left at their defaults to the robot's scene."""
+        for name, part in scaled_parts(self.scene, self.robot, self.__dict__).items():
+            object.__setattr__(self, name, part)
 
     def validate(self) -> None:
         """Check what no part can check alone; raise :class:`a2l.errors.ConfigError` (a
@@ -207,14 +216,7 @@ class FrameworkConfig:
         included. (Every part checked its own fields when it was made.)"""
         check_count("", "max_iterations", self.max_iterations)
         check_count("", "seed", self.seed, minimum=0)
-        if not isinstance(self.robot, str) or not self.robot:
-            raise ConfigError("robot", f"must be a robot's name or a robot file's path, got "
-                              f"{self.robot!r}")
-        if self.scene == "baxter" and self.robot != "baxter":
-            raise ConfigError("robot", f"scene 'baxter' is Baxter's; for robot "
-                              f"'{self.robot}' use scene 'bullet'")
-        if "robot" in self.scene_config and self.scene_config["robot"] != self.robot:
-            raise ConfigError("scene_config", "names a robot: give it as the robot field")
+        check_robot(self.scene, self.robot, self.scene_config)
         check_choice("", "context_source", self.context_source, ("perceived", "ground_truth"))
         names = self.discretization.context_names()
         unknown = [v for v in self.learning.fixed_parents if v not in names]

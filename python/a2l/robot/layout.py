@@ -19,6 +19,7 @@ import hashlib
 import json
 import math
 import os
+from collections import deque
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -47,6 +48,11 @@ REFERENCE_RADIUS = 0.20
 TEST_HEIGHT = 0.04
 #: Spacing (m) of the grid of tested points at scale 1.
 GRID = 0.02
+#: Largest joint change (rad) from a reached grid point's IK solution to its neighbour's,
+#: 2 cm apart (scaled with the spacing), for the neighbour to count as reached: a larger
+#: one is a change of IK branch (the scenes refuse a waypoint 1 cm on whose solution is
+#: 0.5 rad away).
+BRANCH_JUMP = 1.0
 # The thesis' scene around its work point (table frame, m, at scale 1): the camera looks at
 # a point 0.13 m beyond and 0.10 m left of it, from 0.80 m farther and 1.05 m up; the side
 # cameras from 1.10 m either side; the end-effector's workspace bounds.
@@ -141,7 +147,8 @@ def reachable_disc(entry: RobotEntry, spacing: float, height: float,
         Grid points on the table top (table frame).
     radius : ndarray, shape (n,)
         0 where the arm does not reach the point; else the distance to the nearest grid point
-        it does not reach or to the table's edge.
+        it does not reach or to the table's edge. Reached means as a movement reaches it:
+        from a neighbour, without a change of IK branch (:data:`BRANCH_JUMP`).
     """
     kin = _core.Kinematics(entry.urdf, entry.base_link, entry.tool_link)
     down = np.eye(4)
@@ -152,16 +159,8 @@ def reachable_disc(entry: RobotEntry, spacing: float, height: float,
     xs = np.arange(-hx + spacing / 2, hx, spacing)
     ys = np.arange(-hy + spacing / 2, hy, spacing)
     points = np.array([(x, y) for x in xs for y in ys])
-    seed = np.asarray(entry.neutral, dtype=float)
-    ok = np.zeros(len(points), dtype=bool)
-    for i, (x, y) in enumerate(points):
-        if within is not None and not (within[0] <= x <= within[1]
-                                       and within[2] <= y <= within[3]):
-            continue
-        target = down.copy()
-        target[:3, 3] = (inv @ np.array([x, y, height, 1.0]))[:3]
-        _, rep = kin.ik_report(target, seed)
-        ok[i] = rep.status == _core.Status.ok
+    ok = _reached(kin, down, inv, xs, ys, height, np.asarray(entry.neutral, dtype=float),
+                  BRANCH_JUMP * spacing / GRID, within).reshape(-1)
     edge = np.minimum.reduce([points[:, 0] + hx, hx - points[:, 0], points[:, 1] + hy,
                               hy - points[:, 1]])
     radius = np.zeros(len(points))
@@ -170,6 +169,59 @@ def reachable_disc(entry: RobotEntry, spacing: float, height: float,
         near = np.sqrt(((bad - points[i]) ** 2).sum(axis=1)).min() if len(bad) else np.inf
         radius[i] = min(edge[i], near - spacing / 2)
     return points, np.maximum(radius, 0.0)
+
+
+def _reached(kin: _core.Kinematics, down: NDArray[np.float64], inv: NDArray[np.float64],
+             xs: NDArray[np.float64], ys: NDArray[np.float64], height: float,
+             neutral: NDArray[np.float64], jump: float,
+             within: tuple[float, float, float, float] | None) -> NDArray[np.bool_]:
+    """Which grid points (len(xs), len(ys)) the tool reaches pointing down as a movement
+    would: from the point nearest below the neutral tool (IK from the neutral pose), each
+    neighbour by IK seeded with the solution of a reached point, kept when no joint moves
+    more than `jump` rad (a continuous joint's turn by 2 pi is no move); a point first
+    refused is tried again from each neighbour reached later."""
+    continuous = ~np.isfinite(np.asarray(kin.lower))
+
+    def solve(i: int, j: int, seed: NDArray[np.float64]) -> NDArray[np.float64] | None:
+        x, y = float(xs[i]), float(ys[j])
+        if within is not None and not (within[0] <= x <= within[1]
+                                       and within[2] <= y <= within[3]):
+            return None
+        target = down.copy()
+        target[:3, 3] = (inv @ np.array([x, y, height, 1.0]))[:3]
+        q, rep = kin.ik_report(target, seed)
+        if rep.status != _core.Status.ok:
+            return None
+        q = np.asarray(q, dtype=float)
+        dq = q - seed
+        dq[continuous] = (dq[continuous] + math.pi) % (2 * math.pi) - math.pi
+        return q if np.abs(dq).max() <= jump else None
+
+    tool = np.linalg.inv(inv) @ kin.fk(neutral)[:, 3]  # the neutral tool in the table frame
+    order = np.argsort([(x - tool[0]) ** 2 + (y - tool[1]) ** 2 for x in xs for y in ys])
+    reached = np.zeros((len(xs), len(ys)), dtype=bool)
+    sols: dict[tuple[int, int], NDArray[np.float64]] = {}
+    queue: deque[tuple[int, int]] = deque()
+    for k in order[:64]:  # the first point near the neutral tool that the IK reaches
+        i, j = divmod(int(k), len(ys))
+        x, y = float(xs[i]), float(ys[j])
+        target = down.copy()
+        target[:3, 3] = (inv @ np.array([x, y, height, 1.0]))[:3]
+        q, rep = kin.ik_report(target, neutral)
+        if rep.status == _core.Status.ok and (within is None or (
+                within[0] <= x <= within[1] and within[2] <= y <= within[3])):
+            reached[i, j], sols[(i, j)] = True, np.asarray(q, dtype=float)
+            queue.append((i, j))
+            break
+    while queue:
+        i, j = queue.popleft()
+        for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)):
+            if 0 <= a < len(xs) and 0 <= b < len(ys) and not reached[a, b]:
+                q = solve(a, b, sols[(i, j)])
+                if q is not None:
+                    reached[a, b], sols[(a, b)] = True, q
+                    queue.append((a, b))
+    return reached
 
 
 def _cache_file(entry: RobotEntry, spacing: float, height: float,
