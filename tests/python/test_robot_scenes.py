@@ -157,3 +157,16 @@ def test_a_small_arms_run_scales_the_lengths_left_at_their_defaults() -> None:
     assert FrameworkConfig.from_dict(cfg.to_dict()) == cfg  # a saved run reloads unchanged
     panda = FrameworkConfig(scene="bullet", robot="panda")
     assert panda.discretization == FrameworkConfig().discretization  # scale 1
+
+
+def test_a_skill_learned_for_another_robot_is_refused() -> None:
+    from a2l.robot import baxter_urdf, urdf_sha256
+
+    record = {"name": "baxter", "urdf_sha256": urdf_sha256(baxter_urdf())}
+    builtin_robot("baxter").check_learned_for(record, "skill bundle 'push.a2lb'")
+    builtin_robot("panda").check_learned_for(None, "a virtual scene's skill")
+    with pytest.raises(A2LValueError, match="skill bundle 'push.a2lb' was learned for robot "
+                       "'baxter' .* not for 'panda' \\(panda.urdf\\)"):
+        builtin_robot("panda").check_learned_for(record, "skill bundle 'push.a2lb'")
+    with pytest.raises(A2LValueError, match="learned for robot 'baxter' \\(URDF sha256 abab"):
+        builtin_robot("baxter").check_learned_for({**record, "urdf_sha256": "ab" * 32}, "x")

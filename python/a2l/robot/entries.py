@@ -217,6 +217,33 @@ class RobotEntry:
         """Height (m) of the tool link above the table top at the neutral pose."""
         return float((self.mount.pose() @ self.neutral_pose())[2, 3])
 
+    def check_learned_for(self, record: object, what: str) -> None:
+        """Refuse a skill learned for another robot.
+
+        Parameters
+        ----------
+        record : mapping or None
+            A skill bundle's robot record (``name``, ``urdf_sha256``...); None (a skill of
+            the virtual scene) is taken anywhere.
+        what : str
+            The bundle, for the message (``"skill bundle 'push.a2lb'"``).
+
+        Raises
+        ------
+        a2l.A2LValueError
+            The record names another robot, or a URDF of another content.
+        """
+        if not record:
+            return
+        from a2l.robot.descriptions import urdf_sha256
+
+        rec = dict(record)  # type: ignore[call-overload]
+        name, sha = str(rec.get("name", "")), str(rec.get("urdf_sha256", ""))
+        if name != self.name or (sha and sha != urdf_sha256(self.urdf)):
+            raise A2LValueError(
+                f"{what} was learned for robot {name!r} (URDF sha256 {sha[:12]}...), not for "
+                f"{self.name!r} ({self.urdf.name}): learn the skill on this robot")
+
     # --- views ----------------------------------------------------------------------------
 
     def arm_spec(self) -> ArmSpec:

@@ -132,7 +132,8 @@ def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect:
     ------
     ValueError
         Unknown mode, no effect test for `effect`, a scene whose movement length differs
-        from the bundle's, or an unknown object.
+        from the bundle's, an unknown object, or a bundle learned for another robot than
+        the scene's.
     """
     t0 = time.perf_counter()
     if mode not in ("table", "ds"):
@@ -146,6 +147,9 @@ def run_skill(scene: SceneProtocol, bundle_path: str | os.PathLike[str], effect:
         raise ValueError(f"the scene moves by {scene.step_length} m, the skill bundle "
                          f"'{path}' by {table.step_length} m: make the scene with step="
                          f"{table.step_length}")
+    entry = getattr(scene, "robot_entry", None)
+    if entry is not None:
+        entry.check_learned_for(table.skill.robot, f"skill bundle '{path}'")
     policy = table if mode == "table" else skill_policy(path, effect, mode)
     cap = table.step_cap if max_steps is None else int(max_steps)
     names = scene.object_names

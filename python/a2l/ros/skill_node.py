@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from a2l import _core
 from a2l.errors import A2LError, A2LValueError
-from a2l.robot import arm_spec, urdf_sha256
+from a2l.robot import arm_spec, robot_entry
 from a2l.rollout.effect_tests import Progress, effect_test_of
 from a2l.ros import topics as T
 from a2l.ros.orientation import commanded_orientation
@@ -133,14 +133,8 @@ def check_robot(runner: CppSkillRunner, robot: str, arm: str) -> Any:
         spec = arm_spec(robot, arm)
     except ValueError as exc:
         raise A2LValueError(str(exc)) from None
-    entry = runner.skill.robot
-    if entry:
-        name, sha = str(entry.get("name", "")), str(entry.get("urdf_sha256", ""))
-        if name != robot or (sha and sha != urdf_sha256(spec.urdf)):
-            raise A2LValueError(
-                f"skill bundle '{runner.path}' was learned for robot {name!r} (URDF sha256 "
-                f"{sha[:12]}...), the node drives {robot!r} ({spec.urdf.name}); learn the "
-                "skill for this robot")
+    name = "baxter-left" if robot == "baxter" and arm == "left" else robot
+    robot_entry(name).check_learned_for(runner.skill.robot, f"skill bundle '{runner.path}'")
     return spec
 
 
