@@ -179,7 +179,9 @@ def _new_run(cfg: FrameworkConfig, out: str | Path | None, acquisition: str,
                          "'noveb'")
     if noveb_evaluations < 1:
         raise ValueError(f"noveb_evaluations: must be >= 1, got {noveb_evaluations}")
-    run_dir = make_run_dir(f"push-{cfg.scene}", out)
+    robot = _robot_entry(cfg)
+    name = robot["name"] if cfg.scene == "bullet" and robot else cfg.scene
+    run_dir = make_run_dir(f"push-{name}", out)
     write_json(run_dir / "config.json", {
         "experiment": "push", "framework": cfg.to_dict(),
         **({"acquisition": {"method": acquisition, "evaluations": noveb_evaluations}}
@@ -198,7 +200,9 @@ def _metrics(cfg: FrameworkConfig, result: FrameworkResult, history: list[dict[s
     """The results part of ``metrics.json`` (the run's wall time, workers and acquisition
     are added by the caller)."""
     return {
-        "experiment": "push", "scene": cfg.scene, "n_effects": cfg.discretization.n_effects,
+        "experiment": "push", "scene": cfg.scene,
+        **({"robot": _robot_entry(cfg)["name"]} if cfg.scene in ROBOT_SCENES else {}),  # type: ignore[index]
+        "n_effects": cfg.discretization.n_effects,
         "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
         "heldout_success": result.heldout_success,
         "heldout_success_rate": result.heldout_success_rate,

@@ -107,12 +107,18 @@ def headline_table(runs: list[dict[str, Any]]) -> str:
         held = m.get("heldout_score")
         moves = its[-1].get("robot_movements_total")
         lines.append("| " + " | ".join([
-            str(m["scene"]), str(m["n_effects"]), str(m["seed"]), str(len(its)),
+            _scene(m), str(m["n_effects"]), str(m["seed"]), str(len(its)),
             f"{m['final_score']:.1f}", _overall(last.get("success_rate")),
             "—" if held is None else f"{held:.1f}", _overall(last.get("heldout_success_rate")),
             "—" if moves is None else f"{moves:,}", _causes(m.get("heldout_miss_causes"))])
             + " |")
     return "\n".join(lines)
+
+
+def _scene(m: dict[str, Any]) -> str:
+    """The scene of a run's metrics, with its robot when the scene takes one (``bullet``)."""
+    return f"{m['scene']} ({m['robot']})" if m["scene"] == "bullet" and m.get("robot") else \
+        str(m["scene"])
 
 
 def _causes(causes: dict[str, int] | None) -> str:

@@ -184,6 +184,24 @@ def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
                  str(effects), "--seed", str(seed), "--quiet", *extra, resume=True)
 
 
+def _push_on(robot: str, seed: int, *extra: str) -> Run:
+    """The 4-effect push run of `seed` on `robot` (a built-in name or a robot file of the
+    repository), with the camera."""
+    key = f"{Path(robot).stem}-s{seed}"
+    return Run(key, ("experiment", "push", "--scene", "bullet", "--robot", robot,
+                     "--discretization.n_effects", "4", "--seed", str(seed), "--quiet",
+                     *extra), True)
+
+
+def _push_robots(ms: list[dict[str, Any]]) -> str:
+    from a2l.experiments.push_report import headline_table
+
+    return headline_table(ms)
+
+
+#: The robot file of an arm that is not built in (docs/robots.md's worked example).
+XARM_FILE = "examples/robots/xarm7.yaml"
+
 #: Every table, in the order of the README.
 ENTRIES: tuple[Entry, ...] = (
     # what `make demo` runs after its set-up, on the demo's own seed (a tuning seed: the
@@ -205,6 +223,14 @@ ENTRIES: tuple[Entry, ...] = (
            "full": [*_push("s1000-e4", 1000, 4), *_push("s1001-e4", 1001, 4),
                     *_push("s1002-e4", 1002, 4), *_push("s1000-e8", 1000, 8)]},
           _push_baxter, ("trajectories.png", "heldout_trajectories.png"),
+          details=_push_baxter_misses),
+    Entry("robots", "The push experiment on every built-in robot and on an arm from a robot "
+          "file (a2l experiment push --scene bullet --robot; camera context)",
+          {"quick": [_push_on("panda", 1000, "--max_iterations", "3")],
+           "full": [_push_on("panda", 1000), _push_on("panda", 1001), _push_on("ur5", 1000),
+                    _push_on("so101", 1000), _push_on("pr2", 1000),
+                    _push_on(XARM_FILE, 1000)]},
+          _push_robots, ("trajectories.png", "heldout_trajectories.png"),
           details=_push_baxter_misses),
     Entry("babbling", "Exploration: NovEB against random motor and random goal babbling "
           "(a2l experiment babbling-compare)",
