@@ -154,17 +154,7 @@ class BuildMixin:
                          (gripper.joints if gripper else ())]
         self._finger_open = tuple(gripper.open) if gripper else ()
         self._finger_closed = tuple(gripper.closed) if gripper else ()
-        parent = {j: p.getJointInfo(self._robot, j, physicsClientId=c)[16]
-                  for j in range(p.getNumJoints(self._robot, physicsClientId=c))}
-
-        def moved(link: int) -> bool:
-            while link >= 0:
-                if link in self._fingers:
-                    return True
-                link = parent[link]
-            return False
-
-        self._finger_links = {link for link in parent if moved(link)}
+        self._finger_links = self._moved_by(set(self._fingers))
         for link in sorted(self._finger_links):
             p.changeDynamics(self._robot, link, lateralFriction=1.5, physicsClientId=c)
 
@@ -181,20 +171,26 @@ class BuildMixin:
         bit. The still links still collide with the objects that move.
         """
         c, r = self._client, self._robot
-        parent = {j: p.getJointInfo(r, j, physicsClientId=c)[16]
-                  for j in range(p.getNumJoints(r, physicsClientId=c))}
-
-        def acting(link: int) -> bool:
-            while link >= 0:
-                if link in self._arm:
-                    return True
-                link = parent[link]
-            return False
-
-        for link in (-1, *parent):
-            if not acting(link):
+        acting = self._moved_by(set(self._arm))
+        for link in range(-1, p.getNumJoints(r, physicsClientId=c)):
+            if link not in acting:
                 p.setCollisionFilterGroupMask(r, link, STATIC_GROUP, -1 ^ STATIC_GROUP,
                                               physicsClientId=c)
+
+    def _moved_by(self, joints: set[int]) -> set[int]:
+        """The robot's links that `joints` move (PyBullet indices: a link's index is its
+        parent joint's): those with one of them on the way to the base."""
+        c, r = self._client, self._robot
+        parent = {j: p.getJointInfo(r, j, physicsClientId=c)[16]
+                  for j in range(p.getNumJoints(r, physicsClientId=c))}
+        out = set()
+        for link in parent:
+            up = link
+            while up >= 0 and up not in joints:
+                up = parent[up]
+            if up >= 0:
+                out.add(link)
+        return out
 
     def _build_objects(self) -> None:
         """Create the scene's objects (subclasses)."""
