@@ -30,6 +30,7 @@ from a2l.robot import (
     robot_entry,
     robots_dir,
 )
+from a2l.robot.descriptions import PUSHER_TIP
 from a2l.robot.entries import arm_reach
 
 #: The most the tool of a built-in neutral pose may lean from the vertical (rad): Baxter's
@@ -128,7 +129,7 @@ def test_arm_spec_returns_what_it_returned_before() -> None:
         arm_spec("baxter", "middle")
     with pytest.raises(ValueError, match="no built-in arm for robot 'kuka'"):
         arm_spec("kuka")
-    assert arm_spec("ur5").tip_link == "tool0"
+    assert arm_spec("ur5").tip_link == "a2l_pusher_tip"  # a rod on the flange
 
 
 def test_an_entry_without_tool_down_has_no_arm_spec(tmp_path: Path) -> None:
@@ -280,7 +281,10 @@ def test_the_docs_table_of_builtin_robots_is_computed() -> None:
     assert set(rows) == set(BUILTIN_ROBOTS)
     for name, (_, urdf, base, tool, joints, reach, height) in rows.items():
         entry = robot_entry(name)
-        assert entry.urdf == robots_dir() / urdf
+        if entry.tool_link == PUSHER_TIP:  # the URDF with a pusher rod: a generated copy
+            assert entry.urdf.name.startswith(Path(urdf).stem + "-pusher-")
+        else:
+            assert entry.urdf == robots_dir() / urdf
         assert (base, tool, int(joints)) == (entry.base_link, entry.tool_link, entry.n_joints)
         assert (reach, height) == (f"{entry.reach:.2f}", f"{entry.tool_height:.2f}"), name
     z1 = yaml.safe_load(re.search(r"```yaml\n(.*?)```", text, flags=re.S).group(1))

@@ -170,3 +170,17 @@ def test_a_skill_learned_for_another_robot_is_refused() -> None:
         builtin_robot("panda").check_learned_for(record, "skill bundle 'push.a2lb'")
     with pytest.raises(A2LValueError, match="learned for robot 'baxter' \\(URDF sha256 abab"):
         builtin_robot("baxter").check_learned_for({**record, "urdf_sha256": "ab" * 32}, "x")
+
+
+def test_a_pusher_rod_is_added_to_a_urdf_and_its_link_checked() -> None:
+    import a2l
+    from a2l.errors import URDFError
+    from a2l.robot import robots_dir
+    from a2l.robot.descriptions import PUSHER_TIP, pusher_urdf
+
+    src = robots_dir() / "ur_description" / "urdf" / "ur5_robot.urdf"
+    kin = a2l.Kinematics(pusher_urdf(src, "tool0", (0.0, 0.0, 1.0), 0.12, 0.015), "tool0",
+                         PUSHER_TIP)
+    assert np.allclose(kin.fk(np.zeros(0))[:3, 3], [0.0, 0.0, 0.12])  # the rod's tip
+    with pytest.raises(URDFError, match="no link 'tool9' to fix a pusher to"):
+        pusher_urdf(src, "tool9", (0.0, 0.0, 1.0), 0.12, 0.015)

@@ -15,7 +15,15 @@ import os
 from collections.abc import Callable
 
 from a2l.errors import A2LValueError
-from a2l.robot.descriptions import BAXTER_ARMS, ArmSpec, baxter_urdf, panda_urdf, robots_dir
+from a2l.robot.descriptions import (
+    BAXTER_ARMS,
+    PUSHER_TIP,
+    ArmSpec,
+    baxter_urdf,
+    panda_urdf,
+    pusher_urdf,
+    robots_dir,
+)
 from a2l.robot.entries import Gripper, Mount, RobotEntry
 from a2l.robot.gripper import BAXTER_FINGER_OPEN, GRIPPER_DOWN, PANDA_DOWN
 
@@ -59,10 +67,14 @@ def _panda() -> RobotEntry:
 
 
 def _ur5() -> RobotEntry:
-    # wrist_1 = -pi/2 - (shoulder_lift + elbow): the tool's z axis vertical, down
+    # wrist_1 = -pi/2 - (shoulder_lift + elbow): the tool's z axis vertical, down. A bare
+    # flange pushes with the wrist: reaching over the 8 cm push box, the wrist_1 link hangs
+    # at the box's top (0.08 m, measured) and shoved it from 15 cm off. The UR5 pushes with a
+    # rod of 12 cm on its flange (pusher_urdf), the tool point at its tip.
+    urdf = pusher_urdf(robots_dir() / "ur_description" / "urdf" / "ur5_robot.urdf", "tool0",
+                       (0.0, 0.0, 1.0), 0.12, 0.015)
     return RobotEntry(
-        name="ur5", urdf=robots_dir() / "ur_description" / "urdf" / "ur5_robot.urdf",
-        base_link="base_link", tool_link="tool0",
+        name="ur5", urdf=urdf, base_link="base_link", tool_link=PUSHER_TIP,
         neutral=(0.0, -1.55, 2.0, -2.0208, -1.5708, 1.5708), mount=Mount((-0.45, 0.0, 0.0)),
         tool_down=_DOWN_Y, gripper=None)
 

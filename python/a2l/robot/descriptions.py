@@ -19,6 +19,7 @@ __all__ = [
     "ArmSpec",
     "baxter_urdf",
     "panda_urdf",
+    "pusher_urdf",
     "pybullet_urdf",
     "resolve_urdf",
     "robots_dir",
@@ -194,3 +195,76 @@ def pybullet_urdf(path: str | os.PathLike[str] | None = None) -> Path:
         raise URDFError(f"URDF '{src}': cannot resolve mesh 'package://{package}/{rest}'")
 
     return cached_urdf(src.stem, _PACKAGE_URI.sub(replace, text))
+
+
+#: The link :func:`pusher_urdf` adds at the tip of the pusher.
+PUSHER_TIP = "a2l_pusher_tip"
+
+
+def pusher_urdf(urdf: str | os.PathLike[str], parent: str, axis: tuple[float, float, float],
+                length: float, radius: float) -> Path:
+    """A copy of `urdf` with a pusher: a rod of `length` and `radius` (m) fixed to link
+    `parent` along `axis` (3,) of its frame, and a link :data:`PUSHER_TIP` at its end (the
+    tool point of an arm whose flange would otherwise push with its wrist). Written once per
+    content in ``~/.cache/a2l/urdf``; ``package://`` URIs are kept, so :func:`pybullet_urdf`
+    resolves its meshes as the original's.
+
+    Raises
+    ------
+    a2l.URDFError
+        `urdf` has no link `parent`, or already a link :data:`PUSHER_TIP`.
+    """
+    import math
+    import xml.etree.ElementTree as ET
+
+    src = Path(urdf)
+    root = ET.fromstring(src.read_text())
+    links = {link.get("name") for link in root.iter("link")}
+    if parent not in links or PUSHER_TIP in links:
+        raise URDFError(f"URDF '{src}': no link '{parent}' to fix a pusher to, or one is "
+                        "there already")
+    a = [float(v) for v in axis]
+    n = math.sqrt(sum(v * v for v in a))
+    a = [v / n for v in a]
+    # the rod's cylinder lies along z: turn z onto the axis (about the axis z x a)
+    angle = math.acos(max(-1.0, min(1.0, a[2])))
+    turn = (-a[1], a[0], 0.0) if abs(a[2]) < 1 - 1e-12 else (1.0, 0.0, 0.0)
+    rpy = _rpy_of_axis_angle(turn, angle)
+    mid = " ".join(f"{v * length / 2:.6g}" for v in a)
+    tip = " ".join(f"{v * length:.6g}" for v in a)
+    rod = ET.SubElement(root, "link", {"name": "a2l_pusher"})
+    for tag in ("visual", "collision"):
+        el = ET.SubElement(rod, tag)
+        ET.SubElement(el, "origin", {"xyz": mid, "rpy": " ".join(f"{v:.6g}" for v in rpy)})
+        geom = ET.SubElement(el, "geometry")
+        ET.SubElement(geom, "cylinder", {"radius": f"{radius:.6g}", "length": f"{length:.6g}"})
+    inertial = ET.SubElement(rod, "inertial")
+    ET.SubElement(inertial, "origin", {"xyz": mid, "rpy": "0 0 0"})
+    ET.SubElement(inertial, "mass", {"value": "0.1"})
+    ET.SubElement(inertial, "inertia", {"ixx": "1e-4", "ixy": "0", "ixz": "0", "iyy": "1e-4",
+                                        "iyz": "0", "izz": "1e-5"})
+    ET.SubElement(root, "link", {"name": PUSHER_TIP})
+    for name, (par, child, xyz) in {"a2l_pusher_joint": (parent, "a2l_pusher", "0 0 0"),
+                                    "a2l_pusher_tip_joint": ("a2l_pusher", PUSHER_TIP, tip)
+                                    }.items():
+        joint = ET.SubElement(root, "joint", {"name": name, "type": "fixed"})
+        ET.SubElement(joint, "parent", {"link": par})
+        ET.SubElement(joint, "child", {"link": child})
+        ET.SubElement(joint, "origin", {"xyz": xyz, "rpy": "0 0 0"})
+    stem = f"{src.stem}-pusher"
+    return cached_urdf(stem, ET.tostring(root, encoding="unicode"))
+
+
+def _rpy_of_axis_angle(axis: tuple[float, float, float], angle: float
+                       ) -> tuple[float, float, float]:
+    """Roll, pitch, yaw (rad, URDF's fixed-axis x-y-z) of a turn by `angle` about `axis`."""
+    import numpy as np
+
+    k = np.asarray(axis, dtype=float)
+    k = k / np.linalg.norm(k)
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    r = np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+    pitch = float(np.arcsin(-np.clip(r[2, 0], -1, 1)))
+    roll = float(np.arctan2(r[2, 1], r[2, 2]))
+    yaw = float(np.arctan2(r[1, 0], r[0, 0]))
+    return roll, pitch, yaw
