@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import threading
+import time
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Generic, TypeVar
@@ -107,7 +109,7 @@ class Executor:
         if self._pool is None:
             self._pool = ProcessPoolExecutor(
                 max_workers=self.workers, mp_context=mp.get_context("spawn"),
-                initializer=_limit_threads,
+                initializer=_init_worker, initargs=(os.getpid(),),
             )
         futures = [self._pool.submit(_run_batch, (fn, b)) for b in cut]
         return Pending(fn, items, futures, [len(b) for b in cut])
@@ -249,8 +251,23 @@ def _run_batch(job: tuple[Callable[[T], R], Sequence[T]]) -> list[R]:
     return [fn(t) for t in batch]
 
 
-def _limit_threads() -> None:
-    # One BLAS thread per worker: the workers are the parallelism.
+#: How often (s) a local worker checks that the process that started it is alive.
+PARENT_POLL_S = 1.0
+
+
+def _init_worker(parent: int) -> None:
+    """Set up a local worker: one BLAS thread (the workers are the parallelism), and a
+    watch on its parent, the process `parent`: killed (SIGKILL, a closed terminal), the
+    parent cannot stop its workers, and one in the middle of a long batch would run on,
+    orphaned, for minutes. (The pid is passed, not read here: the parent may be gone
+    before a worker has started.)"""
     for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(PARENT_POLL_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="a2l-parent-watch", daemon=True).start()
 

@@ -60,3 +60,51 @@ def test_tasks_given_up_do_not_run_where_not_started() -> None:
     assert pending.result() == [abs(t) for t in tasks[:10]] + [None] * 30
     with pytest.raises(ValueError, match="flags"):
         Executor(workers=1).submit(abs, tasks).drop([True])
+
+
+_PARENT = """
+import sys, time
+from a2l.parallel import Executor
+ex = Executor(workers=2)
+pending = ex.submit(time.sleep, [60.0, 60.0])
+time.sleep(0.2)
+pid = [p.pid for p in ex._pool._processes.values()][0]
+print(pid, flush=True)
+time.sleep(60)
+"""
+
+
+def test_a_worker_whose_parent_is_killed_exits() -> None:
+    """The parent killed outright (SIGKILL) cannot stop its workers: a worker, in the middle
+    of a 60 s task, sees that its parent is gone and exits within a few seconds."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    parent = subprocess.Popen([sys.executable, "-c", _PARENT], stdout=subprocess.PIPE,
+                              text=True)
+    try:
+        worker = int(parent.stdout.readline())  # type: ignore[union-attr]
+        os.kill(worker, 0)  # running
+        parent.send_signal(signal.SIGKILL)
+        parent.wait(10)
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and _alive(worker):
+            time.sleep(0.1)
+        if not _alive(worker):
+            return
+        os.kill(worker, signal.SIGKILL)
+        pytest.fail("the orphaned worker was still running 10 s after its parent died")
+    finally:
+        parent.kill()
+
+
+def _alive(pid: int) -> bool:
+    """`pid` runs (a zombie, exited and not yet reaped by its new parent, does not)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
