@@ -184,3 +184,32 @@ def test_a_pusher_rod_is_added_to_a_urdf_and_its_link_checked() -> None:
     assert np.allclose(kin.fk(np.zeros(0))[:3, 3], [0.0, 0.0, 0.12])  # the rod's tip
     with pytest.raises(URDFError, match="no link 'tool9' to fix a pusher to"):
         pusher_urdf(src, "tool9", (0.0, 0.0, 1.0), 0.12, 0.015)
+
+
+def test_a_box_the_hand_would_clip_is_lowered_below_it() -> None:
+    """The Panda's hand comes 3.4 cm above its tool point: the layout's 8 cm push box is
+    lowered so that, pushed at mid-height, its top stays under the hand; a size given stays."""
+    from a2l.sim._pybullet import p
+    from a2l.sim.tool_clearance import BOX_MARGIN, tool_clearance
+
+    def gap(**config: object) -> float:
+        """Distance (m) of the hand from the box, the tool point 9 cm beside the box."""
+        scene = make_scene("push", seed=0, robot="panda", context_source="ground_truth",
+                           **config)
+        try:
+            if not config:
+                clearance = tool_clearance(scene)
+                assert 0.02 < clearance < 0.05
+                assert scene.config.box_size[2] == pytest.approx(2 * clearance - BOX_MARGIN,
+                                                                 abs=1e-6)
+            home = np.asarray(scene.ground_truth()["objects"]["box"])
+            scene.reset(eef=home + np.array([0.0, -0.09, 0.0]), objects={"box": home[:2]})
+            hand = scene._link_index["panda_hand"]
+            return min(q[8] for q in p.getClosestPoints(
+                scene._robot, scene._objects["box"].body, 0.1, hand,
+                physicsClientId=scene._client))
+        finally:
+            scene.close()
+
+    assert gap() > 0.005  # over the box's edge, clear of it
+    assert gap(box_size=(0.07, 0.085, 0.08)) < 0.0  # given, kept: the hand cuts its top

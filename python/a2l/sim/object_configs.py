@@ -42,6 +42,7 @@ class PushConfig(SceneConfig):
 
     _SCALED: ClassVar[dict[str, Any]] = {**SceneConfig._SCALED, "box_size": BOX_SIZE}
     _PLACES: ClassVar[dict[str, tuple[float, float]]] = {"box_position": (0.0, 0.0)}
+    _TALL: ClassVar[tuple[str, ...]] = ("box_size",)
 
     def _validate_objects(self) -> None:
         self._check_object("box")
@@ -145,6 +146,7 @@ class PressConfig(SceneConfig):
     _PLACES: ClassVar[dict[str, tuple[float, float]]] = {
         "button_position": (0.0, 0.15), "lamp_position": (0.33, 0.45),
         "box_position": (0.0, -0.10)}
+    _TALL: ClassVar[tuple[str, ...]] = ("box_size",)
 
     def state_values(self) -> dict[str, tuple[str, ...]]:
         return {"gripper": ("open", "closed"), "light": ("off", "on")}

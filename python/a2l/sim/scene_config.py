@@ -155,6 +155,9 @@ class SceneConfig:
     #: Object positions left at None: their offset (table frame, m at scale 1) from the
     #: robot's work point (:meth:`a2l.robot.TableLayout.place`).
     _PLACES: ClassVar[dict[str, tuple[float, float]]] = {}
+    #: Object sizes whose height the scene lowers below the robot's hand when the layout
+    #: gave them (:mod:`a2l.sim.tool_clearance`).
+    _TALL: ClassVar[tuple[str, ...]] = ()
 
     def __post_init__(self) -> None:
         self._apply_layout()
@@ -167,6 +170,8 @@ class SceneConfig:
                               f"{self.robot!r}")
         empty = [f for f in (*self._LAYOUT_FIELDS, *self._SCALED, *self._PLACES)
                  if getattr(self, f) is None]
+        #: The fields the layout filled (not given).
+        self._from_layout = frozenset(empty)
         if not empty:
             return
         lay = self.layout()

@@ -62,6 +62,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         self._bodies = BodyCache(c)
         self._build_world()
         self._build_robot()
+        self._fit_tall_objects()
         self._build_objects()
         targets = [ColorTarget(o.name, o.rgba, o.size[2] / 2, o.size[0] * o.size[1])
                    for o in self._objects.values()]

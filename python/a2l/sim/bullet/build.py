@@ -15,6 +15,7 @@ from a2l.robot.layout import TABLE_HEIGHT
 from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
 from a2l.sim.bodies import BodyCache
+from a2l.sim.tool_clearance import BOX_MARGIN, tool_clearance
 
 __all__ = ["PARK", "BuildMixin", "SceneObject"]
 
@@ -191,6 +192,20 @@ class BuildMixin:
             if up >= 0:
                 out.add(link)
         return out
+
+    def _fit_tall_objects(self) -> None:
+        """Lower a box whose size the layout gave (``config._TALL``) to fit under the hand:
+        at most twice the tool clearance less :data:`~a2l.sim.tool_clearance.BOX_MARGIN`
+        (the Panda's push box: 5.9 cm, not 8). The configuration says the size built."""
+        cfg = self.config
+        names = [n for n in cfg._TALL if n in getattr(cfg, "_from_layout", ())]
+        if not names:
+            return
+        top = round(2 * tool_clearance(self) - BOX_MARGIN, 6)
+        for name in names:
+            x, y, h = getattr(cfg, name)
+            if h > top:
+                setattr(cfg, name, (x, y, top))
 
     def _build_objects(self) -> None:
         """Create the scene's objects (subclasses)."""
