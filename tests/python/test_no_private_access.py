@@ -36,6 +36,8 @@ ALLOWED: dict[tuple[str, str], str] = {
                                 "name (typing only)",
     ("cli/parser.py", "_actions"): "argparse (and jsonargparse on it) lists a parser's "
                                    "options only in this attribute",
+    ("parallel.py", "_exit"): "os._exit is the standard library's way to end a process at "
+                              "once from a thread (a worker whose parent died)",
 }
 
 

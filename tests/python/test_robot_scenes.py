@@ -190,7 +190,7 @@ def test_a_box_the_hand_would_clip_is_lowered_below_it() -> None:
     """The Panda's hand comes 3.4 cm above its tool point: the layout's 8 cm push box is
     lowered so that, pushed at mid-height, its top stays under the hand; a size given stays."""
     from a2l.sim._pybullet import p
-    from a2l.sim.tool_clearance import BOX_MARGIN, tool_clearance
+    from a2l.sim.bullet.build import BOX_MARGIN
 
     def gap(**config: object) -> float:
         """Distance (m) of the hand from the box, the tool point 9 cm beside the box."""
@@ -198,7 +198,7 @@ def test_a_box_the_hand_would_clip_is_lowered_below_it() -> None:
                            **config)
         try:
             if not config:
-                clearance = tool_clearance(scene)
+                clearance = scene.tool_clearance()
                 assert 0.02 < clearance < 0.05
                 assert scene.config.box_size[2] == pytest.approx(2 * clearance - BOX_MARGIN,
                                                                  abs=1e-6)

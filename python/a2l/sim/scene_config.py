@@ -185,6 +185,11 @@ class SceneConfig:
             if getattr(self, name) is None:
                 setattr(self, name, lay.place(offset))
 
+    def layout_sized(self) -> tuple[str, ...]:
+        """The object sizes the layout gave (not given) whose height a scene fits under the
+        robot's hand (:meth:`a2l.sim.bullet.build.BuildMixin.tool_clearance`)."""
+        return tuple(n for n in self._TALL if n in self._from_layout)
+
     def layout(self) -> Any:
         """The robot's :class:`a2l.robot.TableLayout` (computed once per robot and process).
 

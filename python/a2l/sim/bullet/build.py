@@ -15,9 +15,12 @@ from a2l.robot.layout import TABLE_HEIGHT
 from a2l.sim._pybullet import p, quiet
 from a2l.sim.assets import collision_render_urdf
 from a2l.sim.bodies import BodyCache
-from a2l.sim.tool_clearance import BOX_MARGIN, tool_clearance
 
-__all__ = ["PARK", "BuildMixin", "SceneObject"]
+__all__ = ["BOX_MARGIN", "PARK", "BuildMixin", "SceneObject"]
+
+#: Room (m) kept between a box's top and the hand above a tool point at the box's mid-height
+#: (:meth:`BuildMixin.tool_clearance`).
+BOX_MARGIN = 0.01
 
 #: PyBullet's collision filter group of static bodies (``btBroadphaseProxy::StaticFilter``):
 #: a body without mass on a fixed base (the floor, the table) is in it, and its mask leaves it
@@ -194,18 +197,45 @@ class BuildMixin:
         return out
 
     def _fit_tall_objects(self) -> None:
-        """Lower a box whose size the layout gave (``config._TALL``) to fit under the hand:
-        at most twice the tool clearance less :data:`~a2l.sim.tool_clearance.BOX_MARGIN`
-        (the Panda's push box: 5.9 cm, not 8). The configuration says the size built."""
+        """Lower a box whose size the layout gave (:meth:`a2l.sim.SceneConfig.layout_sized`)
+        to fit under the hand: at most twice :meth:`tool_clearance` less
+        :data:`BOX_MARGIN` (the Panda's push box: 5.9 cm, not 8). The configuration says the
+        size built."""
         cfg = self.config
-        names = [n for n in cfg._TALL if n in getattr(cfg, "_from_layout", ())]
+        names = cfg.layout_sized()
         if not names:
             return
-        top = round(2 * tool_clearance(self) - BOX_MARGIN, 6)
+        top = round(2 * self.tool_clearance() - BOX_MARGIN, 6)
         for name in names:
             x, y, h = getattr(cfg, name)
             if h > top:
                 setattr(cfg, name, (x, y, top))
+
+    def tool_clearance(self) -> float:
+        """Height (m) above the tool point, at the neutral pose, of the lowest point of the
+        links the chain's last joint moves, the gripper's fingers (they push) and the links
+        holding the tool point (a pusher rod, a fixed jaw) left out; ``inf`` when no such link
+        has a collision shape. Leaves the arm at the neutral pose.
+
+        The pushes move the tool point at the height of the box's centre, and above the tool
+        point sits the hand (the Panda's: 3.4 cm above its fingertips' centre, 21 cm wide): a
+        box taller than twice the clearance reaches into it, and the hand clips its top going
+        round it (on the Panda with the 8 cm box, 68 of 128 held-out pushes of a tuning run
+        moved it the wrong way, the hand touching it 10 cm off the tool point).
+        """
+        c, robot = self._client, self._robot
+        for j, q in zip(self._arm, self._neutral_q, strict=True):
+            p.resetJointState(robot, j, float(q), physicsClientId=c)
+        tool = self.kinematics.fk(self._neutral_q)[:3, 3]
+        low = float("inf")
+        for link in sorted(self._moved_by({self._arm[-1]}) - self._finger_links):
+            if not p.getCollisionShapeData(robot, link, physicsClientId=c):
+                continue
+            lo, hi = p.getAABB(robot, link, physicsClientId=c)
+            if all(lo[i] - 1e-3 <= tool[i] <= hi[i] + 1e-3 for i in range(3)):
+                continue  # it holds the tool point
+            low = min(low, lo[2] - float(tool[2]))
+        return low
 
     def _build_objects(self) -> None:
         """Create the scene's objects (subclasses)."""
