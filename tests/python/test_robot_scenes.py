@@ -213,3 +213,12 @@ def test_a_box_the_hand_would_clip_is_lowered_below_it() -> None:
 
     assert gap() > 0.005  # over the box's edge, clear of it
     assert gap(box_size=(0.07, 0.085, 0.08)) < 0.0  # given, kept: the hand cuts its top
+
+
+def test_the_push_report_says_where_the_robots_scene_stands() -> None:
+    from a2l.experiments.push_report import _robot_lines
+
+    small = _robot_lines(FrameworkConfig(scene="bullet", robot="so101"))[0]
+    assert small.startswith("Robot: so101; the box at (") and "scaled by 0.5" in small
+    assert "scaled" not in _robot_lines(FrameworkConfig(scene="bullet", robot="panda"))[0]
+    assert _robot_lines(FrameworkConfig(scene="virtual")) == []

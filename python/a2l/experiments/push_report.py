@@ -115,6 +115,23 @@ def headline_table(runs: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def _robot_lines(cfg: FrameworkConfig) -> list[str]:
+    """The report's lines on the robot of a PyBullet run: where its scene stands, and the
+    scale when its arm reaches less than the thesis' scene needs."""
+    if cfg.scene not in ("bullet", "baxter"):
+        return []
+    from a2l.robot import robot_entry, table_layout
+
+    lay = table_layout(robot_entry(cfg.robot))
+    line = (f"Robot: {lay.robot}; the box at ({lay.work_point[0]:.3f}, "
+            f"{lay.work_point[1]:.3f}) m in its base frame, {lay.radius:.2f} m of reachable "
+            "table around it")
+    if lay.scale < 1:
+        line += (f"; the scene is scaled by {lay.scale:.2f} to its reach (the box, the "
+                 f"movement ({cfg.discretization.step:.3f} m), the start rings, the bins)")
+    return [line + ".", ""]
+
+
 def _scene(m: dict[str, Any]) -> str:
     """The scene of a run's metrics, with its robot when the scene takes one (``bullet``)."""
     return f"{m['scene']} ({m['robot']})" if m["scene"] == "bullet" and m.get("robot") else \
@@ -329,6 +346,7 @@ def report_markdown(cfg: FrameworkConfig, result: FrameworkResult, run_dir: Path
         "",
         f"Context: {context_label(cfg)}.",
         "",
+        *_robot_lines(cfg),
         f"Final score: **{result.final_score:.1f}** after {len(result.iterations)} "
         f"iteration(s); final skill `{Path(result.bundle).relative_to(run_dir)}` "
         "(copied to `skills/push.a2lb`).",
