@@ -1,0 +1,90 @@
+"""A robot resolved for the C++ runtime: one JSON file that ``a2l-run --robot FILE.json``
+reads without Python.
+
+A built-in robot or a robot file (:func:`a2l.robot.robot_entry`) names its URDF through
+``example-robot-data`` or a ``package://`` URI and leaves its scene geometry to be computed
+(:func:`a2l.robot.table_layout`). :func:`resolved_robot` writes down what follows: the URDF's
+absolute path and SHA-256, the chain, the neutral pose, ``tool_down``, and the scene's table
+height, work point, scale and end-effector workspace, all in the robot's base frame::
+
+    {"format": "a2l-resolved-robot", "version": 1, "name": "panda",
+     "urdf": "/.../panda.urdf", "urdf_sha256": "...", "base_link": "panda_link0",
+     "tool_link": "panda_hand_tcp", "joint_names": [...], "neutral": [...],
+     "tool_down": [[...], [...], [...]],
+     "scene": {"table_z": 0.0, "work_point": [0.45, -0.01], "scale": 1.0,
+               "workspace_min": [...], "workspace_max": [...]}}
+
+``python -m a2l.robot --export panda --out panda.json`` writes it (``docs/runtime.md``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from a2l.atomic import atomic_write_text
+from a2l.robot.descriptions import urdf_sha256
+from a2l.robot.layout import table_layout
+from a2l.robot.robot_file import robot_entry
+
+__all__ = ["RESOLVED_FORMAT", "RESOLVED_VERSION", "export_robot", "resolved_robot"]
+
+#: The ``format`` key of a resolved robot file.
+RESOLVED_FORMAT = "a2l-resolved-robot"
+#: Its ``version``; ``a2l-run`` refuses another.
+RESOLVED_VERSION = 1
+
+
+def resolved_robot(robot: str | os.PathLike[str]) -> dict[str, Any]:
+    """The resolved description of a robot (module docstring), as JSON-ready data.
+
+    Parameters
+    ----------
+    robot : str or PathLike
+        A built-in robot's name (``"panda"``) or a robot file's path.
+
+    Returns
+    -------
+    dict
+        ``format``, ``version``, ``name``, ``urdf`` (absolute), ``urdf_sha256``,
+        ``base_link``, ``tool_link``, ``joint_names`` (n,), ``neutral`` (n,), ``tool_down``
+        (3, 3) or None, and ``scene``: ``table_z``, ``work_point`` (2,), ``scale``,
+        ``workspace_min`` and ``workspace_max`` (3,) (m, base frame; the workspace's z
+        absolute, not from the table top as in :class:`a2l.robot.TableLayout`).
+
+    Raises
+    ------
+    a2l.A2LValueError, a2l.A2LFileNotFoundError
+        As :func:`a2l.robot.robot_entry` and :func:`a2l.robot.table_layout`.
+    """
+    entry = robot_entry(robot)
+    lay = table_layout(entry)
+    z = lay.table_z
+    urdf = entry.urdf.resolve()
+    return {
+        "format": RESOLVED_FORMAT,
+        "version": RESOLVED_VERSION,
+        "name": entry.name,
+        "urdf": str(urdf),
+        "urdf_sha256": urdf_sha256(urdf),
+        "base_link": entry.base_link,
+        "tool_link": entry.tool_link,
+        "joint_names": list(entry.joint_names),
+        "neutral": list(entry.neutral),
+        "tool_down": [list(row) for row in entry.tool_down] if entry.tool_down else None,
+        "scene": {
+            "table_z": z,
+            "work_point": list(lay.work_point),
+            "scale": lay.scale,
+            "workspace_min": [*lay.workspace_min[:2], round(z + lay.workspace_min[2], 6)],
+            "workspace_max": [*lay.workspace_max[:2], round(z + lay.workspace_max[2], 6)],
+        },
+    }
+
+
+def export_robot(robot: str | os.PathLike[str], out: str | os.PathLike[str]) -> Path:
+    """Write :func:`resolved_robot` of `robot` to `out` (JSON, atomically); returns `out`."""
+    text = json.dumps(resolved_robot(robot), indent=2) + "\n"
+    return atomic_write_text(out, text)
