@@ -1,7 +1,8 @@
 // a2l-run: load a skill bundle and run it in closed loop against a C++ scene, every
-// end-effector step going through Baxter's differential IK (see --help). The parts around the
-// loop are in a2l_run/: the command line (options), the request to the skill (request), the
-// robot, the scene, the task semantics (task), the records and the report.
+// end-effector step going through the differential IK of Baxter's arm, or of the arm of a
+// resolved robot file (--robot; see --help). The parts around the loop are in a2l_run/: the
+// command line (options), the request to the skill (request), the robot, the scene, the task
+// semantics (task), the records and the report.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -54,16 +55,34 @@ int load_skill(Args& args, World& w) {
   return resolve_request(args, w.skill, w.req);
 }
 
+// A robot file's scene scale on the lengths the command line left at their defaults: the
+// start distances and height (what the Python scenes scale on a small arm).
+void scale_start_defaults(double scale, Args& args) {
+  if (!args.has_radius) args.radius *= scale;
+  if (!args.has_radius_range) {
+    args.radius_min *= scale;
+    args.radius_max *= scale;
+  }
+  if (!args.has_start_height) args.start_height *= scale;
+}
+
 // The robot (unless --no-robot), the object's place, the scene and the workspace; the
-// executor started in it. 0, or the exit code after a message.
-int set_up_scene(const Args& args, World& w) {
+// executor started in it. With --robot, the object at the robot file's work point on its
+// table (sizes and start lengths scaled), in its workspace. 0, or the exit code after a
+// message.
+int set_up_scene(Args& args, World& w) {
   if (args.rate > 0.0) w.xo.period = 1.0 / args.rate;
   if (const int rc = setup_robot(args, w.skill, w.xo, w.robot); rc != 0) return rc;
+  const a2l::RobotSceneGeometry* geometry = w.robot.from_file ? &w.robot.file.scene : nullptr;
+  const double scale = geometry != nullptr ? geometry->scale : 1.0;
+  if (geometry != nullptr) scale_start_defaults(scale, args);
+  const Eigen::Vector3d half = scale * object_half_size(w.req.task);
   w.object0 = args.object;
-  if (!args.has_object) {
+  if (!args.has_object && geometry != nullptr) {
+    w.object0 << geometry->work_point, geometry->table_z + half.z();
+  } else if (!args.has_object) {
     w.object0 = args.no_robot ? Eigen::Vector3d(0.58, -0.18, 0.11) : w.robot.exec.position();
   }
-  const Eigen::Vector3d half = object_half_size(w.req.task);
   const double table_z = w.object0.z() - half.z();
   if (const int rc = make_scene(args, w.req.task, half, table_z, w.scene, w.virt); rc != 0) {
     return rc;
@@ -71,11 +90,16 @@ int set_up_scene(const Args& args, World& w) {
   if (args.no_robot) {
     w.xo.workspace_min = w.object0 - Eigen::Vector3d(1.0, 1.0, 0.5);
     w.xo.workspace_max = w.object0 + Eigen::Vector3d(1.0, 1.0, 0.5);
+    return 0;
+  }
+  if (geometry != nullptr && !args.has_object) {
+    w.xo.workspace_min = geometry->workspace_min;
+    w.xo.workspace_max = geometry->workspace_max;
   } else {
     w.xo.workspace_min = w.object0 - Eigen::Vector3d(0.6, 0.6, 0.3);
     w.xo.workspace_max = w.object0 + Eigen::Vector3d(0.6, 0.6, 0.5);
-    w.robot.exec.init(w.robot.kin, w.robot.q_neutral, w.xo);
   }
+  w.robot.exec.init(w.robot.kin, w.robot.q_neutral, w.xo);
   return 0;
 }
 
@@ -154,9 +178,8 @@ struct Loop {
 // Start-up of an episode with the robot (not real-time): full IK to `start`, the arm put
 // there (`start` then where it is). "" or why the episode cannot start.
 std::string move_to_start(const Args& args, Robot& robot, int episode_id, Eigen::Vector3d& start) {
-  Eigen::Isometry3d target = robot.exec.pose();
-  robot.exec.reset(robot.q_neutral);
-  target.linear() = robot.exec.pose().linear();
+  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  target.linear() = start_rotation(robot);
   target.translation() = start;
   a2l::JointVector q0;
   a2l::IkOptions io;
@@ -310,9 +333,10 @@ int run(Args args) {
   if (const int rc = load_skill(args, w); rc != 0) return rc;
   const a2l::Skill& skill = w.skill;
   const Request& req = w.req;
-  const EffectDetector detector = EffectDetector::of(req.task, req.effect_names);
   const WorldStates world = WorldStates::of(skill);
   if (const int rc = set_up_scene(args, w); rc != 0) return rc;
+  const EffectDetector detector = EffectDetector::of(
+      req.task, req.effect_names, w.robot.from_file ? w.robot.file.scene.scale : 1.0);
 
   const std::size_t trace_capacity =
       std::min<std::size_t>(static_cast<std::size_t>(skill.settings().step_cap) + 8, 100000);

@@ -331,3 +331,83 @@ def test_runtime_a2l_run_checks_the_urdf_sha256(push_bundle: Path, tmp_path: Pat
 
     r = run(good, *common[:-1], str(tmp_path / "missing.urdf"))
     assert r.returncode == 2 and "missing.urdf" in r.stderr
+
+
+def _panda_bundle(push_bundle: Path, tmp_path: Path) -> Path:
+    """The push bundle, recorded as learned on the Panda (name, URDF hash, chain)."""
+    from a2l.robot import robot_entry, urdf_sha256
+
+    panda = robot_entry("panda")
+    spec = load_bundle(push_bundle)
+    spec.robot = {"name": "panda", "urdf_sha256": urdf_sha256(panda.urdf),
+                  "base_link": panda.base_link, "tip_link": panda.tool_link}
+    return save_bundle(spec, tmp_path / "panda_push.a2lb")
+
+
+def test_runtime_a2l_run_on_the_panda_from_its_exported_robot_file(
+    tmp_path: Path, push_bundle: Path
+) -> None:
+    """`python -m a2l.robot --export panda` then `a2l-run --robot`: the Panda's arm moves the
+    box at its work point, in both scenes, as Baxter's does (the skill acts relative to the
+    box: 53/64 virtual and 35/64 Bullet on both arms)."""
+    robot = tmp_path / "panda.json"
+    exported = subprocess.run([sys.executable, "-m", "a2l.robot", "--export", "panda", "--out",
+                               str(robot)], capture_output=True, text=True, timeout=120)
+    assert exported.returncode == 0, exported.stderr
+    desc = json.loads(robot.read_text())
+    bundle = _panda_bundle(push_bundle, tmp_path)
+    for scene, least in (("virtual", 50), ("bullet", 32)):
+        trace, summary = tmp_path / f"{scene}.jsonl", tmp_path / f"{scene}.json"
+        r = run(bundle, "--robot", robot, "--scene", scene, "--episodes", "16", "--starts",
+                "circle", "--radius", RADIUS, "--trace", trace, "--summary", summary)
+        assert r.returncode == 0, r.stderr
+        assert "panda_link0 -> panda_hand_tcp (7 joints)" in r.stdout
+        s = json.loads(summary.read_text())
+        assert s["robot_file"] == {"path": str(robot), "name": "panda", "scene_scale": 1.0}
+        assert s["urdf_sha256"] == desc["urdf_sha256"]
+        assert s["success"] >= least, (scene, s["success"])
+        assert s["control_ticks"] >= 200 * s["skill_steps"]  # every movement through the IK
+        first = json.loads(trace.read_text().splitlines()[0])
+        scene_desc = desc["scene"]
+        np.testing.assert_allclose(first["object"], [*scene_desc["work_point"],
+                                                     scene_desc["table_z"] + 0.04], atol=1e-9)
+    # a bundle of the Panda's on Baxter (the default robot), and on a Baxter robot file
+    r = run(bundle, "--episodes", "1")
+    assert r.returncode == 2 and desc["urdf_sha256"] in r.stderr
+    baxter = tmp_path / "baxter.json"
+    assert subprocess.run([sys.executable, "-m", "a2l.robot", "--export", "baxter", "--out",
+                           str(baxter)], timeout=120).returncode == 0
+    r = run(bundle, "--robot", baxter, "--episodes", "1")
+    assert r.returncode == 2
+    assert "learned for robot 'panda', not for the robot 'baxter'" in r.stderr
+    bad = subprocess.run([sys.executable, "-m", "a2l.robot", "--export", "nobot"],
+                         capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and "unknown robot 'nobot'" in bad.stderr
+
+
+def test_runtime_a2l_run_refuses_a_bad_robot_file(tmp_path: Path, push_bundle: Path) -> None:
+    from a2l.robot.export import resolved_robot
+
+    good = resolved_robot("panda")
+
+    def refused(edit: dict, *extra: str) -> str:
+        path = tmp_path / "robot.json"
+        path.write_text(json.dumps({k: v for k, v in {**good, **edit}.items()
+                                    if v is not ...}))
+        r = run(push_bundle, "--robot", path, "--episodes", "1", *extra)
+        assert r.returncode == 2, r
+        return r.stderr
+
+    robot_file = {k: ... for k in ("format", "version", "urdf_sha256", "joint_names", "scene")}
+    assert "format: missing; a2l-run takes a robot resolved by" in refused(
+        {**robot_file, "mount": {"xyz": [-0.45, 0, 0], "yaw": 0}})  # a robot file, unresolved
+    assert "tool_link: missing" in refused({"tool_link": ...})
+    assert "scene.work_point: must hold 2 numbers, got 1" in refused(
+        {"scene": {**good["scene"], "work_point": [0.4]}})
+    assert "tool_down: not a rotation" in refused({"tool_down": [[1, 0, 0]] * 3})
+    assert "it was exported with; export the robot again" in refused({"urdf_sha256": "0" * 64})
+    names = list(good["joint_names"])
+    assert "joint_names: panda_joint2, panda_joint1" in refused(
+        {"joint_names": [names[1], names[0], *names[2:]]})
+    assert "unknown link 'hand'" in refused({"tool_link": "hand"})
+    assert "--arm: chooses Baxter's arm" in refused({}, "--arm", "left")

@@ -49,14 +49,20 @@ options:
                             for a push, 0.02,0.10 for a grasp or a press)
   --radius R                radius of the circle of --starts circle, m (default 0.2)
   --object X,Y,Z            box centre in the robot's base frame, m (default: the arm's
-                            neutral end-effector position)
+                            neutral end-effector position; with --robot, its work point)
   --rate HZ                 control rate of the joint commands; 0 = as fast as possible
                             (default 0)
   --seed S                  seed of the random starts, or of the circle's rotation (default 0)
   --trace FILE              write the trace: CSV if FILE ends in .csv, else JSON lines
   --summary FILE            write the results as JSON
-  --urdf PATH               robot URDF (default: Baxter's, see below)
-  --arm {right,left}        Baxter arm (default right)
+  --robot FILE.json         run on the arm of a robot resolved by `python -m a2l.robot
+                            --export NAME --out FILE.json` (its URDF, chain, neutral pose,
+                            tool orientation and scene: the object at its work point, sizes,
+                            start distances and effect threshold scaled, its workspace);
+                            a bundle learned for another robot (name, URDF SHA-256) is
+                            refused (default: Baxter, see below)
+  --urdf PATH               Baxter's URDF (default: see below; not with --robot)
+  --arm {right,left}        Baxter arm (default right; not with --robot)
   --no-robot                move the scene directly, without IK (no URDF needed)
   --smoothing {bundle,on,off}  neighbour smoothing (default: the bundle's setting)
   --state NAME=VALUE        value of a high-level state of the skill (repeatable; default:
@@ -70,10 +76,12 @@ example-robot-data installed in the virtual environment a2l-run belongs to
 (<venv>/lib/python3*/site-packages/cmeel.prefix/share/example-robot-data/robots); this lookup
 happens once at start-up. `python -m a2l.robot --robots-dir` prints the directory. When the
 bundle names the URDF it was learned on (its robot's urdf_sha256), the URDF loaded must have
-that SHA-256 (OpenSSL's libcrypto), else a2l-run refuses to run.
+that SHA-256 (OpenSSL's libcrypto), else a2l-run refuses to run. With --robot, the URDF is
+the robot file's, and must still have the SHA-256 it was exported with; a bundle that names
+a robot must name the file's (robot.name).
 
-exit status: 0 after the run (whatever the success rate), 2 on a bad argument, bundle or
-URDF, 1 on an I/O error while writing the outputs.
+exit status: 0 after the run (whatever the success rate), 2 on a bad argument, bundle, robot
+file or URDF, 1 on an I/O error while writing the outputs.
 )";
 
 namespace {
@@ -211,7 +219,9 @@ const std::pair<const char*, SetOption> kValueOptions[] = {
     {"--arm",
      [](const std::string& o, const std::string& v, Args& a) {
        a.arm = one_of(o, v, {"right", "left"});
+       a.has_arm = true;
      }},
+    {"--robot", [](const std::string&, const std::string& v, Args& a) { a.robot = v; }},
     {"--smoothing",
      [](const std::string& o, const std::string& v, Args& a) {
        a.smoothing = one_of(o, v, {"bundle", "on", "off"});
@@ -240,8 +250,8 @@ SetOption value_option(const std::string& o) {
   return nullptr;
 }
 
-// The checks across options: a BUNDLE given, --radius only for circle starts and
-// --radius-range only for random ones.
+// The checks across options: a BUNDLE given, --radius only for circle starts,
+// --radius-range only for random ones, neither --urdf nor --arm with --robot.
 void check_combination(const Args& a) {
   if (a.bundle.empty()) usage_error("missing BUNDLE");
   if (a.starts == "random" && a.has_radius) {
@@ -251,6 +261,12 @@ void check_combination(const Args& a) {
   }
   if (a.starts == "circle" && a.has_radius_range) {
     usage_error("--radius-range: sets the random starts; --starts circle takes --radius R");
+  }
+  if (!a.robot.empty() && !a.urdf.empty()) {
+    usage_error("--urdf: the robot file of --robot names its URDF (export it again to change it)");
+  }
+  if (!a.robot.empty() && a.has_arm) {
+    usage_error("--arm: chooses Baxter's arm; the robot file of --robot names its chain");
   }
 }
 

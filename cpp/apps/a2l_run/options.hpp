@@ -25,6 +25,8 @@ struct Args {
   unsigned long long seed = 0;
   std::string trace, summary, urdf;
   std::string arm = "right";
+  bool has_arm = false;
+  std::string robot;  // --robot FILE.json: a resolved robot (a2l/resolved_robot.hpp)
   bool no_robot = false;
   std::string smoothing = "bundle";
   std::vector<std::pair<std::string, std::string>> states;

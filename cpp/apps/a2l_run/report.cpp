@@ -31,6 +31,11 @@ int report(const Args& args, const a2l::Skill& skill, const Request& request, co
     summary["starts"]["radius"] = args.radius;
   }
   if (!robot.urdf_hash.empty()) summary["urdf_sha256"] = robot.urdf_hash;
+  if (robot.from_file) {
+    summary["robot_file"] = {{"path", robot.file.source},
+                             {"name", robot.file.name},
+                             {"scene_scale", robot.file.scene.scale}};
+  }
   int total_success = 0, total_episodes = 0;
   print_results(request.wanted, request.effect_names, results, summary, total_success,
                 total_episodes);

@@ -74,9 +74,11 @@ void WorldStates::apply(bool light_on, bool gripper_closed,
   put(ds_gripper, gripper_closed, ds.data());
 }
 
-EffectDetector EffectDetector::of(Task task, const std::vector<std::string>& effects) {
+EffectDetector EffectDetector::of(Task task, const std::vector<std::string>& effects,
+                                  double scale) {
   EffectDetector d;
   d.task = task;
+  d.threshold = a2l::kEffectThreshold * scale;
   d.n_classify = effects.size() > 4 ? 8 : 4;
   d.grasped = index_of(effects, "grasped");
   d.pressed = index_of(effects, "pressed");
@@ -88,7 +90,7 @@ int EffectDetector::detect(const a2l::Scene& scene, const a2l::VirtualScene* vir
                            const Eigen::Vector3d& object_start, int presses_start) const noexcept {
   const Eigen::Vector3d obj = scene.object_position();
   if (task == Task::push) {
-    return box_moved ? a2l::classify_effect(obj - object_start, n_classify) : -1;
+    return box_moved ? a2l::classify_effect(obj - object_start, n_classify, threshold) : -1;
   }
   if (virt == nullptr) return -1;
   if (task == Task::press) {

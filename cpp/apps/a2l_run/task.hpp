@@ -48,13 +48,15 @@ struct EffectDetector {
   Task task = Task::push;
   int n_classify = 4;  //!< push: 4 or 8 effects
   int grasped = -1, pressed = -1, away = -1;
+  double threshold = a2l::kEffectThreshold;  //!< push: the shortest displacement that counts (m)
 
-  //! Built from the effect names of the skill.
-  static EffectDetector of(Task task, const std::vector<std::string>& effects);
+  //! Built from the effect names of the skill; the push threshold scaled by `scale` (a robot
+  //! file's scene scale, as the Python scenes scale theirs).
+  static EffectDetector of(Task task, const std::vector<std::string>& effects, double scale = 1.0);
 
   //! The effect produced since the episode's start, or -1: the push effect
-  //! (a2l::classify_effect), grasped (held a2l::kLiftThreshold above the start), pressed, or
-  //! away (a2l::stayed_away, the object's displacement since the start). No allocation.
+  //! (a2l::classify_effect with `threshold`), grasped (held a2l::kLiftThreshold above the start),
+  //! pressed, or away (a2l::stayed_away, the object's displacement since the start). No allocation.
   int detect(const a2l::Scene& scene, const a2l::VirtualScene* virt, bool box_moved,
              const Eigen::Vector3d& object_start, int presses_start) const noexcept;
 };
