@@ -230,3 +230,39 @@ def test_time_parameterize_limits() -> None:
         assert np.min(np.linalg.norm(r.positions - w, axis=1)) < 1e-3
     with pytest.raises(a2l.A2LValueError):
         _core.time_parameterize(wp, np.array([1.0, 0.0]), a, 0.01)
+
+
+def test_transit_for_the_panda_in_the_task_scene() -> None:
+    """A task scene built for the Panda plans its transits for the Panda's arm
+    (ArmTransit.for_scene, what execute_task makes by default): around the block, which the
+    straight joint path goes through, and the arm follows it in PyBullet without touching
+    anything. (The lamp is placed by hand: the layout's lamp falls off the table.)"""
+    from a2l.planning.transit import transit_robot
+
+    scene = make_scene("task", seed=0, robot="panda", lamp_position=(0.70, 0.50))
+    try:
+        transit = ArmTransit.for_scene(scene)
+        assert transit.robot.name == "panda" and transit.spec.tip_link == "panda_hand_tcp"
+        assert transit.joint_names == [f"panda_joint{i}" for i in range(1, 8)]
+        transit.sync(scene)
+        bx, by = scene.config.block_position
+        z = scene.config.table_z + 0.04
+        q0, q1 = (scene.kinematics.ik_report(scene.gripper_down_pose(np.array(p)),
+                                             scene.neutral_joint_positions)[0]
+                  for p in ((bx - 0.12, by, z), (bx + 0.12, by, z)))
+        assert not transit.in_collision(q0) and not transit.in_collision(q1)
+        assert any(transit.in_collision(q0 + (q1 - q0) * a) for a in np.linspace(0, 1, 11))
+        scene.place_arm((bx - 0.12, by, z))
+        before = scene.ground_truth()["objects"]
+        plan = transit.plan(scene.joint_positions(), q1, seed=0)
+        assert plan.ok, plan.message
+        assert not any(transit.in_collision(q) for q in plan.positions)
+        assert execute_transit(scene, plan) < 0.02
+        np.testing.assert_allclose(scene.eef_position(), (bx + 0.12, by, z), atol=0.01)
+        for name, pos in scene.ground_truth()["objects"].items():  # nothing disturbed
+            assert np.linalg.norm(np.subtract(pos, before[name])) < 1e-3, name
+    finally:
+        scene.close()
+    assert transit_robot("baxter", "left").name == "baxter-left"
+    with pytest.raises(a2l.A2LValueError, match="unknown Baxter arm 'middle'"):
+        ArmTransit("baxter", "middle")

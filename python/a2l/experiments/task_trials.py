@@ -92,15 +92,18 @@ def task_skills() -> list[Any]:
             gripper_skill("open"), gripper_skill("closed")]
 
 
-_TRANSIT: list[Any] = []  # one ArmTransit per process (its obstacles are synced per transit)
+#: One ArmTransit per robot and process (its obstacles are synced per transit).
+_TRANSITS: dict[Any, Any] = {}
 
 
-def _transit() -> Any:
-    if not _TRANSIT:
+def _transit(scene: Any) -> Any:
+    """The transit planner of the scene's robot (:meth:`ArmTransit.for_scene`), made once."""
+    entry = scene.robot_entry
+    if entry not in _TRANSITS:
         from a2l.planning.transit import ArmTransit
 
-        _TRANSIT.append(ArmTransit("baxter", "right"))
-    return _TRANSIT[0]
+        _TRANSITS[entry] = ArmTransit.for_scene(scene)
+    return _TRANSITS[entry]
 
 
 def fault_hook(spec: TaskSpec, rng: np.random.Generator, regions: Any, goal: str,
@@ -242,7 +245,7 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
             look("", scene)
         res = execute_task(scene, task_skills(), bundles, goal, plan_dir, regions=regions,
                            planner=planner, time_limit=time_limit, max_replans=max_replans,
-                           transit=_transit(), seed=seed, after_step=hook, objects=("block",),
+                           transit=_transit(scene), seed=seed, after_step=hook, objects=("block",),
                            on_step=(lambda k, ex, sc: look(f"{ex.step} ({ex.stop})", sc))
                            if trace else None)
         block = np.asarray(scene.ground_truth()["objects"]["block"], dtype=float)

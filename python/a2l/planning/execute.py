@@ -251,7 +251,7 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
     max_replans : int
         Replans allowed before giving up.
     transit : ArmTransit, optional
-        Default: a new one for Baxter's right arm.
+        Default: a new one for the scene's robot (:meth:`ArmTransit.for_scene`).
     seed : int
         Transit planner seed.
     after_step : callable ``(k, step, scene) -> None``, optional
@@ -285,7 +285,7 @@ def execute_task(scene: ArmSceneProtocol, skills: Sequence[Skill],
     if transit is None:
         from a2l.planning.transit import ArmTransit
 
-        transit = ArmTransit("baxter", "right")
+        transit = ArmTransit.for_scene(scene)
     goal_literals(goal)
     domain = domain_pddl(skills)
     by_name = {s.name: s for s in skills}

@@ -1,28 +1,32 @@
 """Collision-free transit of an arm between skills: the C++ planner (OMPL + Bullet) from Python.
 
-:class:`ArmTransit` builds :class:`a2l._core.TransitPlanner` for one arm of a robot from its
-URDF (collision meshes read by :func:`a2l.sim.assets.mesh_vertices` and turned into convex
-hulls in C++), ignores the link pairs that touch at the neutral pose, and plans with the
-obstacles of a PyBullet scene; :func:`execute_transit` runs a planned trajectory in that
-scene as joint position targets. See ``docs/planning.md``.
+:class:`ArmTransit` builds :class:`a2l._core.TransitPlanner` for the arm of a robot entry
+(:func:`a2l.robot.robot_entry`: a built-in robot or a robot file) from its URDF (collision
+meshes read by :func:`a2l.sim.assets.mesh_vertices` and turned into convex hulls in C++),
+ignores the link pairs that touch at the neutral pose, and plans with the obstacles of a
+PyBullet scene; :meth:`ArmTransit.for_scene` takes the scene's robot. :func:`execute_transit`
+runs a planned trajectory in that scene as joint position targets. See ``docs/planning.md``.
 """
 
 from __future__ import annotations
 
+import os
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from a2l import Kinematics, _core
 from a2l.errors import A2LError, A2LValueError, URDFError
-from a2l.robot import arm_spec, pybullet_urdf
+from a2l.robot import BAXTER_ARMS, RobotEntry, pybullet_urdf, robot_entry
 from a2l.rollout.protocol import ArmSceneProtocol
 from a2l.sim.assets import mesh_vertices
 
-__all__ = ["ArmTransit", "TransitPlan", "execute_transit", "urdf_collision_meshes"]
+__all__ = ["ArmTransit", "TransitPlan", "execute_transit", "transit_robot",
+           "urdf_collision_meshes"]
 
 
 def urdf_collision_meshes(urdf: str | Path) -> dict[str, NDArray[np.float64]]:
@@ -88,15 +92,43 @@ class TransitPlan:
         return self.status == "ok"
 
 
-class ArmTransit:
-    """Transit planning for one arm of a robot.
+def transit_robot(robot: str | os.PathLike[str] | RobotEntry, arm: str = "right") -> RobotEntry:
+    """The robot entry whose arm :class:`ArmTransit` plans for.
 
     Parameters
     ----------
-    robot : str
-        ``"baxter"`` (or ``"panda"``).
+    robot : str, PathLike or RobotEntry
+        A built-in robot's name (:data:`a2l.robot.BUILTIN_ROBOTS`), a robot file, or an
+        entry (a scene's ``robot_entry``).
     arm : str
-        ``"right"`` or ``"left"``.
+        Baxter's arm, ``"right"`` or ``"left"`` (``"baxter"`` with ``"left"`` is
+        ``"baxter-left"``); ignored for an entry and for the other robots.
+
+    Raises
+    ------
+    a2l.A2LValueError
+        An unknown robot or Baxter arm (:func:`a2l.robot.robot_entry`).
+    """
+    if isinstance(robot, RobotEntry):
+        return robot
+    if robot == "baxter":
+        if arm not in BAXTER_ARMS:
+            raise A2LValueError(f"unknown Baxter arm '{arm}'; choose one of "
+                                f"{sorted(BAXTER_ARMS)}")
+        return robot_entry("baxter" if arm == "right" else "baxter-left")
+    return robot_entry(robot)
+
+
+class ArmTransit:
+    """Transit planning for the arm of a robot.
+
+    Parameters
+    ----------
+    robot : str, PathLike or RobotEntry
+        The robot (:func:`transit_robot`): ``"baxter"``, ``"panda"``..., a robot file, or a
+        scene's ``robot_entry`` (:meth:`for_scene`).
+    arm : str
+        Baxter's arm, ``"right"`` or ``"left"``; ignored for the other robots.
     padding : float
         m added around every obstacle box.
     velocity_scale : float
@@ -107,12 +139,13 @@ class ArmTransit:
         s per planning call.
     """
 
-    def __init__(self, robot: str = "baxter", arm: str = "right", padding: float = 0.02,
-                 velocity_scale: float = 0.5, acceleration: float = 1.5,
+    def __init__(self, robot: str | os.PathLike[str] | RobotEntry = "baxter", arm: str = "right",
+                 padding: float = 0.02, velocity_scale: float = 0.5, acceleration: float = 1.5,
                  time_limit: float = 2.0, resolution: float = 0.01) -> None:
         if not _core.transit_available():
             raise A2LError("this build of a2l has no transit planner (needs Bullet and OMPL)")
-        spec = arm_spec(robot, arm)
+        self.robot = transit_robot(robot, arm)
+        spec = self.robot.arm_spec()
         urdf = pybullet_urdf(spec.urdf)
         self.spec = spec
         self.padding = float(padding)
@@ -125,6 +158,12 @@ class ArmTransit:
         self.options.time_limit = time_limit
         self.options.resolution = resolution
         self._neutral_allowed = False
+
+    @classmethod
+    def for_scene(cls, scene: ArmSceneProtocol, **options: Any) -> ArmTransit:
+        """Transit planning for the arm of a PyBullet scene's robot (its ``robot_entry``:
+        Baxter's right arm, the Panda, a robot file's arm...); `options` as the class's."""
+        return cls(scene.robot_entry, **options)
 
     @property
     def joint_names(self) -> list[str]:

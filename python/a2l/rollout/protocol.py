@@ -112,6 +112,8 @@ class ArmSceneProtocol(SceneProtocol, Protocol):
 
     #: The acting arm's C++ kinematics.
     kinematics: Any
+    #: The robot (:class:`a2l.robot.RobotEntry`) the scene was built with.
+    robot_entry: Any
 
     @property
     def sim_time(self) -> float:
