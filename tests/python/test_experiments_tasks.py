@@ -76,6 +76,11 @@ def test_bad_arguments_are_usage_errors(tmp_path: Path,
     with pytest.raises(SystemExit) as exc:
         main(["experiment", "tasks", "--out", str(tmp_path / "y"), "--seed", "3"])
     assert exc.value.code == 2 and "demonstration seeds" in capsys.readouterr().err
+    for robot, message in (("nobot", "--robot: unknown robot 'nobot'"),
+                           ("ur5", "--robot: robot 'ur5' has no gripper")):
+        with pytest.raises(SystemExit) as exc:
+            main(["experiment", "tasks", "--out", str(tmp_path / robot), "--robot", robot])
+        assert exc.value.code == 2 and message in capsys.readouterr().err
 
 
 @pytest.mark.slow

@@ -22,7 +22,7 @@ def _cmd_tasks(args: Namespace) -> int:
         check_record(Path(args.record))
     run_tasks(args.out, comma_list(args.tasks), args.trials, args.seed, args.workers, faults,
               args.planner, quiet=args.quiet, plots=not args.no_plots,
-              context_source=args.context_source, record=args.record)
+              context_source=args.context_source, record=args.record, robot=args.robot)
     return 0
 
 
@@ -33,9 +33,10 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
     """Register ``a2l experiment tasks``."""
     p = Parser(
         prog="a2l experiment tasks",
-        description="Plan and run tasks of 3 to 5 skills on Baxter in PyBullet (PDDL plan, "
-        "OMPL transits, the learned grasp and press through the C++ step, replanning when "
-        "the world disagrees), each from seeded trials without and with an injected fault; "
+        description="Plan and run tasks of 3 to 5 skills on Baxter (or --robot) in PyBullet "
+        "(PDDL plan, OMPL transits, the learned grasp and press through the C++ step, "
+        "replanning when the world disagrees), each from seeded trials without and with an "
+        "injected fault; "
         "write metrics.json, trials.csv, report.md and tasks.png.")
     p.add_argument("--out", metavar="DIR", required=True, help="run directory")
     p.add_argument("--tasks", metavar="A,B,...", default=None,
@@ -53,6 +54,9 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),
                    default="perceived", help="where the skills and the planner read the "
                    "scene: the camera (perceived, default) or the simulator's ground truth")
+    p.add_argument("--robot", metavar="ROBOT", default="baxter",
+                   help="the robot of the task scenes: a built-in robot (baxter, panda...) "
+                   "or a robot file; the transits are planned for its arm (default baxter)")
     p.add_argument("--record", metavar="FILE.rrd", default=None,
                    help="write every trial's executed plan steps to a Rerun recording, "
                    "<task>/<fault|no_fault>/rollout/<i>/ (a2l view FILE.rrd)")

@@ -182,7 +182,8 @@ class Played:
 def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
               out: str | os.PathLike[str], planner: str = "pyperplan",
               time_limit: float = 10.0, max_replans: int = 3, gui: bool = False,
-              context_source: str = "perceived", trace: bool = False) -> Played:
+              context_source: str = "perceived", trace: bool = False,
+              robot: str = "baxter") -> Played:
     """Play task `name` once from trial `seed`, in a scene of its own.
 
     Parameters
@@ -207,6 +208,9 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
     trace : bool
         Keep where the arm and the objects were after every executed step
         (:attr:`Played.trace`, to record).
+    robot : str
+        The robot of the task scene (a built-in robot's name or a robot file,
+        :func:`a2l.robot.robot_entry`); the transits are planned for its arm.
 
     Returns
     -------
@@ -222,7 +226,7 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
     goal = spec.goal(rng)
     jitter = rng.uniform(-JITTER, JITTER, 2)
     scene = make_skill_scene("grasp", seed, scene="task", states={"light": light}, gui=gui,
-                             context_source=context_source)
+                             context_source=context_source, robot=robot)
     try:
         regions = TableRegions(tuple(scene.config.table_center), tuple(scene.config.table_size))
         start = np.asarray(regions.center_of(spec.start_region)) + jitter
@@ -282,6 +286,8 @@ class TaskTrial:
         the simulator's truth.
     trace : bool
         The row then holds :attr:`Played.trace` as ``"trace"``, to record (not a column).
+    robot : str
+        The robot of the task scene (:func:`play_task`).
     """
 
     task: str
@@ -294,6 +300,7 @@ class TaskTrial:
     max_replans: int = 3
     context_source: str = "perceived"
     trace: bool = False
+    robot: str = "baxter"
 
 
 def trial_task(job: TaskTrial) -> dict[str, Any]:
@@ -311,7 +318,7 @@ def trial_task(job: TaskTrial) -> dict[str, Any]:
     fault = bool(job.fault)
     p = play_task(job.task, seed, fault, job.bundles, job.out, job.planner,
                   float(job.time_limit), int(job.max_replans),
-                  context_source=job.context_source, trace=job.trace)
+                  context_source=job.context_source, trace=job.trace, robot=job.robot)
     res = p.result
     not_applied = ""
     if fault and not p.fired:

@@ -69,7 +69,7 @@ __all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "TaskTrial",
 DEFAULT_SEED = 7000
 
 
-def _check(tasks: Sequence[str], trials: int, seed: int, workers: int) -> None:
+def _check(tasks: Sequence[str], trials: int, seed: int, workers: int, robot: str) -> None:
     unknown = [t for t in tasks if t not in TASKS]
     if unknown or not tasks:
         raise ConfigError("--tasks", f"unknown task(s) {unknown}; known: {list(TASKS)}")
@@ -80,6 +80,21 @@ def _check(tasks: Sequence[str], trials: int, seed: int, workers: int) -> None:
     if seed < 16:
         raise ConfigError("--seed", f"trial seeds {seed}.. overlap the demonstration seeds "
                          f"0..15; use a seed >= 16 (default {DEFAULT_SEED})")
+    from a2l.errors import A2LError
+    from a2l.robot import robot_entry
+    from a2l.sim.config import make_config
+
+    try:
+        entry = robot_entry(robot)
+    except A2LError as exc:
+        raise ConfigError("--robot", str(exc)) from None
+    if entry.gripper is None:
+        raise ConfigError("--robot", f"robot '{entry.name}' has no gripper: the tasks grasp "
+                          "their block")
+    try:  # every object of its task scene on the table
+        make_config("task", robot=robot)
+    except A2LError as exc:
+        raise ConfigError("--robot", f"robot '{entry.name}', its task scene: {exc}") from None
 
 
 def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
@@ -87,7 +102,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
               faults: Sequence[bool] = (False, True), planner: str = "pyperplan",
               quiet: bool = False, plots: bool = True,
               context_source: str = "perceived",
-              record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
+              record: str | os.PathLike[str] | None = None,
+              robot: str = "baxter") -> dict[str, Any]:
     """Learn the skills, run every trial and write the run directory.
 
     Parameters
@@ -112,6 +128,10 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         the simulator's truth; the report names it.
     record : path, optional
         A Rerun recording (``.rrd``) of every trial (:func:`record_task_trials`).
+    robot : str
+        The robot of the task scenes (a built-in robot's name or a robot file): the
+        transits are planned for its arm. The skills are learned as always (from the
+        demonstrations in Baxter's scenes; they move relative to the object).
 
     Returns
     -------
@@ -127,7 +147,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
     from a2l.seeds import seed_record
 
     names = list(tasks) if tasks else list(TASKS)
-    _check(names, trials, seed, workers)
+    _check(names, trials, seed, workers, robot)
     if context_source not in ("perceived", "ground_truth"):
         raise ConfigError("--context_source", f"must be 'perceived' or 'ground_truth', got "
                           f"{context_source!r}")
@@ -139,6 +159,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
                           ",".join(names), "--trials", str(trials), "--seed", str(seed),
                           "--workers", str(workers), "--planner", planner,
                           "--context_source", context_source]
+                         + ([] if robot == "baxter" else ["--robot", robot])
                          + ([] if list(faults) == [False, True] else
                             ["--faults", "with" if list(faults) == [True] else "without"]))
     config = {"experiment": "tasks", "tasks": {n: {
@@ -146,14 +167,14 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         "gripper": TASKS[n].gripper, "light": TASKS[n].light, "fault": TASKS[n].fault}
         for n in names}, "trial_seeds": [seed, seed + trials - 1], "faults": list(faults),
         "jitter_m": JITTER, "planner": planner, "context_source": context_source,
-        "workers": workers, "command": command,
+        "workers": workers, "robot": robot, "command": command,
         "seed_use": seed_record("tasks", range(seed, seed + trials))}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     bundles = learn_task_skills(run_dir / "skills")
     learn_s = time.perf_counter() - t0
     jobs = [TaskTrial(n, s, f, bundles, str(run_dir / "plans"), planner,
-                      context_source=context_source, trace=record is not None)
+                      context_source=context_source, trace=record is not None, robot=robot)
             for n in names for f in faults for s in range(seed, seed + trials)]
     with Executor(workers) as ex, progress_bar("task trials", len(jobs), quiet) as bar:
         rows = ex.map(trial_task, jobs, on_done=bar)
