@@ -130,8 +130,8 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
         A Rerun recording (``.rrd``) of every trial (:func:`record_task_trials`).
     robot : str
         The robot of the task scenes (a built-in robot's name or a robot file): the
-        transits are planned for its arm. The skills are learned as always (from the
-        demonstrations in Baxter's scenes; they move relative to the object).
+        transits are planned for its arm. The skills are learned as always
+        (:func:`learn_task_skills`: they move relative to the object and name no robot).
 
     Returns
     -------
