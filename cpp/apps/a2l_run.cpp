@@ -68,15 +68,17 @@ void scale_start_defaults(double scale, Args& args) {
 
 // The robot (unless --no-robot), the object's place, the scene and the workspace; the
 // executor started in it. With --robot, the object at the robot file's work point on its
-// table (sizes and start lengths scaled), in its workspace. 0, or the exit code after a
-// message.
+// table (the push scene's box, or the other objects and the start lengths scaled), in its
+// workspace. 0, or the exit code after a message.
 int set_up_scene(Args& args, World& w) {
   if (args.rate > 0.0) w.xo.period = 1.0 / args.rate;
   if (const int rc = setup_robot(args, w.skill, w.xo, w.robot); rc != 0) return rc;
   const a2l::RobotSceneGeometry* geometry = w.robot.from_file ? &w.robot.file.scene : nullptr;
   const double scale = geometry != nullptr ? geometry->scale : 1.0;
   if (geometry != nullptr) scale_start_defaults(scale, args);
-  const Eigen::Vector3d half = scale * object_half_size(w.req.task);
+  const bool file_box = geometry != nullptr && w.req.task == Task::push;
+  const Eigen::Vector3d half = file_box ? Eigen::Vector3d(0.5 * geometry->push_box_size)
+                                        : scale * object_half_size(w.req.task);
   w.object0 = args.object;
   if (!args.has_object && geometry != nullptr) {
     w.object0 << geometry->work_point, geometry->table_z + half.z();

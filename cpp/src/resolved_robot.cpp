@@ -21,8 +21,8 @@ namespace {
 constexpr const char* kTopKeys[] = {"format",      "version",   "name",      "urdf",
                                     "urdf_sha256", "base_link", "tool_link", "joint_names",
                                     "neutral",     "tool_down", "scene"};
-constexpr const char* kSceneKeys[] = {"table_z", "work_point", "scale", "workspace_min",
-                                      "workspace_max"};
+constexpr const char* kSceneKeys[] = {"table_z",       "work_point",    "scale",
+                                      "push_box_size", "workspace_min", "workspace_max"};
 
 // Every key of `obj` one of `valid` (`where` the prefix of its name, "scene.").
 template <std::size_t N>
@@ -82,8 +82,8 @@ bool check_format(const json& j, Errors& e) {
   const json* f = nullptr;
   if (j.find("format") == j.end()) {
     return e.parse(
-        "format: missing; a2l-run takes a robot resolved by `python -m a2l.robot --export "
-        "NAME_OR_ROBOT_FILE --out FILE.json`, not a robot file");
+        "format: missing; a2l-run takes a robot resolved by `a2l robot export ROBOT --out "
+        "FILE.json`, not a robot file");
   }
   if (!get_member(j, "", "format", f, e) || !as_string(*f, "format", format, e)) return false;
   if (format != kResolvedRobotFormat) {
@@ -128,14 +128,16 @@ bool parse_tool_down(const json& j, ResolvedRobot& out, Errors& e) {
   return true;
 }
 
-// scene: the table height, the work point, the scale in (0, 1] and a non-empty workspace.
+// scene: the table height, the work point, the scale in (0, 1], the push box's size (> 0) and
+// a non-empty workspace.
 bool parse_scene(const json& j, RobotSceneGeometry& g, Errors& e) {
   const json* s = nullptr;
   if (!get_object(j, "", "scene", s, e) || !known_keys(*s, "scene.", kSceneKeys, e)) return false;
-  std::vector<double> wp, lo, hi;
+  std::vector<double> wp, box, lo, hi;
   if (!get_number(*s, "scene.", "table_z", g.table_z, e) ||
       !get_numbers(*s, "scene.", "work_point", 2, wp, e) ||
       !get_number(*s, "scene.", "scale", g.scale, e) ||
+      !get_numbers(*s, "scene.", "push_box_size", 3, box, e) ||
       !get_numbers(*s, "scene.", "workspace_min", 3, lo, e) ||
       !get_numbers(*s, "scene.", "workspace_max", 3, hi, e)) {
     return false;
@@ -144,6 +146,10 @@ bool parse_scene(const json& j, RobotSceneGeometry& g, Errors& e) {
     std::ostringstream m;
     m << "scene.scale: must be in (0, 1], got " << g.scale;
     return e.parse(m.str());
+  }
+  g.push_box_size = Eigen::Vector3d(box[0], box[1], box[2]);
+  if (!(g.push_box_size.array() > 0.0).all()) {
+    return e.parse("scene.push_box_size: every extent must be > 0");
   }
   g.work_point = Eigen::Vector2d(wp[0], wp[1]);
   g.workspace_min = Eigen::Vector3d(lo[0], lo[1], lo[2]);

@@ -17,7 +17,7 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-// What `python -m a2l.robot --export` writes (the Panda's neutral pose and tool_down).
+// What `a2l robot export panda` writes (the Panda's neutral pose and tool_down).
 json good_robot() {
   return {
       {"format", "a2l-resolved-robot"},
@@ -34,6 +34,7 @@ json good_robot() {
        {{"table_z", -0.2},
         {"work_point", {0.43, 0.31}},
         {"scale", 0.5},
+        {"push_box_size", {0.07, 0.085, 0.058876}},
         {"workspace_min", {0.16, -0.19, -0.19}},
         {"workspace_max", {0.76, 1.01, 0.25}}}},
   };
@@ -69,6 +70,7 @@ TEST(ResolvedRobot, ReadsEveryField) {
   EXPECT_DOUBLE_EQ(r.scene.work_point.x(), 0.43);
   EXPECT_DOUBLE_EQ(r.scene.work_point.y(), 0.31);
   EXPECT_DOUBLE_EQ(r.scene.scale, 0.5);
+  EXPECT_DOUBLE_EQ(r.scene.push_box_size.z(), 0.058876);
   EXPECT_DOUBLE_EQ(r.scene.workspace_min.z(), -0.19);
   EXPECT_DOUBLE_EQ(r.scene.workspace_max.x(), 0.76);
 }
@@ -94,7 +96,7 @@ struct BadCase {
 TEST(ResolvedRobot, RefusesABadFileNamingTheKey) {
   const std::vector<BadCase> cases = {
       {"a robot file, not resolved", [](json& j) { j.erase("format"); }, a2l::Status::parse_error,
-       "format: missing; a2l-run takes a robot resolved by `python -m a2l.robot --export"},
+       "format: missing; a2l-run takes a robot resolved by `a2l robot export ROBOT"},
       {"another format", [](json& j) { j["format"] = "urdf"; }, a2l::Status::parse_error,
        "format: must be 'a2l-resolved-robot', got 'urdf'"},
       {"another version", [](json& j) { j["version"] = 2; }, a2l::Status::version_mismatch,
@@ -136,6 +138,8 @@ TEST(ResolvedRobot, RefusesABadFileNamingTheKey) {
        a2l::Status::parse_error, "scene.work_point: must hold 2 numbers, got 3"},
       {"a table height not a number", [](json& j) { j["scene"]["table_z"] = nullptr; },
        a2l::Status::parse_error, "scene.table_z: must be a number, got null"},
+      {"a flat box", [](json& j) { j["scene"]["push_box_size"][2] = 0.0; },
+       a2l::Status::parse_error, "scene.push_box_size: every extent must be > 0"},
       {"an empty workspace", [](json& j) { j["scene"]["workspace_max"][2] = -0.5; },
        a2l::Status::parse_error, "scene.workspace_max: must be above scene.workspace_min"},
   };

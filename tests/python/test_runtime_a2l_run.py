@@ -345,15 +345,19 @@ def _panda_bundle(push_bundle: Path, tmp_path: Path) -> Path:
 
 
 def test_runtime_a2l_run_on_the_panda_from_its_exported_robot_file(
-    tmp_path: Path, push_bundle: Path
+    tmp_path: Path, push_bundle: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """`python -m a2l.robot --export panda` then `a2l-run --robot`: the Panda's arm moves the
-    box at its work point, in both scenes, as Baxter's does (the skill acts relative to the
-    box: 53/64 virtual and 35/64 Bullet on both arms)."""
-    robot = tmp_path / "panda.json"
-    exported = subprocess.run([sys.executable, "-m", "a2l.robot", "--export", "panda", "--out",
-                               str(robot)], capture_output=True, text=True, timeout=120)
-    assert exported.returncode == 0, exported.stderr
+    """`a2l robot export panda` then `a2l-run --robot`: the Panda's arm moves the push scene's
+    box (5.9 cm tall under its hand) at its work point, in both scenes, as Baxter's does (the
+    skill acts relative to the box: 53/64 virtual and 35/64 Bullet on both arms)."""
+    from a2l.cli import main
+
+    robot, baxter = tmp_path / "panda.json", tmp_path / "baxter.json"
+    assert main(["robot", "export", "panda", "--out", str(robot)]) == 0
+    assert main(["robot", "export", "baxter", "--out", str(baxter)]) == 0
+    with pytest.raises(SystemExit) as exc:
+        main(["robot", "export", "nobot"])
+    assert exc.value.code == 2 and "unknown robot 'nobot'" in capsys.readouterr().err
     desc = json.loads(robot.read_text())
     bundle = _panda_bundle(push_bundle, tmp_path)
     for scene, least in (("virtual", 50), ("bullet", 32)):
@@ -369,24 +373,20 @@ def test_runtime_a2l_run_on_the_panda_from_its_exported_robot_file(
         assert s["control_ticks"] >= 200 * s["skill_steps"]  # every movement through the IK
         first = json.loads(trace.read_text().splitlines()[0])
         scene_desc = desc["scene"]
-        np.testing.assert_allclose(first["object"], [*scene_desc["work_point"],
-                                                     scene_desc["table_z"] + 0.04], atol=1e-9)
+        assert scene_desc["push_box_size"][2] < 0.06  # the Panda's box, lowered
+        np.testing.assert_allclose(first["object"], [
+            *scene_desc["work_point"], scene_desc["table_z"] + scene_desc["push_box_size"][2] / 2],
+            atol=1e-9)
     # a bundle of the Panda's on Baxter (the default robot), and on a Baxter robot file
     r = run(bundle, "--episodes", "1")
     assert r.returncode == 2 and desc["urdf_sha256"] in r.stderr
-    baxter = tmp_path / "baxter.json"
-    assert subprocess.run([sys.executable, "-m", "a2l.robot", "--export", "baxter", "--out",
-                           str(baxter)], timeout=120).returncode == 0
     r = run(bundle, "--robot", baxter, "--episodes", "1")
     assert r.returncode == 2
     assert "learned for robot 'panda', not for the robot 'baxter'" in r.stderr
-    bad = subprocess.run([sys.executable, "-m", "a2l.robot", "--export", "nobot"],
-                         capture_output=True, text=True, timeout=120)
-    assert bad.returncode == 2 and "unknown robot 'nobot'" in bad.stderr
 
 
 def test_runtime_a2l_run_refuses_a_bad_robot_file(tmp_path: Path, push_bundle: Path) -> None:
-    from a2l.robot.export import resolved_robot
+    from a2l.sim.resolved_robot import resolved_robot
 
     good = resolved_robot("panda")
 

@@ -55,12 +55,12 @@ options:
   --seed S                  seed of the random starts, or of the circle's rotation (default 0)
   --trace FILE              write the trace: CSV if FILE ends in .csv, else JSON lines
   --summary FILE            write the results as JSON
-  --robot FILE.json         run on the arm of a robot resolved by `python -m a2l.robot
-                            --export NAME --out FILE.json` (its URDF, chain, neutral pose,
-                            tool orientation and scene: the object at its work point, sizes,
-                            start distances and effect threshold scaled, its workspace);
-                            a bundle learned for another robot (name, URDF SHA-256) is
-                            refused (default: Baxter, see below)
+  --robot FILE.json         run on the arm of a robot resolved by `a2l robot export ROBOT
+                            --out FILE.json` (its URDF, chain, neutral pose, tool orientation
+                            and scene: the object at its work point, the push scene's box, the
+                            other objects, start distances and effect threshold scaled, its
+                            workspace); a bundle learned for another robot (name, URDF
+                            SHA-256) is refused (default: Baxter, see below)
   --urdf PATH               Baxter's URDF (default: see below; not with --robot)
   --arm {right,left}        Baxter arm (default right; not with --robot)
   --no-robot                move the scene directly, without IK (no URDF needed)

@@ -39,6 +39,8 @@ ros skill BUNDLE --effect E
     Run a skill bundle on a robot through ROS 2 (``a2l[ros]``, docs/ros.md).
 ros sim
     The simulated Baxter as a ROS 2 robot behind the same topics.
+robot export ROBOT --out FILE.json
+    A robot resolved for the C++ runtime (``a2l-run --robot FILE.json``, docs/runtime.md).
 view FILE.rrd
     Open a Rerun recording of a run (``--record`` of ``skill run``, ``ros skill`` and every
     ``experiment``).
@@ -47,7 +49,7 @@ Layout: ``parser`` (the jsonargparse parser class, configuration flags, config f
 ``args`` (usage error, argument checks), ``demo`` (demo, demo-record), ``experiments`` (the
 ``experiment`` group; lasa, babbling), ``push`` (push, discretization, sweep), ``lfd``
 (lfd-skills, parametrization, perturbations), ``tasks``, ``skill`` (show, learn,
-run), ``ros`` (skill, sim), ``view``. Every argument is parsed here,
+run), ``ros`` (skill, sim), ``robot`` (export), ``view``. Every argument is parsed here,
 and everything, names included, is checked before any work starts; the experiments raise
 :class:`a2l.errors.ConfigError` naming the argument at fault, which :func:`main` reports as
 a usage error (exit code 2).
@@ -60,7 +62,7 @@ from collections.abc import Callable, Sequence
 
 from jsonargparse import Namespace
 
-from a2l.cli import demo, experiments, results, ros, skill, view
+from a2l.cli import demo, experiments, results, robot, ros, skill, view
 from a2l.cli.args import UsageError
 from a2l.cli.parser import Parser, command_path, normalize_argv
 from a2l.errors import ConfigError
@@ -87,6 +89,7 @@ def build_parser() -> tuple[Parser, dict[tuple[str, ...], tuple[Parser, Handler]
     skill.add_skill_parsers(sub, commands)
     results.add_results_parser(sub, commands)
     ros.add_ros_parsers(sub, commands)
+    robot.add_robot_parsers(sub, commands)
     view.add_view_parser(sub, commands)
     return parser, commands
 

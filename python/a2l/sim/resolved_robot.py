@@ -1,20 +1,21 @@
 """A robot resolved for the C++ runtime: one JSON file that ``a2l-run --robot FILE.json``
-reads without Python.
+reads without Python (``a2l robot export ROBOT --out FILE.json``; ``docs/runtime.md``).
 
 A built-in robot or a robot file (:func:`a2l.robot.robot_entry`) names its URDF through
-``example-robot-data`` or a ``package://`` URI and leaves its scene geometry to be computed
-(:func:`a2l.robot.table_layout`). :func:`resolved_robot` writes down what follows: the URDF's
-absolute path and SHA-256, the chain, the neutral pose, ``tool_down``, and the scene's table
-height, work point, scale and end-effector workspace, all in the robot's base frame::
+``example-robot-data`` or a ``package://`` URI, and its scenes' geometry is computed
+(:func:`a2l.robot.table_layout`, and the push box lowered under the hand when the scene is
+built: :mod:`a2l.sim.tool_clearance`). :func:`resolved_robot` writes down what follows: the
+URDF's absolute path and SHA-256, the chain, the neutral pose, ``tool_down``, and the push
+scene's table height, work point (where its box stands), scale, box size and end-effector
+workspace, all in the robot's base frame::
 
     {"format": "a2l-resolved-robot", "version": 1, "name": "panda",
      "urdf": "/.../panda.urdf", "urdf_sha256": "...", "base_link": "panda_link0",
      "tool_link": "panda_hand_tcp", "joint_names": [...], "neutral": [...],
      "tool_down": [[...], [...], [...]],
-     "scene": {"table_z": 0.0, "work_point": [0.45, -0.01], "scale": 1.0,
+     "scene": {"table_z": 0.0, "work_point": [0.43, 0.31], "scale": 1.0,
+               "push_box_size": [0.07, 0.085, 0.058876],
                "workspace_min": [...], "workspace_max": [...]}}
-
-``python -m a2l.robot --export panda --out panda.json`` writes it (``docs/runtime.md``).
 """
 
 from __future__ import annotations
@@ -25,9 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from a2l.atomic import atomic_write_text
-from a2l.robot.descriptions import urdf_sha256
-from a2l.robot.layout import table_layout
-from a2l.robot.robot_file import robot_entry
+from a2l.robot import robot_entry, urdf_sha256
 
 __all__ = ["RESOLVED_FORMAT", "RESOLVED_VERSION", "export_robot", "resolved_robot"]
 
@@ -40,6 +39,9 @@ RESOLVED_VERSION = 1
 def resolved_robot(robot: str | os.PathLike[str]) -> dict[str, Any]:
     """The resolved description of a robot (module docstring), as JSON-ready data.
 
+    Builds the robot's push scene once (PyBullet, without a window, a fraction of a second)
+    for the size of the box it pushes.
+
     Parameters
     ----------
     robot : str or PathLike
@@ -51,17 +53,30 @@ def resolved_robot(robot: str | os.PathLike[str]) -> dict[str, Any]:
         ``format``, ``version``, ``name``, ``urdf`` (absolute), ``urdf_sha256``,
         ``base_link``, ``tool_link``, ``joint_names`` (n,), ``neutral`` (n,), ``tool_down``
         (3, 3) or None, and ``scene``: ``table_z``, ``work_point`` (2,), ``scale``,
-        ``workspace_min`` and ``workspace_max`` (3,) (m, base frame; the workspace's z
-        absolute, not from the table top as in :class:`a2l.robot.TableLayout`).
+        ``push_box_size`` (3,), ``workspace_min`` and ``workspace_max`` (3,) (m, base frame;
+        the workspace's z absolute, not from the table top as in the scene's configuration).
 
     Raises
     ------
     a2l.A2LValueError, a2l.A2LFileNotFoundError
-        As :func:`a2l.robot.robot_entry` and :func:`a2l.robot.table_layout`.
+        As :func:`a2l.robot.robot_entry` and :func:`a2l.sim.make_scene`.
     """
+    from a2l.sim import make_scene
+
     entry = robot_entry(robot)
-    lay = table_layout(entry)
-    z = lay.table_z
+    with make_scene("push", robot=str(robot)) as scene:
+        cfg = scene.config
+        z = float(cfg.table_z)
+        geometry = {
+            "table_z": z,
+            "work_point": [float(v) for v in cfg.box_position],
+            "scale": float(cfg.layout().scale),
+            "push_box_size": [float(v) for v in cfg.box_size],
+            "workspace_min": [*map(float, cfg.workspace_min[:2]),
+                              round(z + cfg.workspace_min[2], 6)],
+            "workspace_max": [*map(float, cfg.workspace_max[:2]),
+                              round(z + cfg.workspace_max[2], 6)],
+        }
     urdf = entry.urdf.resolve()
     return {
         "format": RESOLVED_FORMAT,
@@ -74,13 +89,7 @@ def resolved_robot(robot: str | os.PathLike[str]) -> dict[str, Any]:
         "joint_names": list(entry.joint_names),
         "neutral": list(entry.neutral),
         "tool_down": [list(row) for row in entry.tool_down] if entry.tool_down else None,
-        "scene": {
-            "table_z": z,
-            "work_point": list(lay.work_point),
-            "scale": lay.scale,
-            "workspace_min": [*lay.workspace_min[:2], round(z + lay.workspace_min[2], 6)],
-            "workspace_max": [*lay.workspace_max[:2], round(z + lay.workspace_max[2], 6)],
-        },
+        "scene": geometry,
     }
 
 
