@@ -5,6 +5,7 @@ arm from a robot file, the scaled scene of a small arm, the refusals."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -48,6 +49,20 @@ def test_a_field_given_wins_over_the_layout() -> None:
     cfg = make_config("push", robot="panda", box_position=(0.40, 0.10), step=0.04)
     assert cfg.box_position == (0.40, 0.10) and cfg.step == 0.04
     assert cfg.table_center == table_layout(builtin_robot("panda")).table_center
+
+
+def test_the_docs_table_of_layouts_is_computed() -> None:
+    """docs/robots.md's table of scales, work points and radii is what table_layout gives."""
+    text = (Path(__file__).resolve().parents[2] / "docs" / "robots.md").read_text()
+    rows = re.findall(r"^\| `([\w-]+)` \| ([\d.]+) \| \(([−\d.]+), ([−\d.]+)\)[^|]* \| "
+                      r"([\d.]+) \|$", text, flags=re.MULTILINE)
+    assert len(rows) == 5
+    for name, scale, x, y, radius in rows:
+        lay = table_layout(builtin_robot(name))
+        assert float(scale) == pytest.approx(lay.scale, abs=0.005), name
+        point = [float(v.replace("−", "-")) for v in (x, y)]
+        assert point == pytest.approx(lay.work_point, abs=0.005), name
+        assert float(radius) == pytest.approx(lay.radius, abs=0.005), name
 
 
 @pytest.mark.parametrize("name", BUILTIN_ROBOTS)

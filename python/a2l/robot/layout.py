@@ -46,6 +46,9 @@ REFERENCE_RADIUS = 0.20
 #: Height (m) of the tool above the table top where reach is tested, at scale 1: the centre
 #: of the push box, the height the pushes move at.
 TEST_HEIGHT = 0.04
+#: The version of the reach test (:func:`reachable_disc`), part of its cache's key: a change
+#: of the algorithm must not read what an earlier one wrote.
+LAYOUT_VERSION = 2
 #: Spacing (m) of the grid of tested points at scale 1.
 GRID = 0.02
 #: Largest joint change (rad) from a reached grid point's IK solution to its neighbour's,
@@ -226,9 +229,10 @@ def _reached(kin: _core.Kinematics, down: NDArray[np.float64], inv: NDArray[np.f
 
 def _cache_file(entry: RobotEntry, spacing: float, height: float,
                 within: tuple[float, ...] | None) -> Path:
-    key = json.dumps([urdf_sha256(entry.urdf), entry.base_link, entry.tool_link,
-                      entry.neutral, entry.mount.xyz, entry.mount.yaw, entry.tool_down,
-                      TABLE_SIZE, round(spacing, 9), round(height, 9), within])
+    key = json.dumps([LAYOUT_VERSION, urdf_sha256(entry.urdf), entry.base_link,
+                      entry.tool_link, entry.neutral, entry.mount.xyz, entry.mount.yaw,
+                      entry.tool_down, TABLE_SIZE, round(spacing, 9), round(height, 9), within,
+                      BRANCH_JUMP])
     root = os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache")
     name = hashlib.sha256(key.encode()).hexdigest()[:20]
     return Path(root) / "a2l" / "layout" / f"{name}.json"
