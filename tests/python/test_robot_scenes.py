@@ -141,6 +141,22 @@ def test_an_arm_from_a_robot_file_pushes(tmp_path: Path) -> None:
         scene.close()
 
 
+@pytest.mark.parametrize("name", BUILTIN_ROBOTS)
+def test_every_scene_puts_its_objects_on_each_robots_table(name: str) -> None:
+    """An object placed from the work point that would leave the table is moved onto it
+    (the press scene's lamp on the Panda and the UR5); Baxter's stay the thesis' (above)."""
+    for scene in ("push", "grasp", "grasp_light", "press", "task"):
+        cfg = make_config(scene, robot=name)
+        lo = np.subtract(cfg.table_center, np.divide(cfg.table_size, 2))
+        hi = np.add(cfg.table_center, np.divide(cfg.table_size, 2))
+        for field in ("box_position", "block_position", "button_position", "lamp_position"):
+            xy = getattr(cfg, field, None)
+            if xy is not None:
+                assert np.all(lo + 0.03 <= xy) and np.all(xy <= hi - 0.03), (scene, field)
+    if name == "panda":  # 0.45 m left of the work point was 0.16 m off the table's edge
+        assert make_config("press", robot=name).lamp_position == (0.75, 0.55)
+
+
 def test_the_grasp_scene_refuses_an_arm_without_gripper() -> None:
     with pytest.raises(A2LValueError, match="robot 'ur5' has no gripper: the grasp scene"):
         make_scene("grasp", seed=0, robot="ur5")

@@ -17,7 +17,13 @@ from typing import Any, ClassVar
 
 from a2l.sim.config_fields import choice_field, field_error, positive_field, vector_field
 
-__all__ = ["SceneConfig"]
+__all__ = ["PLACE_MARGIN", "SceneConfig"]
+
+#: An object placed from the layout (an offset from the work point) that would stand closer
+#: than this (m, at scale 1) to the table's edge is moved in to it: the press scene's lamp,
+#: 0.45 m left of the work point, left the table of an arm whose work point is off its
+#: centre line (the Panda's).
+PLACE_MARGIN = 0.05
 
 
 @dataclass
@@ -183,7 +189,8 @@ class SceneConfig:
                 setattr(self, name, _scaled(value, lay.scale))
         for name, offset in self._PLACES.items():
             if getattr(self, name) is None:
-                setattr(self, name, lay.place(offset))
+                setattr(self, name, _inside(lay.place(offset), self.table_center,
+                                            self.table_size, PLACE_MARGIN * lay.scale))
 
     def layout_sized(self) -> tuple[str, ...]:
         """The object sizes the layout gave (not given) whose height a scene fits under the
@@ -309,6 +316,17 @@ class SceneConfig:
         out = {k: v[0] for k, v in self.state_values().items()}
         out.update(self.states)
         return out
+
+
+def _inside(xy: tuple[float, float], center: tuple[float, float],
+            size: tuple[float, float], margin: float) -> tuple[float, float]:
+    """`xy` moved onto the table top (`center`, `size`), at least `margin` from its edges;
+    unchanged (the same floats) when it is already there."""
+    out = []
+    for v, c, half in zip(xy, center, (size[0] / 2, size[1] / 2), strict=True):
+        lo, hi = c - half + margin, c + half - margin
+        out.append(v if lo <= v <= hi else round(min(max(v, lo), hi), 6))
+    return out[0], out[1]
 
 
 def _scaled(value: Any, scale: float) -> Any:
