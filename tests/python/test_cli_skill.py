@@ -1,5 +1,6 @@
 """``a2l skill learn``, ``show`` and ``run`` on real files: a skill learned from a
-demonstrations file, inspected, then run in the virtual scene in both modes."""
+demonstrations file (for the Panda: the bundle records it), inspected, then run in the
+virtual scene (no robot) in both modes."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
     save_demonstrations(demos, PushDemonstrator("right").demonstrations(4, 0))
     out = d / "push_right.a2lb"
     assert main(["skill", "learn", "--demos", str(demos), "--out", str(out), "--effect",
-                 "right", "--lfd.maps", "20"]) == 0
+                 "right", "--lfd.maps", "20", "--robot", "panda"]) == 0
     return out
 
 
@@ -32,6 +33,7 @@ def test_show_prints_what_the_bundle_holds(bundle: Path,
     text = capsys.readouterr().out
     assert "skill bundle" in text and "distance (distance)" in text
     assert "effects: left, right, close, far" in text and "DS phases: push_right" in text
+    assert "robot: panda (panda_link0 -> panda_hand_tcp, URDF sha256 " in text
     assert main(["skill", "show", "--json", str(bundle)]) == 0
     s = json.loads(capsys.readouterr().out)
     assert s["kind"] == "skill" and s["name"] == "push_right"
@@ -65,7 +67,13 @@ def test_bad_input_is_refused_with_the_valid_names(tmp_path: Path, bundle: Path,
             (["show", str(tmp_path)], "is not a file"),
             (["run", str(bundle), "--effect", "up"], "the bundle's: left, right, close, far"),
             (["run", str(bundle), "--effect", "right", "--gripper-yaw", "90"],
-             "--gripper-yaw: the virtual scene has no gripper to turn")):
+             "--gripper-yaw: the virtual scene has no gripper to turn"),
+            (["run", str(bundle), "--effect", "right", "--robot", "panda"],
+             "--robot: the virtual scene has no robot"),
+            (["run", str(bundle), "--effect", "right", "--scene", "push", "--robot", "ur5"],
+             "--robot: the bundle was learned for robot 'panda'"),
+            (["learn", "--demos", str(bundle), "--out", str(tmp_path / "x.a2lb"),
+              "--effect", "right", "--robot", "kuka"], "--robot: unknown robot 'kuka'")):
         with pytest.raises(SystemExit) as info:
             main(["skill", *argv])
         assert info.value.code == 2

@@ -49,7 +49,7 @@ def _cmd_lfd_skills(args: Namespace) -> int:
         check_record(Path(args.record))
     run_lfd_skills(out, skills, args.trials, args.seed, args.scene, args.mode,
                    args.workers, cfg=lfd_config(args), quiet=args.quiet,
-                   context_source=args.context_source, record=args.record)
+                   context_source=args.context_source, record=args.record, robot=args.robot)
     return 0
 
 
@@ -66,7 +66,12 @@ def _lfd_skills_parser() -> Parser:
                    help="comma-separated skill names (default: the push skills)")
     p.add_argument("--trials", type=int, default=20, help="trials per skill (default 20)")
     p.add_argument("--seed", type=int, default=1000, help="first trial seed (default 1000)")
-    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
+    p.add_argument("--robot", default="baxter", metavar="NAME|FILE",
+                   help="the robot the skills are learned for and tried on: a built-in name "
+                   "(baxter, panda, ...) or a robot file (default baxter)")
+    p.add_argument("--scene", choices=("baxter", "bullet", "virtual"), default=None,
+                   help="the recipes' PyBullet scenes on Baxter (baxter) or on --robot "
+                   "(bullet), or the virtual scene (default: baxter for Baxter, else bullet)")
     p.add_argument("--mode", choices=("table", "ds"), default="table")
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),
                    default="perceived", help="where the skills read the context: the camera "

@@ -5,7 +5,9 @@ to a bundle run in a scene.
 phases, robot, checksums); ``learn`` learns a skill from a demonstrations file such as
 ``a2l demo-record`` writes (the LfD pipeline, :func:`a2l.lfd.skill.learn_skill`); ``run``
 runs a bundle in closed loop in a scene (:func:`a2l.rollout.run.run_skill`) and prints the
-outcome and the trace summary.
+outcome and the trace summary. ``learn --robot`` records the robot the skill is learned for;
+``run`` builds a PyBullet scene on the robot the bundle was learned for (``--robot`` names
+another, or a robot file; the scene refuses a bundle of another robot).
 """
 
 from __future__ import annotations
@@ -130,6 +132,7 @@ def _cmd_learn(ns: Namespace) -> int:
         raise UsageError("--demos", f"'{demos_path}' is not a file")
     if out.suffix != ".a2lb":
         raise UsageError("--out", f"'{out}': a bundle file ends in .a2lb")
+    robot = _robot_record(ns.robot)
     cfg = lfd_config(ns) or DEFAULT
     effects = skill_discretizer(cfg, planar=ns.planar, n_effects=ns.n_effects).effects.values
     if ns.effect not in effects:
@@ -146,10 +149,67 @@ def _cmd_learn(ns: Namespace) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
     name = ns.name or out.stem
     learned = learn_skill(name, [Behaviour(list(demos), ns.effect, phase=name)], out,
-                          cfg, planar=ns.planar, n_effects=ns.n_effects)
+                          cfg, planar=ns.planar, n_effects=ns.n_effects, robot=robot)
     print(f"learned {learned.name!r} from {len(demos)} demonstration(s): {learned.rows} rows, "
           f"{sum(learned.timings.values()):.1f} s; bundle {learned.bundle}")
     return 0
+
+
+def _robot_record(robot: str | None) -> dict[str, str] | None:
+    from a2l.errors import A2LError
+    from a2l.lfd.library import robot_record
+
+    try:
+        return robot_record(robot)
+    except A2LError as exc:
+        raise UsageError("--robot", str(exc)) from None
+
+
+def _scene_robot(scene: str, given: str | None, learned_for: dict[str, Any] | None
+                 ) -> dict[str, str]:
+    """The ``robot`` setting of `scene` (none for the virtual scene): `given`, else the
+    robot the bundle was learned for (a built-in one), else the scene's own (Baxter). A
+    robot the bundle was not learned for is a usage error."""
+    from a2l.errors import A2LError
+    from a2l.robot import BUILTIN_ROBOTS
+    from a2l.sim import settings_for
+
+    if not settings_for(scene, {"robot": "baxter"}):
+        if given is not None:
+            raise UsageError("--robot", f"the {scene} scene has no robot")
+        return {}
+    if given is None and learned_for is not None:
+        given = str(learned_for["name"])
+        if given not in BUILTIN_ROBOTS:
+            raise UsageError("--robot", f"the bundle was learned for robot {given!r}, not a "
+                             "built-in one: give its robot file")
+    if given is None:
+        return {}
+    from a2l.robot import robot_entry
+
+    try:
+        robot_entry(given).check_learned_for(learned_for, "the bundle")
+    except A2LError as exc:
+        raise UsageError("--robot", str(exc)) from None
+    return {"robot": given}
+
+
+def _run_settings(ns: Namespace, summary: dict[str, Any]) -> dict[str, Any]:
+    """The scene settings of ``skill run``: those the skill was learned with that the scene
+    has, the gripper's turn (``--gripper-yaw``), the robot (:func:`_scene_robot`)."""
+    from a2l.sim import settings_for
+
+    extra = settings_for(ns.scene, summary["scene"])
+    if ns.gripper_yaw is not None:
+        turn = settings_for(ns.scene, {"gripper_yaw": ns.gripper_yaw})
+        if not turn and ns.gripper_yaw:
+            raise UsageError("--gripper-yaw", f"the {ns.scene} scene has no gripper to turn")
+        extra.update(turn)
+    elif "gripper_yaw" in extra:
+        print(f"gripper turned {extra['gripper_yaw']:g} degrees, as the skill was learned "
+              "(--gripper-yaw overrides)")
+    extra.update(_scene_robot(ns.scene, ns.robot, summary["robot"]))
+    return extra
 
 
 def _cmd_run(ns: Namespace) -> int:
@@ -158,7 +218,7 @@ def _cmd_run(ns: Namespace) -> int:
 
     from a2l.lfd.library import SKILLS, reset_for_trial
     from a2l.rollout.run import run_skill
-    from a2l.sim import make_scene, settings_for
+    from a2l.sim import make_scene
 
     summary = bundle_summary(Path(ns.bundle))
     if summary["kind"] != "skill":
@@ -173,32 +233,23 @@ def _cmd_run(ns: Namespace) -> int:
     if ns.record is not None:
         check_record(Path(ns.record))
     frames: list[dict[str, Any]] = []
-    # the scene settings the skill was learned with, those this scene has
-    extra = settings_for(ns.scene, summary["scene"])
-    if ns.gripper_yaw is not None:
-        turn = settings_for(ns.scene, {"gripper_yaw": ns.gripper_yaw})
-        if not turn and ns.gripper_yaw:
-            raise UsageError("--gripper-yaw", f"the {ns.scene} scene has no gripper to turn")
-        extra.update(turn)
-    elif "gripper_yaw" in extra:
-        print(f"gripper turned {extra['gripper_yaw']:g} degrees, as the skill was learned "
-              "(--gripper-yaw overrides)")
     with make_scene(ns.scene, seed=ns.seed, step=summary["movements"]["step"],
-                    context_source="ground_truth", **extra) as scene:
+                    context_source="ground_truth", **_run_settings(ns, summary)) as scene:
         recipe = SKILLS.get(summary["name"])
+        name = None
         if recipe is not None and recipe.object_name in scene.object_names:
             # a skill of the library (by its name): the start the experiments draw for a
-            # trial of it, from --seed
+            # trial of it, from --seed, and the object it acts on
             start = reset_for_trial(scene, summary["name"], ns.seed)["start"]
+            name = recipe.object_name
             print(f"start: the end-effector {np.linalg.norm(start) * 100:.1f} cm from the "
-                  f"{recipe.object_name} (a trial start of skill {summary['name']!r}, seed "
-                  f"{ns.seed})")
+                  f"{name} (a trial start of skill {summary['name']!r}, seed {ns.seed})")
         if ns.record is not None:
             frames.append(scene_frame(scene))
         run = run_skill(scene, ns.bundle, ns.effect, mode=ns.mode, max_steps=ns.max_steps,
                         on_step=(lambda k, st: frames.append(scene_frame(scene)))
-                        if ns.record is not None else None)
-        name = "box" if "box" in scene.object_names else scene.primary_object
+                        if ns.record is not None else None, object_name=name)
+        name = name or ("box" if "box" in scene.object_names else scene.primary_object)
     if ns.record is not None:
         _record(Path(ns.record), run, ns.bundle, name, frames)
     statuses = Counter(run.statuses)
@@ -242,6 +293,9 @@ def _learn_parser() -> Parser:
                    help="8 planar movements (default) or 26 in 3-D (false)")
     p.add_argument("--n_effects", type=int, choices=(4, 8), default=4,
                    help="push effects of the effect variable (default 4)")
+    p.add_argument("--robot", default=None, metavar="NAME|FILE",
+                   help="the robot the skill is learned for, which the bundle records and "
+                   "the scenes of another robot refuse (default: none, it runs on any arm)")
     add_config_fields(p, LfDConfig, nested_key="lfd")
     return p
 
@@ -257,10 +311,13 @@ def _run_parser() -> Parser:
     p.add_argument("--scene", choices=SCENES, default="virtual",
                    help="the scene (default virtual)")
     p.add_argument("--seed", type=NonNegativeInt, default=0, help="scene seed (default 0)")
+    p.add_argument("--robot", default=None, metavar="NAME|FILE",
+                   help="the robot of a PyBullet scene: a built-in name or a robot file "
+                   "(default: the robot the bundle was learned for, else Baxter)")
     p.add_argument("--max-steps", type=PositiveInt | None, default=None, metavar="N",
                    help="most steps (default: the bundle's step cap)")
     p.add_argument("--gripper-yaw", type=float | None, default=None, metavar="DEG",
-                   help="turn of the gripper about the vertical on Baxter (degrees; default: "
+                   help="turn of the gripper about the vertical (degrees; default: "
                    "the bundle's setting, which the sideways pushes push_right/push_left "
                    "learn as 90, else 0: fingers closing along y)")
     p.add_argument("--record", default=None, metavar="FILE.rrd",

@@ -4,7 +4,10 @@ Each skill of :data:`a2l.lfd.library.SKILLS` is demonstrated by its scripted dem
 (demonstration seeds ``0 .. n_demos - 1``), learned with its configuration
 (:func:`a2l.lfd.library.skill_config`: :data:`a2l.lfd.config.DEFAULT` for the push skills),
 and run in closed loop through the C++ step from ``trials`` trial set-ups drawn from seeds
-``seed, seed + 1, ...`` (default 1000: no demonstration and no tuning used them). Output:
+``seed, seed + 1, ...`` (default 1000: no demonstration and no tuning used them), in the
+recipes' PyBullet scenes on Baxter (scene ``baxter``) or on another robot (scene ``bullet``
+with ``robot``: a built-in name or a robot file; the objects stand at its work point and the
+bundles record it), or in the C++ virtual scene (``virtual``: no robot). Output:
 ``skills/<name>.a2lb``, ``trials.csv`` (one row per trial), ``metrics.json`` (success rate,
 mean movements, failures by stop status, learning times) and ``report.md``.
 """
@@ -20,12 +23,16 @@ from typing import Any
 
 import pandas as pd
 
-from a2l.errors import ConfigError
+from a2l.errors import A2LError, ConfigError
 from a2l.lfd.config import LfDConfig
 from a2l.progress import print_tables, progress_bar
 
-__all__ = ["LfdTrial", "evaluate", "results_table", "run_lfd_skills", "trial_task"]
+__all__ = ["SCENES", "LfdTrial", "evaluate", "resolve_scene", "results_table", "scale_note",
+           "run_lfd_skills", "trial_task"]
 
+#: The scenes the trials run in: Baxter's PyBullet scenes (as runs before robots were data),
+#: the PyBullet scenes of any robot, the C++ virtual scene.
+SCENES = ("baxter", "bullet", "virtual")
 #: Where a trial reads the context, as reports name it.
 CONTEXT_SOURCES = {"perceived": "camera", "ground_truth": "ground truth"}
 
@@ -62,8 +69,8 @@ class LfdTrial:
         Path of its learned bundle.
     seed : int
         Trial seed: the object's and the arm's start (:func:`a2l.lfd.library.reset_for_trial`).
-    scene : {"baxter", "virtual"}
-        Baxter in PyBullet (the recipe's scene) or the C++ virtual scene.
+    scene : {"baxter", "bullet", "virtual"}
+        The recipe's PyBullet scene on Baxter or on `robot`, or the C++ virtual scene.
     mode : {"table", "ds"}
         The context skill (the compiled table) or the DS alone.
     config : LfDConfig
@@ -75,6 +82,8 @@ class LfdTrial:
         Where the skill reads the context: the camera (default) or the simulator's truth.
     keep_run : bool
         The result then holds the :class:`a2l.rollout.run.SkillRun` as ``"run"``, to record.
+    robot : str
+        The robot of scene ``bullet`` (a built-in name or a robot file's path).
     """
 
     skill: str
@@ -86,10 +95,13 @@ class LfdTrial:
     package: str = field(default_factory=package_dir)
     context_source: str = "perceived"
     keep_run: bool = False
+    robot: str = "baxter"
 
 
 def trial_task(task: LfdTrial) -> dict[str, Any]:
-    """Run one trial: a row of ``trials.csv`` (plus ``"run"`` with ``task.keep_run``).
+    """Run one trial: a row of ``trials.csv`` (plus ``"run"`` with ``task.keep_run``). A
+    trial whose start the arm cannot reach with its gripper pointing down (a small arm, the
+    PR2 above the block) is a failure of stop ``start_unreachable``, no movement made.
 
     Raises
     ------
@@ -97,6 +109,7 @@ def trial_task(task: LfdTrial) -> dict[str, Any]:
         The worker imported another copy of a2l than the parent (``task.package``): its
         results would not be the code under test's.
     """
+    from a2l.errors import UnreachableError
     from a2l.lfd.library import SKILLS, make_skill_scene, reset_for_trial
     from a2l.rollout.effect_tests import light_test
     from a2l.rollout.run import run_skill
@@ -105,24 +118,30 @@ def trial_task(task: LfdTrial) -> dict[str, Any]:
     cfg = task.config
     name, scene_name = task.skill, task.scene
     source = task.context_source
-    key = repr((name, scene_name, cfg.step, source))
+    robot = task.robot if scene_name == "bullet" else None
+    key = repr((name, scene_name, cfg.step, source, robot))
     scene = _SCENES.get(key)
     if scene is None:
         for old in _SCENES.values():
             old.close()
         _SCENES.clear()
         scene = _SCENES[key] = make_skill_scene(
-            name, 0, cfg, scene=None if scene_name == "baxter" else scene_name,
-            context_source=source)
-    reset_for_trial(scene, name, task.seed)
+            name, 0, cfg, scene=None if scene_name in ("baxter", "bullet") else scene_name,
+            robot=robot, context_source=source)
+    row = {"skill": name, "seed": task.seed, "scene": scene_name, "mode": task.mode,
+           "context_source": source}
+    try:
+        reset_for_trial(scene, name, task.seed)
+    except UnreachableError:
+        return {**row, "success": False, "stop": "start_unreachable", "movements": 0,
+                "produced_x": 0.0, "produced_y": 0.0, "wall": 0.0,
+                **({"run": None} if task.keep_run else {})}
     recipe = SKILLS[name]
     by_light = recipe.extra.get("effect_by_light")
     run = run_skill(scene, task.bundle, recipe.effect, mode=task.mode,
                     object_name=recipe.object_name,
                     effect_test=light_test(by_light) if by_light else None)
-    return {"skill": name, "seed": task.seed, "scene": scene_name, "mode": task.mode,
-            "context_source": source, "success": bool(run.success), "stop": run.stop,
-            "movements": run.movements,
+    return {**row, "success": bool(run.success), "stop": run.stop, "movements": run.movements,
             "produced_x": float(run.produced[0]), "produced_y": float(run.produced[1]),
             "wall": run.wall, **({"run": run} if task.keep_run else {})}
 
@@ -130,8 +149,8 @@ def trial_task(task: LfdTrial) -> dict[str, Any]:
 def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
              mode: str = "table", cfg: LfDConfig | None = None, executor: Any = None,
              on_done: Callable[[int], None] | None = None,
-             context_source: str = "perceived", keep_runs: bool = False
-             ) -> list[dict[str, Any]]:
+             context_source: str = "perceived", keep_runs: bool = False,
+             robot: str = "baxter") -> list[dict[str, Any]]:
     """Run every skill of `bundles` from every trial seed; one result dict per trial.
 
     Parameters
@@ -140,8 +159,8 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
         Skill name -> bundle.
     seeds : sequence of int
         Trial seeds.
-    scene : {"baxter", "virtual"}
-        Baxter in PyBullet (the recipe's scene) or the C++ virtual scene.
+    scene : {"baxter", "bullet", "virtual"}
+        The recipe's PyBullet scene on Baxter or on `robot`, or the C++ virtual scene.
     mode : {"table", "ds"}
     cfg : LfDConfig, optional
         Its ``step`` is the scenes' movement length (default: each skill's own,
@@ -153,13 +172,15 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
         Success is judged on the truth either way.
     keep_runs : bool
         Every result holds its run (``"run"``, :class:`a2l.rollout.run.SkillRun`), to record.
+    robot : str
+        The robot of scene ``bullet``.
     """
     from a2l.lfd.library import skill_config
     from a2l.parallel import Executor
 
     configs = {n: skill_config(n, cfg) for n in bundles}
     tasks = [LfdTrial(n, str(b), int(s), scene, mode, configs[n], package_dir(),
-                      context_source, keep_runs)
+                      context_source, keep_runs, robot)
              for n, b in bundles.items() for s in seeds]
     if executor is None:
         with Executor(1) as ex:
@@ -199,12 +220,47 @@ def results_table(summary: dict[str, dict[str, Any]],
     return "\n".join(lines)
 
 
+def resolve_scene(scene: str | None, robot: str) -> str:
+    """The scene of a run on `robot`: `scene`, or when None ``"baxter"`` for Baxter (as runs
+    before) and ``"bullet"`` for another robot.
+
+    Raises
+    ------
+    a2l.errors.ConfigError
+        An unknown scene, another robot than Baxter in scene ``baxter`` or in the virtual
+        scene (which has none), an unknown robot or robot file.
+    """
+    from a2l.robot import robot_entry
+
+    if scene is None:
+        scene = "baxter" if robot == "baxter" else "bullet"
+    if scene not in SCENES:
+        raise ConfigError("--scene", f"must be one of {list(SCENES)}, got {scene!r}")
+    if scene == "baxter" and robot != "baxter":
+        raise ConfigError("--robot", f"scene 'baxter' is Baxter's; for robot {robot!r} use "
+                          "scene 'bullet'")
+    if scene == "virtual" and robot != "baxter":
+        raise ConfigError("--robot", f"the virtual scene has no robot (asked for {robot!r}); "
+                          "use scene 'bullet'")
+    try:
+        robot_entry(robot)
+    except A2LError as exc:
+        raise ConfigError("--robot", str(exc)) from None
+    return scene
+
+
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
-                   trials: int = 20, seed: int = 1000, scene: str = "baxter",
+                   trials: int = 20, seed: int = 1000, scene: str | None = None,
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
                    quiet: bool = False, context_source: str = "perceived",
-                   record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
+                   record: str | os.PathLike[str] | None = None,
+                   robot: str = "baxter") -> dict[str, Any]:
     """Learn the skills and try them; write the run directory (see the module docstring).
+
+    The skills are learned for `robot` (a built-in name or a robot file; their bundles
+    record it) and tried in its PyBullet scenes (`scene` ``"bullet"``, the default for a
+    robot other than Baxter; ``"baxter"``, Baxter's default, is the same on Baxter), or
+    learned for no robot and tried in the virtual scene (``"virtual"``).
 
     The trials read the context from `context_source`: the camera (``"perceived"``, the
     default) or the simulator's truth (``"ground_truth"``); the report names it. With
@@ -218,7 +274,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         The metrics written to ``metrics.json``.
     """
     from a2l.atomic import atomic_write_text
-    from a2l.lfd.library import SKILLS, learn_recipe, skill_config
+    from a2l.lfd.library import SKILLS, check_robot_for, learn_recipe, skill_config
     from a2l.parallel import Executor
     from a2l.rundir import command_line, make_run_dir, write_json
     from a2l.seeds import mark_report, seed_record
@@ -227,47 +283,58 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     unknown = [n for n in names if n not in SKILLS]
     if unknown:
         raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+    scene = resolve_scene(scene, robot)
+    for name in names if scene != "virtual" else ():
+        try:
+            check_robot_for(name, robot)
+        except A2LError as exc:
+            raise ConfigError("--skills", str(exc)) from None
     if context_source not in CONTEXT_SOURCES:
         raise ConfigError("--context_source", f"must be one of {list(CONTEXT_SOURCES)}, got "
                           f"{context_source!r}")
     run_dir = make_run_dir("lfd-skills", out)
     words = ["a2l", "experiment", "lfd-skills", "--out", run_dir, "--skills", ",".join(names),
              "--trials", trials, "--seed", seed, "--scene", scene, "--mode", mode,
-             "--context_source", context_source, "--workers", workers]
+             "--context_source", context_source, "--workers", workers,
+             *(["--robot", robot] if scene == "bullet" else [])]
+    learned_for = None if scene == "virtual" else robot
     write_json(run_dir / "config.json", {
         "experiment": "lfd-skills", "skills": names, "trials": trials, "seed": seed,
-        "scene": scene, "mode": mode, "context_source": context_source, "workers": workers,
+        "scene": scene, "robot": learned_for, "mode": mode, "context_source": context_source,
+        "workers": workers,
         "configs": {n: skill_config(n, cfg).to_json() for n in names},
         "command": command_line(words, cfg, prefix="lfd."),
         "seed_use": seed_record("lfd-skills", range(seed, seed + trials))})
     bundles, learning = {}, {}
     for name in names:
         t0 = time.perf_counter()
-        learned = learn_recipe(name, run_dir / "skills", cfg)
+        learned = learn_recipe(name, run_dir / "skills", cfg, robot=learned_for)
         bundles[name] = learned.bundle
         learning[name] = {"rows": learned.rows, "seconds": time.perf_counter() - t0,
                           **{f"{k}_s": v for k, v in learned.timings.items()}}
     seeds = list(range(seed, seed + trials))
     with Executor(workers) as ex, progress_bar("trials", len(names) * trials, quiet) as bar:
         results = evaluate(bundles, seeds, scene, mode, cfg, ex, bar, context_source,
-                           keep_runs=record is not None)
+                           keep_runs=record is not None, robot=robot)
     if record is not None:
         _record(record, results, bundles)
     frame = pd.DataFrame(results)
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     summary = summarise(frame)
-    metrics = {"scene": scene, "mode": mode, "context_source": context_source,
+    metrics = {"scene": scene, "robot": learned_for, "mode": mode,
+               "context_source": context_source,
                "seeds": [seeds[0], seeds[-1]],
                "config": skill_config(names[0], cfg).to_json(),
                "configs": {n: skill_config(n, cfg).to_json() for n in names},
                "skills": summary, "learning": learning}
     write_json(run_dir / "metrics.json", metrics)
-    lines = [f"# Demonstrated skills on held-out seeds ({scene}, {mode}, context: "
+    where = f"bullet, robot {robot}" if scene == "bullet" else scene
+    lines = [f"# Demonstrated skills on held-out seeds ({where}, {mode}, context: "
              f"{CONTEXT_SOURCES[context_source]})", "",
              f"Trial seeds {seeds[0]}-{seeds[-1]}; demonstrations from seeds 0-"
              f"{skill_config(names[0], cfg).n_demos - 1}; config "
              f"{ {n: skill_config(n, cfg).to_json() for n in names} }.", "",
-             results_table(summary, learning)]
+             *scale_note(scene, robot), results_table(summary, learning)]
     atomic_write_text(run_dir / "report.md", mark_report(
         "\n".join(lines) + "\n", seed_record("lfd-skills", seeds)))
     if not quiet:
@@ -275,6 +342,21 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
         print_tables(lines[-1])
         print(f"results in {run_dir}/ (report.md, metrics.json, trials.csv, skills/)")
     return metrics
+
+
+def scale_note(scene: str, robot: str) -> list[str]:
+    """The report's note on a robot whose scene is scaled (a small arm,
+    :func:`a2l.robot.table_layout`): the demonstrations are not."""
+    if scene != "bullet":
+        return []
+    from a2l.robot import robot_entry, table_layout
+
+    scale = table_layout(robot_entry(robot)).scale
+    if scale >= 1.0:
+        return []
+    return [f"Robot {robot}'s scene is scaled by {scale:.2f} (objects, work point, "
+            "movement): the demonstrations, their starts and the LfD configuration are not; "
+            "a start out of the arm's reach is a failure of stop start_unreachable.", ""]
 
 
 def record_trials(recorder: Any, trials: Sequence[dict[str, Any]], skill: Any,
@@ -287,8 +369,9 @@ def record_trials(recorder: Any, trials: Sequence[dict[str, Any]], skill: Any,
     from a2l.rollout.recording import record_run
 
     for i, r in enumerate(trials):
-        record_run(recorder, r.pop("run"), skill, object_name=object_name, rollout=i,
-                   group=group)
+        run = r.pop("run")
+        if run is not None:  # None: the start was out of reach, nothing ran
+            record_run(recorder, run, skill, object_name=object_name, rollout=i, group=group)
         recorder.note(f"{r['skill']} seed {r['seed']}: "
                       f"{'success' if r['success'] else 'failure'} ({r['stop']})")
     return len(trials)

@@ -10,6 +10,13 @@ configured home ± ``object_jitter``) and the end-effector's start relative to t
 from the recipe's start distribution: the same distribution the demonstrations start from,
 so that held-out trials (seeds no demonstration and no tuning used) measure generalisation
 to new starts, not to another task.
+
+**Robots.** The demonstrations, the starts and the effects are in the object's frame, and a
+scene places its objects at the robot's work point (:func:`a2l.robot.table_layout`): a skill
+is demonstrated, learned and tried on any robot the PyBullet scenes take
+(``learn_recipe(name, out, robot="panda")``, ``make_skill_scene(name, robot="panda")``;
+Baxter by default). Its bundle records the robot it was learned for (:func:`robot_record`),
+and a scene of another robot refuses it (:meth:`a2l.robot.RobotEntry.check_learned_for`).
 """
 
 from __future__ import annotations
@@ -20,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from a2l.errors import A2LValueError
 from a2l.lfd import manipulation_skills
 from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.demonstrators import PushDemonstrator
@@ -28,8 +36,9 @@ from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
 from a2l.rollout.protocol import SceneProtocol
 from a2l.sim import make_scene, settings_for
 
-__all__ = ["SIDEWAYS_SCENE", "SKILLS", "SkillRecipe", "learn_recipe", "make_skill_scene",
-           "register_skill", "reset_for_trial", "skill_config"]
+__all__ = ["SIDEWAYS_SCENE", "SKILLS", "SkillRecipe", "check_robot_for", "learn_recipe",
+           "make_skill_scene", "register_skill", "reset_for_trial", "robot_record",
+           "skill_config"]
 
 _TRIAL_STREAM = 0x7472696C  # seeds trial draws apart from every other stream
 
@@ -77,7 +86,8 @@ def skill_config(name: str, cfg: LfDConfig | None = None) -> LfDConfig:
 
 
 def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
-                     scene: str | None = None, **config: Any) -> Any:
+                     scene: str | None = None, robot: str | None = None,
+                     **config: Any) -> Any:
     """The scene a skill is tried in, with the movement length of `cfg`.
 
     Parameters
@@ -91,6 +101,9 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     scene : str, optional
         Another :func:`a2l.sim.make_scene` scene than the recipe's (``"virtual"``, or
         ``"press"`` for a push with a light).
+    robot : str, optional
+        The robot of a PyBullet scene: a built-in name or a robot file's path (default: the
+        scene's, Baxter). The virtual scene has none.
     **config
         Scene config overrides (``gui=True``, ``context_source="ground_truth"``...).
         Default: the context from the camera (``context_source="perceived"``), no reset
@@ -101,6 +114,12 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     Returns
     -------
     a2l.sim.Scene
+
+    Raises
+    ------
+    a2l.A2LValueError
+        A robot for a scene that has none (the virtual scene), an unknown robot, a skill
+        that closes the gripper on a robot without one.
     """
     recipe = get_recipe(name)
     cfg = skill_config(name, cfg)
@@ -108,6 +127,12 @@ def make_skill_scene(name: str, seed: int = 0, cfg: LfDConfig | None = None,
     config.setdefault("object_jitter", 0.0)
     config.setdefault("step", cfg.step)
     scene_name = scene or recipe.scene
+    if robot is not None:
+        if not settings_for(scene_name, {"robot": robot}):
+            raise A2LValueError(f"the {scene_name} scene has no robot (asked for robot "
+                                f"{robot!r}): try skill {name!r} in a PyBullet scene")
+        check_robot_for(name, robot)
+        config["robot"] = robot
     for key, value in settings_for(scene_name, recipe.scene_config).items():
         config.setdefault(key, value)
     return make_scene(scene_name, seed=seed, **config)
@@ -146,14 +171,76 @@ def reset_for_trial(scene: SceneProtocol, name: str, seed: int) -> dict[str, np.
     return {"object": obj, "eef": obj + start, "start": start}
 
 
-def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig | None = None,
-                 seed: int = 0) -> LearnedSkill:
-    """Demonstrate (seeds ``seed ...``), learn and save skill `name` as
-    ``out_dir/<name>.a2lb`` (with :func:`skill_config`)."""
+def robot_record(robot: str | None) -> dict[str, str] | None:
+    """What a skill bundle records of the robot it was learned for (its ``robot`` entry, which
+    :meth:`a2l.robot.RobotEntry.check_learned_for` reads): the name, the URDF's sha256 and
+    the chain's links; None for no robot (a skill of the virtual scene).
+
+    Raises
+    ------
+    a2l.A2LValueError
+        An unknown robot (the built-in ones named), an unreadable robot file.
+    """
+    if robot is None:
+        return None
+    from a2l.robot import robot_entry, urdf_sha256
+
+    entry = robot_entry(robot)
+    return {"name": entry.name, "urdf_sha256": urdf_sha256(entry.urdf),
+            "base_link": entry.base_link, "tip_link": entry.tool_link}
+
+
+def check_robot_for(name: str, robot: str) -> None:
+    """Refuse to demonstrate or run skill `name` on `robot` when it cannot: a skill that opens
+    and closes the gripper (a high-level state ``gripper`` it acts on) on an arm without one.
+
+    Raises
+    ------
+    a2l.A2LValueError
+        Naming the skill and the robot; an unknown robot (:func:`a2l.robot.robot_entry`).
+    """
+    from a2l.robot import robot_entry
+
     recipe = get_recipe(name)
+    entry = robot_entry(robot)
+    if entry.gripper is None and any(h.name == "gripper" for h in recipe.high_level):
+        raise A2LValueError(f"skill {name!r} closes the gripper, and robot '{entry.name}' "
+                            "has none: give its robot file a gripper, or learn a push or press")
+
+
+def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig | None = None,
+                 seed: int = 0, robot: str | None = "baxter") -> LearnedSkill:
+    """Demonstrate (seeds ``seed ...``), learn and save skill `name` as
+    ``out_dir/<name>.a2lb`` (with :func:`skill_config`).
+
+    Parameters
+    ----------
+    name : str
+        A skill of :data:`SKILLS`.
+    out_dir : path
+        Where the bundle goes.
+    cfg : LfDConfig, optional
+        Default: :func:`skill_config`.
+    seed : int
+        First demonstration seed.
+    robot : str or None
+        The robot the skill is learned for (a built-in name or a robot file's path), which
+        the bundle records (:func:`robot_record`): the demonstrations are in the object's
+        frame, the scene puts the object at the robot's work point. None: no robot (a skill
+        of the virtual scene, run on any arm).
+
+    Raises
+    ------
+    a2l.A2LValueError
+        An unknown robot, or a skill that closes the gripper on an arm without one
+        (:func:`check_robot_for`).
+    """
+    recipe = get_recipe(name)
+    if robot is not None:
+        check_robot_for(name, robot)
     cfg = skill_config(name, cfg)
     disc = recipe.discretizer(cfg) if recipe.discretizer else None
     return learn_skill(name, recipe.behaviours(cfg, seed), Path(out_dir) / f"{name}.a2lb",
                        cfg, high_level=recipe.high_level, planar=recipe.planar,
                        discretizer=disc, context_edges=recipe.context_edges,
-                       scene=recipe.scene_config)
+                       scene=recipe.scene_config, robot=robot_record(robot))

@@ -26,7 +26,7 @@ class SkillRecipe:
     name : str
         Skill name (``"push_right"``).
     scene : str
-        The :func:`a2l.sim.make_scene` scene it acts in on Baxter.
+        The :func:`a2l.sim.make_scene` scene it acts in (on any robot the scene takes).
     effect : str
         The effect it produces (the wanted effect of its runs).
     object_name : str

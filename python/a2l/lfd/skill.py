@@ -100,7 +100,8 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
                 cfg: LfDConfig = DEFAULT, high_level: Sequence[Any] = (),
                 planar: bool = True, n_effects: int = 4,
                 discretizer: Any | None = None, context_edges: bool = False,
-                scene: dict[str, Any] | None = None) -> LearnedSkill:
+                scene: dict[str, Any] | None = None,
+                robot: dict[str, str] | None = None) -> LearnedSkill:
     """Learn a skill from demonstrated behaviours and save its bundle (atomically).
 
     Parameters
@@ -129,6 +130,9 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         The scene settings the skill was demonstrated and is meant to run with (e.g. the
         sideways pushes' ``{"gripper_yaw": 90.0}``), kept in the bundle's ``extra`` as
         ``lfd.scene``; ``a2l skill run`` applies them unless told otherwise.
+    robot : dict, optional
+        The robot the skill is learned for, as the bundle records it
+        (:func:`a2l.lfd.library.robot_record`); None: none (it runs on any arm).
 
     Returns
     -------
@@ -180,7 +184,7 @@ def learn_skill(name: str, behaviours: Sequence[Behaviour], path: str | os.PathL
         pd.concat(frames, ignore_index=True), disc, path, name=name, structure="hc-k2",
         constraints={"fixed_parents": list(disc.evidence if context_edges
                                            else [disc.effects.name])},
-        step_cap=cfg.step_cap, smoothing=cfg.smoothing,
+        robot=robot, step_cap=cfg.step_cap, smoothing=cfg.smoothing,
         extra=lambda rows: {"lfd": {
             "config": cfg.to_json(),
             "scene": dict(scene or {}),
