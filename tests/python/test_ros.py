@@ -1,5 +1,6 @@
-"""a2l.ros: the simulated Baxter and the skill node, each in its own process, push the box
-over ROS 2; bad input ends the skill node with a clear message and no command after it.
+"""a2l.ros: the simulated robot and the skill node, each in its own process, push the box
+over ROS 2 (Baxter, the Panda) and grasp the block (the Panda, with its gripper commands);
+bad input ends the skill node with a clear message and no command after it.
 
 Every test gets its own random ROS_DOMAIN_ID (the processes of one pytest run draw from
 disjoint ranges) and localhost-only discovery, so tests running at once and test runs of
@@ -47,6 +48,16 @@ def sideways(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return learn_recipe("push_right", tmp_path_factory.mktemp("ros-sideways")).bundle
 
 
+@pytest.fixture(scope="module")
+def panda(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """A push and the grasp learned for the Panda (their bundles record it)."""
+    from a2l.lfd.library import learn_recipe
+
+    out = tmp_path_factory.mktemp("ros-panda")
+    return {name: learn_recipe(name, out, robot="panda").bundle
+            for name in ("push_far", "grasp")}
+
+
 @pytest.fixture
 def domain(monkeypatch: pytest.MonkeyPatch) -> int:
     """A random ROS domain of this test, discovery on localhost only; the pytest processes
@@ -70,28 +81,44 @@ def _stop(proc: subprocess.Popen[str], timeout: float = 20.0) -> str:
     return out
 
 
-@pytest.mark.timeout(180)
-@pytest.mark.parametrize("command", [pytest.param("joint", marks=pytest.mark.slow), "pose"])
-def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, domain: int, tmp_path: Path,
-                                                  command: str) -> None:
-    truth = tmp_path / "truth.json"
-    sim = subprocess.Popen([*A2L, "ros", "sim", "--trial", "push_far", "--seed", "1000",
-                            "--command", command, "--truth", str(truth)],
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+def run_over_ros(sim_args: list[str], skill_args: list[str], ready: str
+                 ) -> tuple[subprocess.CompletedProcess[str], str]:
+    """``a2l ros sim SIM_ARGS`` in one process, ``a2l ros skill SKILL_ARGS`` in another
+    once the sim is up (its first line starts with `ready`): the skill's completed process
+    and the sim's output, the sim stopped (SIGINT) and checked to exit 0."""
+    sim = subprocess.Popen([*A2L, "ros", "sim", *sim_args], stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True)
     try:
         assert sim.stdout is not None
-        ready = sim.stdout.readline()  # the scene is built and the node is up
-        assert ready.startswith("a2l ros sim: push scene"), ready
-        record = ["--record", str(tmp_path / "push.mcap")] if command == "joint" else []
-        skill = subprocess.run([*A2L, "ros", "skill", str(bundle), "--effect", "far",
-                                "--timeout", "90", *record], capture_output=True, text=True,
-                               timeout=150)
+        first = sim.stdout.readline()  # the scene is built and the node is up
+        assert first.startswith(ready), first
+        skill = subprocess.run([*A2L, "ros", "skill", *skill_args, "--timeout", "90"],
+                               capture_output=True, text=True, timeout=150)
     finally:
         sim_out = _stop(sim)
     assert sim.returncode == 0, sim_out
     assert skill.returncode == 0, skill.stdout + skill.stderr
     assert skill.stdout.startswith("success: stop effect_produced")
+    return skill, first + sim_out
+
+
+@pytest.mark.timeout(180)
+@pytest.mark.parametrize(("robot", "command"), [
+    pytest.param("baxter", "joint", marks=pytest.mark.slow), ("panda", "pose")])
+def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, panda: dict[str, Path],
+                                                  domain: int, tmp_path: Path, robot: str,
+                                                  command: str) -> None:
+    """Baxter commanded in joints (and recorded), the Panda by Cartesian targets: each
+    robot's scene and skill node take the robot the bundle was learned for."""
+    truth = tmp_path / "truth.json"
+    push = bundle if robot == "baxter" else panda["push_far"]
+    record = ["--record", str(tmp_path / "push.mcap")] if command == "joint" else []
+    start = ["--trial", "push_far"] if robot == "baxter" else ["--bundle", str(push)]
+    run_over_ros([*start, "--seed", "1000", "--command", command, "--truth", str(truth)],
+                 [str(push), "--effect", "far", *record],
+                 f"a2l ros sim: push scene, robot {robot}, joints ")
     t = json.loads(truth.read_text())
+    assert (t["robot"], t["trial"]) == (robot, "push_far")
     moved = np.subtract(t["end"]["box"], t["start"]["box"])
     # the simulator's ground truth: pushed far (+x) at least the push distance, mostly along x
     assert t["effect"] == "far"
@@ -100,6 +127,27 @@ def test_sim_and_skill_node_push_the_box_over_ros(bundle: Path, domain: int, tmp
     assert t["commands"] and {c["topic"] for c in t["commands"]} == {topic}
     if record:
         check_recording(tmp_path / "push.mcap", len(t["commands"]))
+
+
+@pytest.mark.timeout(180)
+def test_the_panda_grasps_the_block_over_ros(panda: dict[str, Path], domain: int,
+                                             tmp_path: Path) -> None:
+    """The grasp's close goes out on gripper/command, the sim closes the Panda's hand, the
+    node sees it on states/gripper and lifts: the simulator's block is grasped, 5 cm up."""
+    truth = tmp_path / "truth.json"
+    skill, _ = run_over_ros(
+        ["--bundle", str(panda["grasp"]), "--seed", "1000", "--truth", str(truth)],
+        [str(panda["grasp"]), "--effect", "grasped", "--robot", "panda"],
+        "a2l ros sim: grasp scene, robot panda, joints panda_joint1..., objects ['block']")
+    assert ", gripper closed" in skill.stdout
+    t = json.loads(truth.read_text())
+    assert (t["robot"], t["trial"], t["effect"]) == ("panda", "grasp", "grasped")
+    assert t["end"]["block"][2] - t["start"]["block"][2] >= 0.05
+    topics = [c["topic"] for c in t["commands"]]
+    assert set(topics) == {"joint_trajectory", "gripper/command"}
+    # moves down, closes once, then lifts
+    close = topics.index("gripper/command")
+    assert 0 < close < len(topics) - 1 and topics.count("gripper/command") == 1
 
 
 @pytest.mark.slow
@@ -374,22 +422,44 @@ def test_sigint_and_timeout_stop_the_skill_node_cleanly(bundle: Path, domain: in
     assert all(t <= robot.final for t in robot.commands)
 
 
-def test_a_bundle_for_another_robot_is_refused(bundle: Path, domain: int,
-                                               tmp_path: Path) -> None:
-    from a2l.robot import arm_spec, urdf_sha256
-    from a2l.skills import load_bundle, load_ds_phases, save_bundle
-
-    spec = load_bundle(bundle)
-    panda = arm_spec("panda")
-    other = tmp_path / "panda_push.a2lb"
-    save_bundle(dataclasses.replace(spec, robot={
-        "name": "panda", "urdf_sha256": urdf_sha256(panda.urdf),
-        "base_link": panda.base_link, "tip_link": panda.tip_link}), other,
-        ds_phases=load_ds_phases(bundle))
-    res = subprocess.run([*A2L, "ros", "skill", str(other), "--effect", "far"],
-                         capture_output=True, text=True, timeout=60)
+def test_a_bundle_for_another_robot_is_refused(panda: dict[str, Path], domain: int) -> None:
+    res = subprocess.run([*A2L, "ros", "skill", str(panda["push_far"]), "--effect", "far",
+                          "--robot", "baxter"], capture_output=True, text=True, timeout=60)
     assert res.returncode == 2
     assert "was learned for robot 'panda'" in res.stderr and "'baxter'" in res.stderr
+
+
+def test_each_node_takes_the_robot_its_bundle_was_learned_for(
+        bundle: Path, panda: dict[str, Path], tmp_path: Path) -> None:
+    """No robot given: the bundle's (the skill node's arm spec, the sim's scene); a robot
+    file's robot must be named; a bundle for another robot is refused by the sim too."""
+    from a2l.errors import A2LValueError
+    from a2l.ros.robot import check_robot, node_robot, skill_object
+    from a2l.ros.sim_node import SimNodeConfig, sim_scene
+    from a2l.skills import load_bundle, load_ds_phases, save_bundle
+    from a2l.skills.runner import CppSkillRunner
+
+    spec = check_robot(CppSkillRunner(str(panda["grasp"])), "")
+    assert (spec.base_link, spec.tip_link) == ("panda_link0", "panda_hand_tcp")
+    assert check_robot(CppSkillRunner(str(bundle)), "").tip_link == "right_gripper"
+    assert node_robot("", None).name == "baxter"
+    assert node_robot("baxter", None, arm="left").name == "baxter-left"
+    assert (skill_object("grasp", ""), skill_object("press", ""),
+            skill_object("mine", ""), skill_object("grasp", "cup")) == (
+        "block", "button", "box", "cup")
+    with pytest.raises(A2LValueError, match="arm 'left' is Baxter's"):
+        node_robot("panda", None, arm="left")
+    z1 = load_bundle(panda["push_far"])
+    other = tmp_path / "z1.a2lb"
+    save_bundle(dataclasses.replace(z1, robot={**z1.robot, "name": "z1"}), other,
+                ds_phases=load_ds_phases(panda["push_far"]))
+    with pytest.raises(A2LValueError, match="learned for robot 'z1', not a built-in one"):
+        check_robot(CppSkillRunner(str(other)), "")
+    trial, scene = sim_scene(SimNodeConfig(bundle=str(panda["grasp"])))
+    with scene:
+        assert (trial, scene.name, scene.robot_entry.name) == ("grasp", "grasp", "panda")
+    with pytest.raises(A2LValueError, match="learned for robot 'panda'"):
+        sim_scene(SimNodeConfig(bundle=str(panda["grasp"]), robot="baxter"))
 
 
 @pytest.mark.slow
@@ -406,27 +476,40 @@ def test_a_gripper_turned_away_from_the_skills_orientation_is_refused(
     assert robot.commands == [] and robot.final is not None
 
 
-@pytest.mark.slow
-def test_an_effect_other_than_a_push_is_refused(bundle: Path, domain: int,
-                                                 tmp_path: Path) -> None:
-    """The node tests push effects from the object's pose: a bundle's other effect (here a
-    push bundle whose effect values name 'pressed') is refused before any topic."""
-    from a2l.skills import load_bundle, load_ds_phases, save_bundle
+def test_the_node_tests_pushes_grasps_and_presses_from_its_topics() -> None:
+    """The effect tests the node runs without a simulator, and the effects it refuses."""
+    from a2l.errors import A2LValueError
+    from a2l.rollout.effect_tests import Progress
+    from a2l.ros.effects import bundle_effect, node_effect
 
-    spec = load_bundle(bundle)
-    variables = [dataclasses.replace(v, values=("left", "right", "close", "pressed"))
-                 if v.kind == "effect" else v for v in spec.variables]
-    other = tmp_path / "pressed.a2lb"
-    save_bundle(dataclasses.replace(spec, variables=variables), other,
-                ds_phases=load_ds_phases(bundle))
-    res = subprocess.run([*A2L, "ros", "skill", str(other), "--effect", "pressed"],
-                         capture_output=True, text=True, timeout=60)
-    assert res.returncode == 2, res.stdout + res.stderr
-    assert "effect 'pressed': the ROS node runs push skills only" in res.stderr
-    res = subprocess.run([*A2L, "ros", "skill", str(bundle), "--effect", "lifted"],
-                         capture_output=True, text=True, timeout=60)
-    assert res.returncode == 2
-    assert "effect 'lifted' is not one of the bundle's: left, right, close, far" in res.stderr
+    def progress(effect: str, obj: list[float], eef: list[float], start: dict[str, str],
+                 now: dict[str, str]) -> Progress:
+        o = np.array(obj, dtype=float)
+        return Progress(effect, o, np.zeros(3), o, np.array(eef, dtype=float), start, now,
+                        None)  # type: ignore[arg-type]
+
+    grasped = node_effect("grasped")
+    assert grasped.states == ("gripper",) and node_effect("pressed").states == ("light",)
+    held = {"gripper": "closed"}
+    assert grasped.test(progress("grasped", [0, 0, 0.06], [0, 0, 0.05], {}, held)) == (
+        True, True)
+    for obj, eef, now in (([0, 0, 0.04], [0, 0, 0.03], held),     # not 5 cm up yet
+                          ([0, 0, 0.06], [0, 0, 0.05], {"gripper": "open"}),
+                          ([0, 0, 0.06], [0.2, 0, 0.05], held)):  # not in the hand
+        assert grasped.test(progress("grasped", obj, eef, {}, now)) == (False, False)
+    pressed = node_effect("pressed").test
+    assert pressed(progress("pressed", [0, 0, 0], [0, 0, 0], {"light": "off"},
+                            {"light": "on"})) == (True, True)
+    assert pressed(progress("pressed", [0, 0, 0], [0, 0, 0], {"light": "on"},
+                            {"light": "on"})) == (False, False)
+    assert node_effect("far").test(progress("far", [0.06, 0, 0], [0, 0, 0], {}, {})) == (
+        True, True)
+    with pytest.raises(A2LValueError, match="effect 'away': the ROS node tests the effects "
+                       "left, right, close, far, grasped, pressed"):
+        bundle_effect(["grasped", "away"], "away")
+    with pytest.raises(A2LValueError, match="effect 'lifted' is not one of the bundle's: "
+                       "left, right, close, far"):
+        bundle_effect(["left", "right", "close", "far"], "lifted")
 
 
 def test_bad_arguments_are_usage_errors(tmp_path: Path, bundle: Path,

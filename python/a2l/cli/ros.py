@@ -1,6 +1,7 @@
-"""``a2l ros skill`` and ``a2l ros sim``: a skill bundle run on a robot through ROS 2, and the
-simulated Baxter behind the same topics (:mod:`a2l.ros`, ``docs/ros.md``). Every ROS
-parameter of the nodes is a flag; ``--remap from:=to`` and ``--namespace`` move the topics.
+"""``a2l ros skill`` and ``a2l ros sim``: a skill bundle run on a robot through ROS 2, and a
+simulated robot behind the same topics (:mod:`a2l.ros`, ``docs/ros.md``); both take any robot
+(``--robot NAME|FILE``, by default the one the bundle was learned for). Every ROS parameter of
+the nodes is a flag; ``--remap from:=to`` and ``--namespace`` move the topics.
 """
 
 from __future__ import annotations
@@ -89,10 +90,11 @@ def _common(p: Parser) -> None:
 
 
 def _skill_parser() -> Parser:
-    p = Parser(prog="a2l ros skill", description="Run a skill bundle on a robot through ROS 2: "
-               "the C++ step on every joint state, commands as a joint trajectory and a "
-               "Cartesian target (docs/ros.md). Exit code 0 at the effect, 1 on another stop, "
-               "2 on bad input, 130 on SIGINT.")
+    p = Parser(prog="a2l ros skill", description="Run a skill bundle (a push, a grasp, a "
+               "press) on a robot through ROS 2: the C++ step on every joint state, commands "
+               "as a joint trajectory and a Cartesian target, actions on gripper/command "
+               "(docs/ros.md). Exit code 0 at the effect, 1 on another stop, 2 on bad input, "
+               "130 on SIGINT.")
     p.add_argument("bundle", metavar="BUNDLE", help="the skill bundle (.a2lb)")
     add_config_fields(p, SkillNodeConfig, skip={"bundle"})
     _common(p)
@@ -100,9 +102,10 @@ def _skill_parser() -> Parser:
 
 
 def _sim_parser() -> Parser:
-    p = Parser(prog="a2l ros sim", description="The PyBullet Baxter scene as a ROS 2 robot: "
-               "publishes joint states, object poses and high-level states, carries out joint "
-               "trajectories or Cartesian targets; runs until SIGINT (docs/ros.md).")
+    p = Parser(prog="a2l ros sim", description="A PyBullet scene on a robot (Baxter, the "
+               "bundle's, or --robot NAME|FILE) as a ROS 2 robot: publishes joint states, "
+               "object poses and high-level states, carries out joint trajectories or "
+               "Cartesian targets and gripper commands; runs until SIGINT (docs/ros.md).")
     add_config_fields(p, SimNodeConfig)
     p.add_argument("--duration", type=NonNegativeFloat, default=0.0,
                    help="stop after this many seconds (0: at SIGINT)")
@@ -117,7 +120,7 @@ def add_ros_parsers(sub: Any, commands: dict[tuple[str, ...], Any]) -> None:
     cmds = ros.add_subcommands(metavar="ACTION")
     for name, parser, handler, help_ in (
             ("skill", _skill_parser(), _cmd_skill, "run a skill bundle through ROS 2"),
-            ("sim", _sim_parser(), _cmd_sim, "the simulated Baxter as a ROS 2 robot")):
+            ("sim", _sim_parser(), _cmd_sim, "a simulated robot as a ROS 2 robot")):
         add_config_option(parser)
         cmds.add_subcommand(name, parser, help=help_)
         commands[("ros", name)] = (parser, handler)

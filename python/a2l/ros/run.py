@@ -77,7 +77,8 @@ def run_sim(params: dict[str, Any], args: Sequence[str] = (), duration: float = 
             print(f"a2l ros sim: error: {exc}", file=sys.stderr)
             return 2
         yaw = getattr(node.scene.config, "gripper_yaw", 0.0)
-        print(f"a2l ros sim: {node.cfg.scene} scene, joints {node.joint_names[0]}..., "
+        print(f"a2l ros sim: {node.scene.name} scene, robot {node.robot}, joints "
+              f"{node.joint_names[0]}..., "
               f"objects {list(node.pub_obj)}, command {node.cfg.command}, trial "
               f"{node.trial or 'none'}, gripper turned {yaw:g} degrees", flush=True)
         end = time.monotonic() + duration

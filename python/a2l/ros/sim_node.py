@@ -1,5 +1,6 @@
 """A simulated robot behind the skill node's topics (``a2l ros sim``): a PyBullet scene of
-:mod:`a2l.sim` (Baxter's right arm, the box) as a ROS 2 node.
+:mod:`a2l.sim` (on any robot the scenes take: Baxter's right arm by default, or the robot the
+bundle was learned for; ``robot`` names another, or a robot file) as a ROS 2 node.
 
 It publishes, at ``rate`` Hz and after every command, the arm's ``joint_states``, one
 ``objects/<name>/pose`` per object (position from the scene's ground truth or its cameras;
@@ -47,7 +48,11 @@ class SimNodeConfig:
     Attributes
     ----------
     scene : str
-        The a2l.sim scene (a PyBullet one: push, press, grasp, grasp_light).
+        The a2l.sim scene (a PyBullet one: push, press, grasp, grasp_light); empty: the
+        trial skill's scene, else push.
+    robot : str
+        The robot: a built-in name or a robot file's path; empty: the robot the bundle was
+        learned for when it is a built-in one, else Baxter.
     trial : str
         Place the object and the arm as a trial of this demonstrated skill, in its scene
         settings (push_far...; empty: the bundle's skill if it is one, else the scene's own
@@ -70,12 +75,13 @@ class SimNodeConfig:
     source : str
         Object poses from ground_truth or perceived (the cameras).
     frame : str
-        The frame of the poses.
+        The frame of the poses; empty: the robot's base link (Baxter's: base).
     truth : str
         Where to write the ground truth at exit (JSON; empty: nowhere).
     """
 
-    scene: str = "push"
+    scene: str = ""
+    robot: str = ""
     trial: str = ""
     bundle: str = ""
     gripper_yaw: float = math.nan
@@ -84,7 +90,7 @@ class SimNodeConfig:
     rate: float = 50.0
     command: str = "joint"
     source: str = "ground_truth"
-    frame: str = "base"
+    frame: str = ""
     truth: str = ""
 
 
@@ -109,7 +115,10 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self.trial, self.scene = sim_scene(cfg)
             if not hasattr(self.scene, "follow_joint_trajectory"):
                 self.scene.close()
-                raise A2LValueError(f"scene {cfg.scene!r} has no arm; use a PyBullet scene")
+                raise A2LValueError(f"scene {self.scene.name!r} has no arm; use a PyBullet "
+                                    "scene")
+            self.robot = self.scene.robot_entry.name
+            self.frame = cfg.frame or self.scene.robot_entry.base_link
             if self.trial:
                 reset_for_trial(self.scene, self.trial, cfg.seed)
             self.joint_names = list(self.scene.kinematics.joint_names)
@@ -152,7 +161,7 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
 
         def _on_pose(self, msg: Any) -> None:
             try:
-                target = T.pose_position(msg, self.cfg.frame)
+                target = T.pose_position(msg, self.frame)
             except A2LValueError as exc:
                 self._log(T.TARGET_POSE, msg, f"refused: {exc}")
                 return
@@ -171,13 +180,13 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
             obs = observe(self.scene, self.cfg.source)
             js = JointState(name=self.joint_names,
                             position=[float(v) for v in self.scene.joint_positions()])
-            js.header.stamp, js.header.frame_id = stamp, self.cfg.frame
+            js.header.stamp, js.header.frame_id = stamp, self.frame
             for name, pub in self.pub_obj.items():
                 xyz = obs["objects"].get(name)
                 if xyz is None:
                     continue  # not seen: no message
                 msg = PoseStamped()
-                msg.header.stamp, msg.header.frame_id = stamp, self.cfg.frame
+                msg.header.stamp, msg.header.frame_id = stamp, self.frame
                 p = msg.pose.position
                 p.x, p.y, p.z = (float(v) for v in xyz)
                 msg.pose.orientation.w = 1.0
@@ -197,7 +206,8 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
         def truth(self) -> dict[str, Any]:
             """The ground truth: start and end objects, the episode's effect, commands."""
             end = self.scene.ground_truth()
-            return {"scene": self.cfg.scene, "seed": self.cfg.seed, "trial": self.trial,
+            return {"scene": self.scene.name, "robot": self.robot, "seed": self.cfg.seed,
+                    "trial": self.trial,
                     "gripper_yaw": getattr(self.scene.config, "gripper_yaw", None),
                     "start": {n: list(map(float, v)) for n, v in self.start["objects"].items()},
                     "end": {n: list(map(float, v)) for n, v in end["objects"].items()},
@@ -216,24 +226,28 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
 
 
 def sim_scene(cfg: SimNodeConfig) -> tuple[str, Any]:
-    """The trial (a skill's name or "") and the scene of `cfg`, with the scene settings the
-    scene has (:func:`a2l.sim.settings_for`) of, first, ``gripper_yaw`` (when not NaN), then
-    the bundle's, then the trial skill's recipe (:func:`a2l.lfd.library.make_skill_scene`).
+    """The trial (a skill's name or "") and the scene of `cfg`: on its robot (the bundle's
+    when empty, :func:`a2l.ros.robot.node_robot`), the trial skill's scene when `cfg` names
+    none, with the scene settings the scene has (:func:`a2l.sim.settings_for`) of, first,
+    ``gripper_yaw`` (when not NaN), then the bundle's, then the trial skill's recipe
+    (:func:`a2l.lfd.library.make_skill_scene`).
 
     Raises
     ------
     a2l.A2LValueError
         A trial that is not a demonstrated skill; a bundle that does not load
-        (:class:`a2l.BundleError`); a setting out of its range.
+        (:class:`a2l.BundleError`); a setting out of its range; an unknown robot, or a
+        bundle learned for another one.
     """
     from a2l.lfd.library import SKILLS, make_skill_scene
+    from a2l.ros.robot import node_robot
     from a2l.sim import make_scene, settings_for
     from a2l.skills.bundle import load_bundle
 
-    trial, settings = cfg.trial, {}
+    trial, settings, learned_for = cfg.trial, {}, None
     if cfg.bundle:
         spec = load_bundle(cfg.bundle)
-        settings = spec.scene_settings
+        settings, learned_for = spec.scene_settings, spec.robot
         if not trial and spec.name in SKILLS:
             trial = spec.name
     if not math.isnan(cfg.gripper_yaw):
@@ -241,8 +255,12 @@ def sim_scene(cfg: SimNodeConfig) -> tuple[str, Any]:
     if trial and trial not in SKILLS:
         raise A2LValueError(f"trial {trial!r} is not a demonstrated skill; known: "
                             f"{', '.join(SKILLS)}")
+    entry = node_robot(cfg.robot, learned_for)
+    entry.check_learned_for(learned_for, f"skill bundle '{cfg.bundle}'")
+    robot = cfg.robot or entry.name
+    scene = cfg.scene or (SKILLS[trial].scene if trial else "push")
     common = {"seed": cfg.seed, "step": cfg.step, "context_source": cfg.source,
-              **settings_for(cfg.scene, settings)}
+              **settings_for(scene, settings)}
     if trial:  # the trial skill's own settings under those
-        return trial, make_skill_scene(trial, scene=cfg.scene, **common)
-    return trial, make_scene(cfg.scene, **common)
+        return trial, make_skill_scene(trial, scene=scene, robot=robot, **common)
+    return trial, make_scene(scene, robot=robot, **common)

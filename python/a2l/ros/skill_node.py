@@ -1,14 +1,20 @@
 """The skill node: a skill bundle run on a robot through ROS 2 (``a2l ros skill``).
 
+The robot is any robot entry (:func:`a2l.ros.robot.node_robot`: its chain, joint names and
+``tool_down``); a bundle learned for another robot is refused.
+
 Every ``joint_states`` message is a control tick. When the arm is not carrying out a movement,
 the tick reads the context (the end-effector by the C++ forward kinematics of the joint
 positions, the object's pose, the high-level states), asks the effect test whether the wanted
-effect is produced, then runs the C++ skill step (:class:`a2l.skills.runner.CppSkillRunner`,
-the one step ``a2l-run`` and the Python rollouts run) and publishes its movement twice: as a
-Cartesian target (``target_pose``) and as a joint trajectory computed by the C++ executor's
-differential IK (``joint_trajectory``), plus one trace record (``skill/trace``). A movement
-is over when the end-effector is within ``goal_tolerance`` of its target, or after
-``movement_timeout`` (a push held back by the object): then the next tick steps again.
+effect is produced (:mod:`a2l.ros.effects`: a push, ``grasped``, ``pressed``), then runs the
+C++ skill step (:class:`a2l.skills.runner.CppSkillRunner`, the one step ``a2l-run`` and the
+Python rollouts run) and publishes its movement twice: as a Cartesian target
+(``target_pose``) and as a joint trajectory computed by the C++ executor's differential IK
+(``joint_trajectory``), plus one trace record (``skill/trace``); an action of the step
+(``close``, ``open``) goes to ``gripper/command``. A movement is over when the end-effector
+is within ``goal_tolerance`` of its target (after an action, once ``states/gripper`` says
+the gripper did it), or after ``movement_timeout`` (a push held back by the object): then
+the next tick steps again.
 
 Both commands carry the orientation the skill was learned with: the gripper pointing down
 (the arm's :attr:`a2l.robot.ArmSpec.down`), turned about the vertical by the bundle's scene
@@ -23,9 +29,8 @@ The node stops at the effect (exit code 0), at a stop status of the step (``step
 ``unknown_context``: 1), after ``timeout`` (1), on SIGINT (130), and on bad input (2): a
 bundle for another robot, an input topic silent for ``input_timeout``, a pose or a joint
 position that is not finite, a gripper turned away from the skill's orientation at the start,
-an effect other than a push (the node tests the push effects from the object's pose). After a
-stop it publishes no command. Topics and frames:
-:mod:`a2l.ros.topics`, ``docs/ros.md``.
+an effect the node cannot test from its topics. After a stop it publishes no command. Topics
+and frames: :mod:`a2l.ros.topics`, ``docs/ros.md``.
 """
 
 from __future__ import annotations
@@ -40,15 +45,15 @@ from numpy.typing import NDArray
 
 from a2l import _core
 from a2l.errors import A2LError, A2LValueError
-from a2l.robot import arm_spec, robot_entry
-from a2l.rollout.effect_tests import Progress, effect_test_of
+from a2l.rollout.effect_tests import Progress
 from a2l.ros import topics as T
+from a2l.ros.effects import bundle_effect
 from a2l.ros.orientation import commanded_orientation
+from a2l.ros.robot import check_robot, skill_object
 from a2l.ros.spin import declare_config, overrides
-from a2l.skills.effects import AXIS_EFFECTS
 from a2l.skills.runner import CppSkillRunner
 
-__all__ = ["SkillNodeConfig", "SkillNodeResult", "check_robot"]
+__all__ = ["SkillNodeConfig", "SkillNodeResult", "make_skill_node"]
 
 
 @dataclass(frozen=True)
@@ -60,13 +65,20 @@ class SkillNodeConfig:
     bundle : str
         The skill bundle (.a2lb).
     effect : str
-        The wanted effect (a push: left, right, close, far).
-    robot, arm : str
-        The robot (baxter or panda) and arm whose joints joint_states carries.
+        The wanted effect: a push (left, right, close, far), grasped or pressed
+        (:mod:`a2l.ros.effects`).
+    robot : str
+        The robot whose joints joint_states carries: a built-in name or a robot file's path;
+        empty: the bundle's robot when it is a built-in one, else Baxter.
+    arm : str
+        Baxter's arm (right, left: robot baxter-left).
     object : str
-        The object the skill acts on (its pose on objects/<object>/pose).
+        The object the skill acts on (its pose on objects/<object>/pose); empty: the
+        object of the demonstrated skill of the bundle's name (block for grasp, button for
+        press), else box.
     frame : str
-        The frame of poses in and out (the arm's base frame).
+        The frame of poses in and out (the arm's base frame); empty: the robot's base link
+        (Baxter's: base).
     startup_timeout : float
         Seconds to wait for the first message of every input topic.
     input_timeout : float
@@ -95,10 +107,10 @@ class SkillNodeConfig:
 
     bundle: str = ""
     effect: str = ""
-    robot: str = "baxter"
+    robot: str = ""
     arm: str = "right"
-    object: str = "box"
-    frame: str = "base"
+    object: str = ""
+    frame: str = ""
     startup_timeout: float = 30.0
     input_timeout: float = 5.0
     movement_timeout: float = 3.0
@@ -121,23 +133,6 @@ class SkillNodeResult:
     steps: int
 
 
-def check_robot(runner: CppSkillRunner, robot: str, arm: str) -> Any:
-    """The arm spec of `robot`/`arm`, checked against the bundle's robot entry.
-
-    Raises
-    ------
-    a2l.A2LValueError
-        The bundle was learned for another robot (name or URDF checksum), or an unknown arm.
-    """
-    try:
-        spec = arm_spec(robot, arm)
-    except ValueError as exc:
-        raise A2LValueError(str(exc)) from None
-    name = "baxter-left" if robot == "baxter" and arm == "left" else robot
-    robot_entry(name).check_learned_for(runner.skill.robot, f"skill bundle '{runner.path}'")
-    return spec
-
-
 def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
     """The rclpy node (its class is made here: rclpy is imported only when a node is made)."""
     from geometry_msgs.msg import PoseStamped
@@ -155,6 +150,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self.t0 = time.monotonic()
             self.runner = CppSkillRunner(self.cfg.bundle)
             self._setup_skill()
+            self.object = skill_object(str(self.runner.skill.name), self.cfg.object)
             self.js: Any = None
             self.js_time = -1.0
             self.obj: Any = None
@@ -163,12 +159,14 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self.last: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
             self.var_names = [str(v.name) for v in self.runner.skill.variables]
             self.start_obj: NDArray[np.float64] | None = None
+            self.start_states: dict[str, str] = {}
             self.target: NDArray[np.float64] | None = None
+            self.awaited: tuple[str, str] | None = None  # the state an action waits for
             self.cmd_time = 0.0
             self.k = 0
             qos = 10
             self.create_subscription(JointState, T.JOINT_STATES, self._on_joints, qos)
-            self.create_subscription(PoseStamped, T.object_topic(self.cfg.object),
+            self.create_subscription(PoseStamped, T.object_topic(self.object),
                                      self._on_object, qos)
             for s in self.state_names:
                 self.create_subscription(Bool, T.state_topic(s),
@@ -182,19 +180,13 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
         # --- set-up ------------------------------------------------------------------
         def _setup_skill(self) -> None:
             cfg = self.cfg
-            effects = list(self.runner.skill.effect_values)
-            if cfg.effect not in effects:
-                raise A2LValueError(f"effect {cfg.effect!r} is not one of the bundle's: "
-                                    f"{', '.join(effects)}")
-            self.test = effect_test_of(cfg.effect)
-            if self.test is None or cfg.effect not in AXIS_EFFECTS:
-                raise A2LValueError(f"effect {cfg.effect!r}: the ROS node runs push skills "
-                                    f"only: it tests the effects {', '.join(AXIS_EFFECTS)} "
-                                    "from the object's pose (run others with a2l skill run)")
+            effect = bundle_effect(list(self.runner.skill.effect_values), cfg.effect)
+            self.test = effect.test
             if not 0 < cfg.goal_tolerance < self.runner.step_length / 2:
                 raise A2LValueError(f"goal_tolerance {cfg.goal_tolerance} must be in (0, "
                                     f"{self.runner.step_length / 2}) (half a movement)")
             spec = check_robot(self.runner, cfg.robot, cfg.arm)
+            self.frame = cfg.frame or spec.base_link
             if not 0 < cfg.orientation_tolerance <= math.pi:
                 raise A2LValueError(f"orientation_tolerance {cfg.orientation_tolerance} must "
                                     "be in (0, pi] rad")
@@ -213,6 +205,8 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             self.ik = _core.Executor(self.kin, np.asarray(spec.neutral), opts)
             self.state_names = [str(v.name) for v in self.runner.skill.variables
                                 if v.kind.name == "high_level"]
+            # the states the effect test reads, beside the table's (a press reads the light)
+            self.state_names += [s for s in effect.states if s not in self.state_names]
             for s in self.state_names:
                 T.bool_to_state(s, False)  # a clear error for a state with no Bool mapping
 
@@ -231,10 +225,10 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                        movement=movement, status=status, target=target,
                        bins=None if bins is None else dict(zip(self.var_names, bins,
                                                                 strict=False)),
-                       object_name=self.cfg.object)
+                       object_name=self.object)
 
         def _on_object(self, msg: Any) -> None:
-            self._record(T.object_topic(self.cfg.object), msg)
+            self._record(T.object_topic(self.object), msg)
             self.obj, self.obj_time = msg, time.monotonic()
 
         def _on_state(self, name: str, msg: Any) -> None:
@@ -267,7 +261,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
 
         def _silent(self, now: float) -> tuple[str, str] | None:
             last = {self.resolve_topic_name(T.JOINT_STATES): self.js_time,
-                    self.resolve_topic_name(T.object_topic(self.cfg.object)): self.obj_time}
+                    self.resolve_topic_name(T.object_topic(self.object)): self.obj_time}
             for s in self.state_names:
                 last[self.resolve_topic_name(T.state_topic(s))] = self.states.get(
                     s, ("", -1.0))[1]
@@ -283,25 +277,30 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
             if self.obj is None or any(s not in self.states for s in self.state_names):
                 return  # waiting for the first messages (the watchdog times out)
             q = T.joint_positions(self.js, self.joint_names)
-            obj = T.pose_position(self.obj, self.cfg.frame)
+            obj = T.pose_position(self.obj, self.frame)
             eef = np.asarray(self.kin.fk(q)[:3, 3], dtype=float)
             self.last = (eef, obj)
             now = time.monotonic()
             if self.target is not None:
-                if (np.linalg.norm(eef - self.target) > self.cfg.goal_tolerance
+                waiting = (self.awaited is not None and self.states[self.awaited[0]][0]
+                           != self.awaited[1])
+                if ((waiting or np.linalg.norm(eef - self.target) > self.cfg.goal_tolerance)
                         and now - self.cmd_time < self.cfg.movement_timeout):
-                    return  # still moving
-                self.target = None
+                    return  # still moving, or the gripper not yet where it was sent
+                self.target, self.awaited = None, None
             states = {s: v for s, (v, _) in self.states.items()}
             if self.start_obj is None:
                 self.aim.check_start(np.asarray(self.kin.fk(q))[:3, :3],
                                      self.cfg.orientation_tolerance)
-                self.start_obj = obj.copy()
+                self.start_obj, self.start_states = obj.copy(), dict(states)
             done, ok = self.test(Progress(self.cfg.effect, obj - self.start_obj,
-                                          self.start_obj, obj, eef, states, states, None))
+                                          self.start_obj, obj, eef, self.start_states, states,
+                                          None))
             if done:
+                changed = {k: v for k, v in states.items() if self.start_states.get(k) != v}
                 self.stop(0 if ok else 1, "effect_produced" if ok else "effect_failed",
-                          f"object moved {_xyz(obj - self.start_obj)} m")
+                          f"object moved {_xyz(obj - self.start_obj)} m"
+                          + "".join(f", {k} {v}" for k, v in changed.items()))
                 return
             if self.k >= self.runner.step_cap:
                 self.stop(1, "step_cap", f"{self.k} steps without the effect")
@@ -318,6 +317,9 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                 self._trace(rec, "ok", out.action, step_s, None)
                 if out.action in ("open", "close"):
                     self.pub_grip.publish(Bool(data=out.action == "close"))
+                    if "gripper" in self.states:  # the next step once the robot says so
+                        self.awaited = ("gripper", T.bool_to_state("gripper",
+                                                                   out.action == "close"))
                 self.cmd_time, self.target = now, eef.copy()
             else:
                 target = eef + np.asarray(out.displacement, dtype=float)
@@ -344,7 +346,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                 return
             stamp = self.get_clock().now().to_msg()
             traj = JointTrajectory()
-            traj.header.stamp, traj.header.frame_id = stamp, self.cfg.frame
+            traj.header.stamp, traj.header.frame_id = stamp, self.frame
             traj.joint_names = self.joint_names
             dt = self.cfg.trajectory_period
             for i, qi in enumerate(points, 1):
@@ -353,7 +355,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                     int(round(i * dt * 1e9)), 1_000_000_000)
                 traj.points.append(pt)
             pose = PoseStamped()
-            pose.header.stamp, pose.header.frame_id = stamp, self.cfg.frame
+            pose.header.stamp, pose.header.frame_id = stamp, self.frame
             pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = map(
                 float, target)
             w, x, y, z = self.aim.quaternion
