@@ -43,7 +43,8 @@ from a2l.rollout.env import scene_env
 from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import EVALUATION_FIRST, mark_report, seed_record
 
-__all__ = ["SCENE_SETTINGS", "SETTINGS", "TASKS", "PandaGymConfig", "framework_config", "run_panda_gym"]
+__all__ = ["SCENE_SETTINGS", "SETTINGS", "TASKS", "PandaGymConfig", "framework_config",
+           "run_panda_gym"]
 
 #: The tasks: ``--task`` -> the panda-gym environment.
 TASKS = {"push": "PandaPush-v3"}
@@ -106,7 +107,7 @@ class PandaGymConfig:
     curve_episodes: int = 100
     budget: int = 50_000
     max_iterations: int = 10
-    keep: float = 0.06
+    keep: float = 0.08
     placement: str = "teleport"
 
     def __post_init__(self) -> None:

@@ -26,7 +26,7 @@ from a2l.rollout.world import SceneWorld
 from a2l.skills.effects import EFFECT_DIRECTIONS
 from a2l.skills.runner import CppSkillRunner
 
-__all__ = ["DESCENT", "GoalPolicy", "GoalRun", "reach_goal"]
+__all__ = ["DESCENT", "GoalPolicy", "GoalRun", "descent", "reach_goal"]
 
 
 #: What a goal-reaching run records for a movement of its descent (no effect's).
@@ -44,9 +44,9 @@ class GoalPolicy:
     anew (the cap bounds one push, not the whole chain).
 
     A push skill learns and acts at the object's height. An end-effector higher than `air`
-    above the object's centre first descends (:data:`DESCENT`): straight down, one
-    movement's length at most, where it is at least `clear_radius` from the object in the
-    plane; nearer, straight away from it in the plane first.
+    above the object's centre first descends (:func:`descent`, recorded as
+    :data:`DESCENT`): straight down where it is at least `clear_radius` from the object in
+    the plane; nearer, straight away from it in the plane first.
 
     Parameters
     ----------
@@ -98,8 +98,10 @@ class GoalPolicy:
         """Step k: the movement the C++ step chooses for the effect of the moment."""
         if not np.all(np.isfinite(obj)):
             return Decision("unknown_context")
-        if eef[2] > obj[2] + self.air:
-            return self._descend(eef, obj)
+        down = descent(eef, obj, self.step, self.air, self.clear_radius)
+        if down is not None:
+            self.chosen.append(DESCENT)
+            return Decision("ok", DESCENT, down, down.copy())
         e = self.effect_for(obj)
         if e != self.current:
             self.runner.reset()
@@ -116,17 +118,38 @@ class GoalPolicy:
         disp = np.asarray(out.displacement, dtype=float)
         return Decision("ok", out.label, disp, disp.copy(), out.movement)
 
-    def _descend(self, eef: NDArray[np.float64], obj: NDArray[np.float64]) -> Decision:
-        """A movement of the descent to the object's height (:data:`DESCENT`)."""
-        away = eef[:2] - obj[:2]
-        dist = float(np.linalg.norm(away))
-        if dist >= self.clear_radius:
-            disp = np.array([0.0, 0.0, -min(self.step, float(eef[2] - obj[2]))])
-        else:
-            unit = away / dist if dist > 1e-9 else np.array([-1.0, 0.0])
-            disp = np.array([unit[0], unit[1], 0.0]) * self.step
-        self.chosen.append(DESCENT)
-        return Decision("ok", DESCENT, disp, disp.copy())
+
+
+def descent(eef: ArrayLike, obj: ArrayLike, step: float, air: float = 0.02,
+            clear_radius: float = 0.06) -> NDArray[np.float64] | None:
+    """The next movement of the descent to the object's height, or None once there.
+
+    Parameters
+    ----------
+    eef, obj : array_like, shape (3,)
+        End-effector and object centre (m).
+    step : float
+        A movement's length (m).
+    air : float
+        Higher than this above the object's centre, the end-effector descends (m).
+    clear_radius : float
+        At least this far from the object in the plane it goes straight down (at most
+        `step`, not below the object's centre); nearer, straight away from it (m).
+
+    Returns
+    -------
+    ndarray, shape (3,), or None
+        The displacement (m).
+    """
+    e, o = np.asarray(eef, dtype=float), np.asarray(obj, dtype=float)
+    if e[2] <= o[2] + air:
+        return None
+    away = e[:2] - o[:2]
+    dist = float(np.linalg.norm(away))
+    if dist >= clear_radius:
+        return np.array([0.0, 0.0, -min(step, float(e[2] - o[2]))])
+    unit = away / dist if dist > 1e-9 else np.array([-1.0, 0.0])
+    return np.array([unit[0], unit[1], 0.0]) * step
 
 
 @dataclass
