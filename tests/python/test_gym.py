@@ -118,7 +118,8 @@ def test_a_short_learning_run_in_panda_push_counts_every_env_step(tmp_path: Path
                                   "slow_scale": 0.5},
                  "starts.n_starts": 2, "validation.n_fresh": 1, "directed.per_pair": 2,
                  "directed.try_cap": 4, "extension.max_extensions": 4}
-    m = run_panda_gym(cfg, out=tmp_path / "run", overrides=overrides, quiet=True)
+    m = run_panda_gym(cfg, out=tmp_path / "run", overrides=overrides, quiet=True,
+                      record=tmp_path / "episodes.rrd")
     learning, curve_env, final_env = COUNTS[first:first + 3]
     # every env.step of learning, as the environment counted them, is in the metrics
     assert m["env_steps_run"] == learning.steps > 0
@@ -134,6 +135,10 @@ def test_a_short_learning_run_in_panda_push_counts_every_env_step(tmp_path: Path
     assert 0.0 <= m["success_rate"] <= 1.0 and m["eval_episodes"] == 3
     for name in ("metrics.json", "report.md", "learning_curve.png", "skills/push.a2lb"):
         assert (tmp_path / "run" / name).is_file()
+    from a2l.rollout.recording import read_recording
+
+    logged = read_recording(tmp_path / "episodes.rrd")
+    assert any("rollout/2/" in column for column in logged)  # the third episode
 
 
 def test_the_goal_controller_descends_clear_of_the_cube_before_it_pushes() -> None:
