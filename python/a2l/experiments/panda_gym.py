@@ -52,12 +52,15 @@ TASKS = {"push": "PandaPush-v3"}
 #: The framework's settings in panda-gym (dotted :class:`FrameworkConfig` fields), chosen on
 #: tuning seeds (``docs/gym.md``): panda-gym's world is smaller than a2l's table (a 4 cm
 #: cube; one ``env.step`` moves the gripper about 3 cm of the 5 cm it is sent), so the
-#: starts and the distance bins are nearer the cube, and the effect-directed babbling is
-#: cut to what a 50,000-step budget allows; validation learns the region (fresh starts).
+#: starts and the distance bins are nearer the cube, the offsets tell a face from a corner
+#: (the cube's half-size plus the finger's), and the effect-directed babbling is cut to what
+#: a 50,000-step budget allows; validation learns the region (fresh starts).
 SETTINGS: dict[str, Any] = {
     "discretization.n_effects": 4,
     "discretization.dist_low": 0.035, "discretization.dist_high": 0.155,
     "discretization.n_dist": 4,
+    "discretization.n_offset": 3, "discretization.offset_half_x": 0.03,
+    "discretization.offset_half_y": 0.03,
     "starts.layout": "ring", "starts.r_low": 0.05, "starts.r_high": 0.15,
     "validation.starts": "fresh", "validation.r_low": 0.05, "validation.r_high": 0.15,
     "directed.per_pair": 10, "directed.try_cap": 30, "directed.steps": 12,

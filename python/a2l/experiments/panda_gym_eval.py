@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -130,7 +130,8 @@ def miss_cause(run: GoalRun, table_z: float = 0.0) -> str:
 
 def evaluate(scene: GymScene, bundle: str | os.PathLike[str], seeds: Sequence[int],
              budget: int = 50, keep: float = 0.02,
-             on_episode: Callable[[Episode, GoalRun], None] | None = None) -> list[Episode]:
+             on_episode: Callable[[Episode, GoalRun], None] | None = None,
+             **controller: Any) -> list[Episode]:
     """Run the push skill `bundle` on the episodes of a goal-conditioned
     :class:`a2l.gym.GymScene` reset with `seeds`.
 
@@ -148,6 +149,8 @@ def evaluate(scene: GymScene, bundle: str | os.PathLike[str], seeds: Sequence[in
         :class:`a2l.rollout.goal.GoalPolicy`'s `keep`.
     on_episode : callable, optional
         Called with each episode and its run.
+    **controller
+        Other arguments of :func:`a2l.rollout.goal.reach_goal` (``side``, ``loop``...).
 
     Returns
     -------
@@ -158,7 +161,7 @@ def evaluate(scene: GymScene, bundle: str | os.PathLike[str], seeds: Sequence[in
         scene.new_episode(seed=seed)
         before = scene.env_steps
         run = reach_goal(scene, bundle, scene.goal, tolerance=None, budget=budget,
-                         done=lambda: scene.episode_over, keep=keep)
+                         done=lambda: scene.episode_over, keep=keep, **controller)
         success = bool(scene.info.get("is_success", False))
         ep = Episode(i, int(seed), success, scene.env_steps - before,
                      run.stop, float(np.linalg.norm(run.obj[0, :2] - run.goal)), run.error,
