@@ -61,6 +61,8 @@ class Episode:
         Why it missed (:data:`MISS_CAUSES`); empty for a success.
     effects : str
         The effects run, in order, each once per push (``far,left``).
+    cube_x, cube_y, goal_x, goal_y : float
+        The cube and the goal at the start (m).
     """
 
     index: int
@@ -72,6 +74,10 @@ class Episode:
     final_distance: float
     cause: str
     effects: str
+    cube_x: float = 0.0
+    cube_y: float = 0.0
+    goal_x: float = 0.0
+    goal_y: float = 0.0
 
 
 def episode_seeds(eval_seed: int, n: int) -> list[int]:
@@ -165,7 +171,8 @@ def evaluate(scene: GymScene, bundle: str | os.PathLike[str], seeds: Sequence[in
         success = bool(scene.info.get("is_success", False))
         ep = Episode(i, int(seed), success, scene.env_steps - before,
                      run.stop, float(np.linalg.norm(run.obj[0, :2] - run.goal)), run.error,
-                     "" if success else miss_cause(run), ",".join(s[0] for s in _segments(run)))
+                     "" if success else miss_cause(run), ",".join(s[0] for s in _segments(run)),
+                     *(float(v) for v in (*run.obj[0, :2], *run.goal)))
         out.append(ep)
         if on_episode is not None:
             on_episode(ep, run)
