@@ -22,7 +22,7 @@ from collections import Counter
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -42,6 +42,9 @@ from a2l.progress import ProgressBars
 from a2l.rollout.env import scene_env
 from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import EVALUATION_FIRST, mark_report, seed_record
+
+if TYPE_CHECKING:
+    from a2l.gym.scene import GymScene
 
 __all__ = ["SCENE_SETTINGS", "SETTINGS", "TASKS", "PandaGymConfig", "framework_config",
            "run_panda_gym"]
@@ -226,7 +229,7 @@ def _learn(cfg: PandaGymConfig, fw: FrameworkConfig, run_dir: Path, curve_seeds:
     from a2l.gym import gym_scene
 
     curve: list[dict[str, Any]] = []
-    scene = scene_env(fw).scene  # this process's: the executor runs in it
+    scene = cast("GymScene", scene_env(fw).scene)  # this process's: the executor runs in it
     judged: dict[str, float] = {}
     evaluator = gym_scene(seed=cfg.evaluation_seed, **fw.scene_config)
     try:
@@ -242,8 +245,8 @@ def _learn(cfg: PandaGymConfig, fw: FrameworkConfig, run_dir: Path, curve_seeds:
                     eps = evaluate(evaluator, run_dir / "skills" / name, curve_seeds,
                                    keep=cfg.keep)
                     judged[name] = float(np.mean([e.success for e in eps]))
-                point = {"iteration": it, "env_steps": scene.env_steps,  # type: ignore[attr-defined]
-                         "resets": scene.resets, "placements": scene.placements,  # type: ignore[attr-defined]
+                point = {"iteration": it, "env_steps": scene.env_steps,
+                         "resets": scene.resets, "placements": scene.placements,
                          "success": judged[name], "episodes": len(curve_seeds),
                          "bundle": name, "score": m["score"], "accepted": m["accepted"],
                          "fresh_success": m.get("fresh_success")}

@@ -223,9 +223,12 @@ class GymScene(Scene):
         return self.object_z if wh is None else float(wh)
 
     def _ground_truth(self) -> Observation:
-        objects = {n: tuple(float(v) for v in self.access.object_position(n))
-                   for n in self.access.object_names if n not in self._removed}
-        return Observation(objects=objects, eef=self.eef_position())  # type: ignore[arg-type]
+        objects: dict[str, tuple[float, float, float]] = {}
+        for n in self.access.object_names:
+            if n not in self._removed:
+                x, y, z = (float(v) for v in self.access.object_position(n))
+                objects[n] = (x, y, z)
+        return Observation(objects=objects, eef=self.eef_position())
 
     def _perceive(self) -> Observation:
         return self._ground_truth()  # no camera
