@@ -86,7 +86,7 @@ $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
 	@$(call CLOCK,install)
 	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py \
-	  -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true) -e ".[dev,ros]"
+	  -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true) -e ".[dev,ros,gym]"
 	@$(call LAP,install,set-up: pip dependencies and the Python module's C++ build) && touch $@
 
 setup: $(STAMP_INSTALL)

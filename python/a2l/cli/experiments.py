@@ -8,7 +8,7 @@ from typing import Any
 from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
-from a2l.cli import lfd, push, tasks
+from a2l.cli import lfd, panda_gym, push, tasks
 from a2l.cli.args import UsageError, check_cluster, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.babbling_world import WorldConfig
@@ -161,6 +161,7 @@ def add_experiment_parsers(sub: Any, commands: dict[tuple[str, ...], Any]) -> No
     lfd.add_lfd_parsers(exps, commands)
     tasks.add_tasks_parser(exps, commands)
     push.add_push_parsers(exps, commands)
+    panda_gym.add_panda_gym_parser(exps, commands)
     bab, cmp_ = _babbling_parsers()
     for name, parser, handler, help_ in (
             ("lasa", _lasa_parser(), _cmd_experiment_lasa,

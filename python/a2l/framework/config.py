@@ -54,7 +54,7 @@ __all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "FLAT_NAMES", "PART
 SCENES = tuple(ENV_SCENES)
 
 #: Default ``directed.try_cap`` of each scene.
-DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "baxter": 100}
+DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "baxter": 100, "gym": 100}
 
 #: Default ``skill.fallback`` of each scene (``docs/experiments/push.md``): on Baxter the
 #: held-out starts reach context cells the training never did (``unknown_context`` was half
@@ -62,7 +62,7 @@ DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "baxter": 100}
 #: previous movement (``approach``), ends the two-cell loops that taking its movement
 #: (``nearest``) ran into (tuning seeds 3 and 4); on the virtual scene such cells are rare
 #: and the fallback measured no gain.
-FALLBACK = {"virtual": "none", "bullet": "approach", "baxter": "approach"}
+FALLBACK = {"virtual": "none", "bullet": "approach", "baxter": "approach", "gym": "approach"}
 
 #: Default ``skill.train_fallback`` of each scene: the rule of the skill the training
 #: validation runs. A fallback that carries a rollout through a cell without data also hides
@@ -70,7 +70,8 @@ FALLBACK = {"virtual": "none", "bullet": "approach", "baxter": "approach"}
 #: ``approach``, Baxter tuning seeds 3 and 4 reached 75.8 / 79.7 % held-out success at
 #: iteration 1; trained with ``nearest`` and run with ``approach``, 94.5 / 92.2 %
 #: (``docs/experiments/push.md``).
-TRAIN_FALLBACK = {"virtual": "none", "bullet": "nearest", "baxter": "nearest"}
+TRAIN_FALLBACK = {"virtual": "none", "bullet": "nearest", "baxter": "nearest",
+                  "gym": "nearest"}
 
 #: The parts of a :class:`FrameworkConfig`, by field name.
 PARTS: dict[str, type] = {
@@ -127,10 +128,12 @@ class FrameworkConfig:
 
     Attributes
     ----------
-    scene : {"virtual", "bullet", "baxter"}
+    scene : {"virtual", "bullet", "baxter", "gym"}
         ``"virtual"`` (C++ kinematic push model), ``"bullet"`` (the PyBullet push scene
-        with `robot`) or ``"baxter"`` (the PyBullet push scene with Baxter, as runs before
-        robots were data named it).
+        with `robot`), ``"baxter"`` (the PyBullet push scene with Baxter, as runs before
+        robots were data named it) or ``"gym"`` (a Gymnasium environment's own simulation,
+        :class:`a2l.gym.GymScene`: ``scene_config`` holds its settings, ``env_id``
+        panda-gym's ``PandaPush-v3`` by default).
     discretization : DiscretizationConfig
         Bins of the context variables, the movement repertoire and the effects
         (``n_effects`` 4 or 8 push effects, ``step`` the movement length...).

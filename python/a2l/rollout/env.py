@@ -23,8 +23,10 @@ __all__ = ["ENV_SCENES", "ROBOT_SCENES", "EnvSpec", "SceneEnv", "make_env", "sce
 
 #: Framework scene name -> the a2l.sim scene it plays in (:data:`a2l.sim.SCENES` names those):
 #: ``bullet`` is the PyBullet push scene with the configuration's robot, ``baxter`` the same
-#: scene with Baxter (the name runs before robots were data used).
-ENV_SCENES = {"virtual": "virtual", "bullet": "push", "baxter": "push"}
+#: scene with Baxter (the name runs before robots were data used); ``gym`` is a Gymnasium
+#: environment's own simulation (:class:`a2l.gym.GymScene`, the extra ``a2l[gym]``; its
+#: ``env_id`` a setting of ``scene_config``, panda-gym's ``PandaPush-v3`` by default).
+ENV_SCENES = {"virtual": "virtual", "bullet": "push", "baxter": "push", "gym": "gym"}
 #: The framework scenes that have a robot and a camera (PyBullet).
 ROBOT_SCENES = ("bullet", "baxter")
 
@@ -81,7 +83,7 @@ class SceneEnv:
 
 def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None = None,
              **config: Any) -> SceneEnv:
-    """The rollout environment of a framework scene name (``virtual`` or ``baxter``).
+    """The rollout environment of a framework scene name (:data:`ENV_SCENES`).
 
     The scene's ``context_source`` is the env's `source` (default the camera,
     ``"perceived"``): one camera frame per movement, read by :meth:`SceneEnv.object` and
@@ -100,6 +102,10 @@ def make_env(scene: str, seed: int = 0, step: float = 0.05, source: str | None =
     # Rollouts place the object themselves: a random jitter on reset would make a rollout
     # depend on how many resets its process made before (and so on the worker count).
     config.setdefault("object_jitter", 0.0)
+    if scene == "gym":
+        from a2l.gym.scene import gym_scene  # the extra a2l[gym]
+
+        return SceneEnv(gym_scene(seed=seed, step=step, **config), source)
     return SceneEnv(make_scene(ENV_SCENES[scene], seed=seed, step=step, **config), source)
 
 
