@@ -236,7 +236,8 @@ MPLIB_VENV := $(BUILD)/venv-mplib
 bench: setup $(BUILD)/cpp/build.ninja
 	@$(VENV)/bin/cmake --build $(BUILD)/cpp -j $(JOBS)
 	@$(PIP) install -q $$($(EXTRA) bench)
-	@$(PIP) install -q --index-url https://download.pytorch.org/whl/cpu "torch>=2.3"
+	@$(PIP) install -q --index-url https://download.pytorch.org/whl/cpu "torch==2.13.0+cpu" \
+	  || $(PIP) install -q "torch==2.13.0"  # the CPU build; offline: a wheel pip finds locally
 	@$(PIP) install -q $$($(EXTRA) rl)
 	@[ -x $(MPLIB_VENV)/bin/python ] || python3 -m venv $(MPLIB_VENV)
 	@$(MPLIB_VENV)/bin/pip install -q $$($(EXTRA) bench-mplib)
