@@ -92,7 +92,7 @@ def test_every_experiment_takes_record_and_records_nothing_by_default() -> None:
 
     _, commands = build_parser()
     experiments = sorted(p[1] for p in commands if p[0] == "experiment")
-    assert len(experiments) == 11, experiments  # push, sweep, tasks, lasa ...
+    assert len(experiments) == 12, experiments  # push, sweep, tasks, lasa, panda-gym ...
     for name in experiments:
         options = {o for a in commands[("experiment", name)][0]._actions
                    for o in a.option_strings}
