@@ -138,6 +138,22 @@ class PushEnv(gymnasium.Env):  # type: ignore[misc]
 
     def step(self, action: Any) -> tuple[dict[str, NDArray[np.float32]], float, bool, bool,
                                          dict[str, Any]]:
+        """One movement: a movement of the repertoire (discrete) or an end-effector
+        displacement of at most one movement's length (continuous, `action` shape (3,)).
+
+        Returns
+        -------
+        observation : dict
+            ``observation`` (9,), ``achieved_goal`` (3,), ``desired_goal`` (3,).
+        reward : float
+            :meth:`compute_reward` of the new state.
+        terminated : bool
+            The object is within ``distance_threshold`` of the goal.
+        truncated : bool
+            Always False here (the ``TimeLimit`` wrapper truncates).
+        info : dict
+            ``is_success`` and ``move_status`` (the movement's status).
+        """
         if self.action_type == "discrete":
             res = self.scene.execute(tuple(int(s) for s in self.directions[int(action)]))
         else:
