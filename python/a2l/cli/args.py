@@ -114,6 +114,20 @@ def parse_overrides(items: Sequence[str]) -> dict[str, Any]:
     return out
 
 
+def check_out(out: Path | None, *run_files: str, resume: bool = False) -> None:
+    """Fail early, as a usage error, when `out` is a file, or a directory that holds a run:
+    one of `run_files` (glob patterns relative to it, e.g. ``metrics.json``) is there.
+    `resume`: the message says how to continue the run (``--resume``)."""
+    if out is None:
+        return
+    if out.exists() and not out.is_dir():
+        raise UsageError("--out", f"'{out}' exists and is not a directory")
+    if any(any(out.glob(pattern)) for pattern in run_files):
+        hint = f"continue it with --resume {out}, or " if resume else ""
+        raise UsageError("--out", f"'{out}' already holds a run; {hint}choose another "
+                         "directory")
+
+
 def check_record(path: Path, argument: str = "--record") -> None:
     """Fail early, as a usage error, unless a Rerun recording can be written at `path`
     (``.rrd``, an existing directory, ``rerun-sdk`` installed: the ``ros`` extra)."""

@@ -9,7 +9,7 @@ from jsonargparse import Namespace
 from jsonargparse.typing import NonNegativeInt, PositiveInt
 
 from a2l.cli import lfd, panda_gym, push, tasks
-from a2l.cli.args import UsageError, check_cluster, check_record, comma_list
+from a2l.cli.args import UsageError, check_cluster, check_out, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.experiments.lasa import LasaConfig
@@ -66,12 +66,7 @@ def _cmd_experiment_babbling(args: Namespace) -> int:
     # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.babbling import run_babbling
 
-    if args.out is not None:
-        out = Path(args.out)
-        if out.exists() and not out.is_dir():
-            raise UsageError("--out", f"'{out}' exists and is not a directory")
-        if (out / "metrics.json").exists():
-            raise UsageError("--out", f"'{out}' already holds a run; choose another directory")
+    check_out(None if args.out is None else Path(args.out), "metrics.json")
     if args.record is not None:
         check_record(Path(args.record))
     check_cluster(args.cluster)

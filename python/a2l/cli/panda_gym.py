@@ -13,7 +13,7 @@ from typing import Any
 
 from jsonargparse import Namespace
 
-from a2l.cli.args import UsageError, check_record, parse_overrides
+from a2l.cli.args import UsageError, check_out, check_record, parse_overrides
 from a2l.cli.parser import Parser, add_config_fields, config_from
 from a2l.experiments.panda_gym import PandaGymConfig
 
@@ -29,9 +29,7 @@ def _cmd_panda_gym(ns: Namespace) -> int:
     except (TypeError, ValueError) as exc:
         raise UsageError("--set", str(exc)) from None
     out = Path(ns.out) if ns.out is not None else None
-    if out is not None and out.exists() and (not out.is_dir() or (out / "config.json").exists()):
-        raise UsageError("--out", f"'{out}' is not a directory or already holds a run; "
-                         "choose another directory")
+    check_out(out, "config.json")
     if ns.record is not None:
         check_record(Path(ns.record))
     try:

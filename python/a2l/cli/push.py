@@ -16,7 +16,14 @@ from typing import Any
 from jsonargparse import Namespace
 from jsonargparse.typing import PositiveInt
 
-from a2l.cli.args import UsageError, check_cluster, check_record, parse_overrides, parse_seeds
+from a2l.cli.args import (
+    UsageError,
+    check_cluster,
+    check_out,
+    check_record,
+    parse_overrides,
+    parse_seeds,
+)
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.framework.config import (
     FALLBACK_RULES,
@@ -50,17 +57,6 @@ def changed_fields(cfg: FrameworkConfig, base: FrameworkConfig) -> list[str]:
     return [p for p in field_paths(FrameworkConfig) if value(cfg, p) != value(base, p)]
 
 
-def _check_out(out: Path | None, resume_hint: bool = False) -> None:
-    if out is None:
-        return
-    if out.exists() and not out.is_dir():
-        raise UsageError("--out", f"'{out}' exists and is not a directory")
-    if resume_hint and ((out / "metrics.json").exists()
-                        or any((out / "checkpoints").glob("iter_*"))):
-        raise UsageError("--out", f"'{out}' already holds a run; continue it with "
-                         f"--resume {out}, or choose another directory")
-
-
 def _cmd_push(ns: Namespace) -> int:
     # imported here: parsing (and refusing a bad option) does not load the framework's stack
     from a2l.experiments.push import run_push_experiment
@@ -87,7 +83,8 @@ def _cmd_push(ns: Namespace) -> int:
     if ns.acquisition == "noveb" and cfg.scene not in ROBOT_SCENES:
         raise UsageError("--acquisition", "noveb sees the world through a camera: use "
                          "--scene bullet (the virtual scene has none)")
-    _check_out(None if ns.out is None else Path(ns.out), resume_hint=True)
+    check_out(None if ns.out is None else Path(ns.out), "metrics.json", "checkpoints/iter_*",
+              resume=True)
     if ns.record is not None:
         check_record(Path(ns.record))
     check_cluster(ns.cluster)
@@ -103,7 +100,7 @@ def _cmd_discretization(ns: Namespace) -> int:
 
     cfg = framework_config(ns)
     out = Path(ns.out)
-    _check_out(out)
+    check_out(out)
     if ns.record is not None:
         check_record(Path(ns.record))
     run_discretization_study(out=out, base=cfg, workers=ns.workers, quiet=ns.quiet,
@@ -123,7 +120,7 @@ def _cmd_sweep(ns: Namespace) -> int:
     except (TypeError, ValueError) as exc:
         raise UsageError("--set", str(exc)) from None
     out = Path(ns.out) if ns.out is not None else None
-    _check_out(out)
+    check_out(out)
     if ns.record is not None:
         check_record(Path(ns.record))
     words = ["a2l", "experiment", "sweep", "--seeds", ns.seeds]
