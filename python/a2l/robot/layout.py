@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 
 from a2l import _core
 from a2l.atomic import atomic_write_text
+from a2l.errors import A2LValueError
 from a2l.robot.descriptions import urdf_sha256
 from a2l.robot.entries import RobotEntry
 
@@ -113,14 +114,18 @@ class TableLayout:
     def place(self, offset: tuple[float, float]) -> tuple[float, float]:
         """The point ``(x, y)`` at `offset` (table frame, m at scale 1) from the work point,
         scaled, in the base frame (rounded to the micrometre)."""
-        return _round2(self._to_base(np.asarray(self.work_point), offset))
+        return _offset(self.work_point, offset, self.table_yaw, self.scale)
 
-    def _to_base(self, origin: NDArray[np.float64], offset: tuple[float, ...]
-                 ) -> NDArray[np.float64]:
-        a = math.radians(self.table_yaw)
-        c, s = math.cos(a), math.sin(a)
-        dx, dy = self.scale * offset[0], self.scale * offset[1]
-        return origin[:2] + np.array([c * dx - s * dy, s * dx + c * dy])
+
+def _offset(origin: tuple[float, ...], offset: tuple[float, ...], yaw: float, scale: float
+            ) -> tuple[float, float]:
+    """The point ``(x, y)`` of the base frame at `offset` (table frame, scaled by `scale`)
+    from `origin`, the table turned by `yaw` degrees from the base (to the micrometre)."""
+    a = math.radians(yaw)
+    c, s = math.cos(a), math.sin(a)
+    dx, dy = scale * offset[0], scale * offset[1]
+    return _round2(np.asarray(origin[:2], dtype=float) + np.array([c * dx - s * dy,
+                                                                    s * dx + c * dy]))
 
 
 def _round2(v: NDArray[np.float64] | tuple[float, ...]) -> tuple[float, float]:
@@ -274,8 +279,6 @@ def table_layout(entry: RobotEntry) -> TableLayout:
     a2l.A2LValueError
         The arm reaches no point of the table top with its tool pointing down.
     """
-    from a2l.errors import A2LValueError
-
     height, spacing = TEST_HEIGHT, GRID
     points, radius = _disc(entry, spacing, height)
     if radius.max() <= 0:
@@ -301,25 +304,20 @@ def table_layout(entry: RobotEntry) -> TableLayout:
     pose = np.linalg.inv(entry.mount.pose())  # the table frame in the base frame
     yaw = -entry.mount.yaw
     table_z = round(float(pose[2, 3]), 6)
-    work = pose @ np.array([work_table[0], work_table[1], 0.0, 1.0])
-    lay = TableLayout(
-        robot=entry.name, scale=scale, radius=disc, table_z=table_z,
-        floor_z=round(table_z - TABLE_HEIGHT, 6), table_center=_round2(pose[:2, 3]),
-        table_size=TABLE_SIZE, table_yaw=yaw, work_point=_round2(work),
-        camera_eye=(0.0, 0.0, 0.0), camera_target=(0.0, 0.0, 0.0), extra_camera_eyes=(),
-        workspace_min=(0.0, 0.0, 0.0), workspace_max=(0.0, 0.0, 0.0))
-    target = lay.place(_TARGET)
-    target_np = np.asarray(target)
+    work = _round2(pose @ np.array([work_table[0], work_table[1], 0.0, 1.0]))
+    target = _offset(work, _TARGET, yaw, scale)
 
     def eye(offset: tuple[float, float, float]) -> tuple[float, float, float]:
-        x, y = _round2(lay._to_base(target_np, offset))
-        return (x, y, round(table_z + scale * offset[2], 6))
+        return (*_offset(target, offset, yaw, scale), round(table_z + scale * offset[2], 6))
 
-    (lo, hi) = _WORKSPACE
-    corners = np.array([lay.place(lo[:2]), lay.place(hi[:2]), lay.place((lo[0], hi[1])),
-                        lay.place((hi[0], lo[1]))])
+    lo, hi = _WORKSPACE
+    corners = np.array([_offset(work, c, yaw, scale)
+                        for c in (lo[:2], hi[:2], (lo[0], hi[1]), (hi[0], lo[1]))])
     return TableLayout(
-        **{**lay.__dict__, "camera_target": (*target, table_z), "camera_eye": eye(_EYE),
-           "extra_camera_eyes": tuple(eye(e) for e in _SIDE_EYES),
-           "workspace_min": (*_round2(corners.min(axis=0)), round(scale * lo[2], 6)),
-           "workspace_max": (*_round2(corners.max(axis=0)), round(scale * hi[2], 6))})
+        robot=entry.name, scale=scale, radius=disc, table_z=table_z,
+        floor_z=round(table_z - TABLE_HEIGHT, 6), table_center=_round2(pose[:2, 3]),
+        table_size=TABLE_SIZE, table_yaw=yaw, work_point=work,
+        camera_eye=eye(_EYE), camera_target=(*target, table_z),
+        extra_camera_eyes=tuple(eye(e) for e in _SIDE_EYES),
+        workspace_min=(*_round2(corners.min(axis=0)), round(scale * lo[2], 6)),
+        workspace_max=(*_round2(corners.max(axis=0)), round(scale * hi[2], 6)))
