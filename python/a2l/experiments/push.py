@@ -57,13 +57,13 @@ __all__ = [
 ]
 
 def _robot_entry(cfg: FrameworkConfig) -> dict[str, str] | None:
+    """The bundle's record of the run's robot (:meth:`a2l.robot.RobotEntry.record`); None
+    for the virtual scene."""
     if cfg.scene not in ROBOT_SCENES:
         return None
-    from a2l.robot import robot_entry, urdf_sha256
+    from a2l.robot import robot_entry
 
-    entry = robot_entry(cfg.robot)
-    return {"name": entry.name, "urdf_sha256": urdf_sha256(entry.urdf),
-            "base_link": entry.base_link, "tip_link": entry.tool_link}
+    return robot_entry(cfg.robot).record()
 
 
 def run_push_experiment(cfg: FrameworkConfig | None = None, out: str | Path | None = None,
@@ -201,7 +201,7 @@ def _metrics(cfg: FrameworkConfig, result: FrameworkResult, history: list[dict[s
     are added by the caller)."""
     return {
         "experiment": "push", "scene": cfg.scene,
-        **({"robot": _robot_entry(cfg)["name"]} if cfg.scene in ROBOT_SCENES else {}),  # type: ignore[index]
+        **({"robot": robot["name"]} if (robot := _robot_entry(cfg)) else {}),
         "n_effects": cfg.discretization.n_effects,
         "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
         "heldout_success": result.heldout_success,

@@ -172,9 +172,8 @@ def reset_for_trial(scene: SceneProtocol, name: str, seed: int) -> dict[str, np.
 
 
 def robot_record(robot: str | None) -> dict[str, str] | None:
-    """What a skill bundle records of the robot it was learned for (its ``robot`` entry, which
-    :meth:`a2l.robot.RobotEntry.check_learned_for` reads): the name, the URDF's sha256 and
-    the chain's links; None for no robot (a skill of the virtual scene).
+    """What a skill bundle records of the robot it was learned for
+    (:meth:`a2l.robot.RobotEntry.record`); None for no robot (a skill of the virtual scene).
 
     Raises
     ------
@@ -183,11 +182,9 @@ def robot_record(robot: str | None) -> dict[str, str] | None:
     """
     if robot is None:
         return None
-    from a2l.robot import robot_entry, urdf_sha256
+    from a2l.robot import robot_entry
 
-    entry = robot_entry(robot)
-    return {"name": entry.name, "urdf_sha256": urdf_sha256(entry.urdf),
-            "base_link": entry.base_link, "tip_link": entry.tool_link}
+    return robot_entry(robot).record()
 
 
 def check_robot_for(name: str, robot: str) -> None:

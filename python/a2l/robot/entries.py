@@ -217,6 +217,15 @@ class RobotEntry:
         """Height (m) of the tool link above the table top at the neutral pose."""
         return float((self.mount.pose() @ self.neutral_pose())[2, 3])
 
+    def record(self) -> dict[str, str]:
+        """What a skill bundle records of the robot it was learned for (its ``robot``
+        entry, which :meth:`check_learned_for` reads): the name, the URDF's sha256 and the
+        chain's links."""
+        from a2l.robot.descriptions import urdf_sha256
+
+        return {"name": self.name, "urdf_sha256": urdf_sha256(self.urdf),
+                "base_link": self.base_link, "tip_link": self.tool_link}
+
     def check_learned_for(self, record: object, what: str) -> None:
         """Refuse a skill learned for another robot.
 
