@@ -4,10 +4,10 @@ reads without Python (``a2l robot export ROBOT --out FILE.json``; ``docs/runtime
 A built-in robot or a robot file (:func:`a2l.robot.robot_entry`) names its URDF through
 ``example-robot-data`` or a ``package://`` URI, and its scenes' geometry is computed
 (:func:`a2l.robot.table_layout`, and the push box lowered under the hand when the scene is
-built: :mod:`a2l.sim.tool_clearance`). :func:`resolved_robot` writes down what follows: the
-URDF's absolute path and SHA-256, the chain, the neutral pose, ``tool_down``, and the push
-scene's table height, work point (where its box stands), scale, box size and end-effector
-workspace, all in the robot's base frame::
+built: :meth:`a2l.sim.bullet.build.BuildMixin.tool_clearance`). :func:`resolved_robot`
+writes down what follows: the URDF's absolute path and SHA-256, the chain, the neutral pose,
+``tool_down``, and the push scene's table height, work point (where its box stands), scale,
+box size and end-effector workspace, all in the robot's base frame::
 
     {"format": "a2l-resolved-robot", "version": 1, "name": "panda",
      "urdf": "/.../panda.urdf", "urdf_sha256": "...", "base_link": "panda_link0",

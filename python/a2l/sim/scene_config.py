@@ -162,7 +162,7 @@ class SceneConfig:
     #: robot's work point (:meth:`a2l.robot.TableLayout.place`).
     _PLACES: ClassVar[dict[str, tuple[float, float]]] = {}
     #: Object sizes whose height the scene lowers below the robot's hand when the layout
-    #: gave them (:mod:`a2l.sim.tool_clearance`).
+    #: gave them (:meth:`a2l.sim.bullet.build.BuildMixin.tool_clearance`).
     _TALL: ClassVar[tuple[str, ...]] = ()
 
     def __post_init__(self) -> None:
