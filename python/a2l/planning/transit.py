@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l import Kinematics, _core
 from a2l.errors import A2LError, A2LValueError, URDFError
-from a2l.robot import BAXTER_ARMS, RobotEntry, pybullet_urdf, robot_entry
+from a2l.robot import RobotEntry, arm_entry, pybullet_urdf
 from a2l.rollout.protocol import ArmSceneProtocol
 from a2l.sim.assets import mesh_vertices
 
@@ -107,16 +107,11 @@ def transit_robot(robot: str | os.PathLike[str] | RobotEntry, arm: str = "right"
     Raises
     ------
     a2l.A2LValueError
-        An unknown robot or Baxter arm (:func:`a2l.robot.robot_entry`).
+        An unknown robot or Baxter arm (:func:`a2l.robot.arm_entry`).
     """
     if isinstance(robot, RobotEntry):
         return robot
-    if robot == "baxter":
-        if arm not in BAXTER_ARMS:
-            raise A2LValueError(f"unknown Baxter arm '{arm}'; choose one of "
-                                f"{sorted(BAXTER_ARMS)}")
-        return robot_entry("baxter" if arm == "right" else "baxter-left")
-    return robot_entry(robot)
+    return arm_entry(robot, arm)
 
 
 class ArmTransit:

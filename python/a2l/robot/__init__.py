@@ -28,7 +28,7 @@ from a2l.robot.entries import Gripper, Mount, RobotEntry
 from a2l.robot.entry_checks import check_entry
 from a2l.robot.gripper import GRIPPER_DOWN, PANDA_DOWN, gripper_down, rotation_angle
 from a2l.robot.layout import TableLayout, table_layout
-from a2l.robot.robot_file import load_robot, robot_entry
+from a2l.robot.robot_file import arm_entry, load_robot, robot_entry
 
 __all__ = [
     "BAXTER_ARMS",
@@ -40,6 +40,7 @@ __all__ = [
     "Mount",
     "RobotEntry",
     "TableLayout",
+    "arm_entry",
     "arm_spec",
     "baxter_urdf",
     "builtin_robot",

@@ -38,11 +38,11 @@ import yaml
 
 from a2l.errors import A2LFileNotFoundError, A2LValueError, RobotEntryError
 from a2l.robot.builtin_robots import BUILTIN_ROBOTS, builtin_robot
-from a2l.robot.descriptions import robots_dir
+from a2l.robot.descriptions import BAXTER_ARMS, robots_dir
 from a2l.robot.entries import Gripper, Mount, RobotEntry
 from a2l.robot.entry_checks import check_entry
 
-__all__ = ["ROBOT_FILE_KEYS", "ROBOT_FILE_SUFFIXES", "load_robot", "robot_entry"]
+__all__ = ["ROBOT_FILE_KEYS", "ROBOT_FILE_SUFFIXES", "arm_entry", "load_robot", "robot_entry"]
 
 #: The keys of a robot file, required first.
 ROBOT_FILE_KEYS = ("urdf", "base_link", "tool_link", "neutral", "mount", "name", "tool_down",
@@ -144,6 +144,23 @@ def robot_entry(robot: str | os.PathLike[str]) -> RobotEntry:
     raise A2LValueError(f"unknown robot '{robot}': neither a built-in robot "
                         f"({', '.join(BUILTIN_ROBOTS)}) nor a robot file "
                         f"({', '.join(ROBOT_FILE_SUFFIXES)})")
+
+
+def arm_entry(robot: str | os.PathLike[str], arm: str = "right") -> RobotEntry:
+    """:func:`robot_entry` with Baxter's arm chosen: ``"baxter"`` with `arm` ``"left"`` is
+    ``"baxter-left"``; `arm` is ignored for the other robots.
+
+    Raises
+    ------
+    a2l.A2LValueError
+        An unknown Baxter arm, and as :func:`robot_entry`.
+    """
+    if robot == "baxter":
+        if arm not in BAXTER_ARMS:
+            raise A2LValueError(f"unknown Baxter arm '{arm}'; choose one of "
+                                f"{sorted(BAXTER_ARMS)}")
+        return builtin_robot("baxter" if arm == "right" else "baxter-left")
+    return robot_entry(robot)
 
 
 def _read(path: Path, src: str) -> dict[str, Any]:

@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from a2l.errors import A2LValueError
-from a2l.robot import BAXTER_ARMS, BUILTIN_ROBOTS, ArmSpec, RobotEntry, robot_entry
+from a2l.robot import BAXTER_ARMS, BUILTIN_ROBOTS, ArmSpec, RobotEntry, arm_entry
 from a2l.skills.runner import CppSkillRunner
 
 __all__ = ["check_robot", "node_robot", "skill_object"]
@@ -47,12 +47,10 @@ def node_robot(robot: str, bundle_robot: Mapping[str, Any] | None = None,
             raise A2LValueError(f"the bundle was learned for robot {name!r}, not a built-in "
                                 "one: give its robot file (robot parameter, --robot FILE)")
         robot = name
-    if arm == "left":
-        if robot != "baxter":
-            raise A2LValueError(f"arm 'left' is Baxter's (robot 'baxter-left'), not robot "
-                                f"{robot!r}'s")
-        robot = "baxter-left"
-    return robot_entry(robot)
+    if arm == "left" and robot != "baxter":
+        raise A2LValueError(f"arm 'left' is Baxter's (robot 'baxter-left'), not robot "
+                            f"{robot!r}'s")
+    return arm_entry(robot, arm)
 
 
 def check_robot(runner: CppSkillRunner, robot: str, arm: str = "right") -> ArmSpec:
