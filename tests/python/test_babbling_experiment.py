@@ -139,3 +139,28 @@ def test_noveb_moves_the_box_more_often_than_random_babbling(tmp_path: Path) -> 
     p = fisher_exact([[moved["noveb"], n - moved["noveb"]],
                       [moved["random"], n - moved["random"]]], alternative="greater").pvalue
     assert p < 0.01 and moved["noveb"] >= moved["random"] + 10, (moved, p)
+
+
+def test_the_world_is_placed_at_each_robots_work_point() -> None:
+    """Baxter's world is the thesis' to the micrometre; the PR2's is the same world around
+    its own work point, scaled with its table, and a trajectory through the box there
+    pushes it."""
+    baxter = WorldConfig()
+    assert (baxter.start, baxter.low, baxter.high) == (
+        (0.42, -0.25, 0.25), (0.40, -0.72, 0.03), (0.78, 0.12, 0.30))
+    cfg = WorldConfig(robot="pr2")
+    layout = cfg.layout()
+    k = layout.scale
+    assert 0.5 < k < 1.0
+    # the start 0.20 m (scaled) before the work point, the waypoints' box around it
+    np.testing.assert_allclose(cfg.start, (layout.work_point[0] - 0.20 * k,
+                                           layout.work_point[1], 0.25 * k), atol=1e-6)
+    assert cfg.low[0] < layout.work_point[0] < cfg.high[0]
+    assert cfg.low[1] < layout.work_point[1] < cfg.high[1]
+    # through the box from a start as low as the waypoints go (the PR2's open fingers pass
+    # over the box at the height THROUGH_THE_BOX descends to from the start's 23 cm)
+    low_start = replace(cfg, start=(*cfg.start[:2], cfg.low[2]))
+    ev = evaluate_task(EvaluationTask(low_start, np.where(np.arange(9) % 3 == 2, 0.0,
+                                                          THROUGH_THE_BOX)))
+    assert np.hypot(*ev.displacement["box"]) > 0.02, ev.displacement
+    assert np.hypot(*(np.asarray(ev.final["box"]) - layout.work_point)) > 0.02

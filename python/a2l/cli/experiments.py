@@ -92,7 +92,7 @@ def _cmd_experiment_babbling_compare(args: Namespace) -> int:
     run_babbling_compare(args.scene, args.evaluations, seeds, out=out,
                          methods=tuple(args.methods), workers=args.workers,
                          cluster=args.cluster, generation_size=args.generation_size,
-                         quiet=args.quiet, record=args.record)
+                         quiet=args.quiet, record=args.record, robot=args.robot)
     return 0
 
 
@@ -138,10 +138,14 @@ def _babbling_parsers() -> tuple[Parser, Parser]:
     bab.add_argument("--record", metavar="FILE.rrd", default=None,
                      help="write every evaluation to a Rerun recording: the end-effector "
                      "path, the objects before and after (a2l view FILE.rrd)")
+    cmp_.add_argument("--robot", default="baxter", metavar="NAME|FILE",
+                      help="the robot: a built-in name (baxter, pr2, ...) or a robot file "
+                      "(default baxter); the world is placed at its work point")
     cmp_.add_argument("--record", metavar="FILE.rrd", default=None,
                       help="write every run's evaluations to one Rerun recording, "
                       "<method>-s<seed>/rollout/<i>/ (a2l view FILE.rrd)")
     add_config_fields(bab, WorldConfig, skip={"scene", "seed"}, nested_key="world")
+    bab.aliases = {"--robot": "--world.robot"}  # type: ignore[attr-defined]
     return bab, cmp_
 
 

@@ -20,6 +20,7 @@ import inspect
 import json
 import re
 import sys
+import types
 import typing
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -120,9 +121,18 @@ def _field_docs(cls: type, prefix: str) -> tuple[dict[str, str], set[str]]:
             sub_docs, sub_lists = _field_docs(hint, f"{prefix}{f.name}.")
             docs.update(sub_docs)
             lists |= sub_lists
-        elif typing.get_origin(hint) in (tuple, list):
+        elif typing.get_origin(_optional_of(hint)) in (tuple, list):
             lists.add(f"--{prefix}{f.name}")
     return docs, lists
+
+
+def _optional_of(hint: Any) -> Any:
+    """``T`` of ``T | None`` (``Optional[T]``), else `hint`."""
+    args = typing.get_args(hint)
+    if typing.get_origin(hint) in (typing.Union, types.UnionType) and type(None) in args:
+        rest = [a for a in args if a is not type(None)]
+        return rest[0] if len(rest) == 1 else hint
+    return hint
 
 
 def attribute_docs(cls: type) -> dict[str, str]:

@@ -289,7 +289,8 @@ def record_babbling(recorder: Any, run_dir: str | Path, group: str = "") -> int:
 
     run_dir = Path(run_dir)
     wcfg = WorldConfig(**read_json(run_dir / "config.json")["world"])
-    sim = make_config("push", object_jitter=0.0, context_source="ground_truth")
+    sim = make_config("push", robot=wcfg.robot, object_jitter=0.0,
+                      context_source="ground_truth")
     homes = object_homes(wcfg, sim)
     z = sim.table_z + sim.box_size[2] / 2
     df = pd.read_parquet(run_dir / "evaluations.parquet")

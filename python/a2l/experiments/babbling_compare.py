@@ -24,12 +24,13 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
                          out: str | Path | None = None, methods: tuple[str, ...] = (
                              "noveb", "random", "goal"), workers: int = 1,
                          cluster: str | None = None, generation_size: int = 20,
-                         quiet: bool = False, record: str | Path | None = None
-                         ) -> dict[str, Any]:
+                         quiet: bool = False, record: str | Path | None = None,
+                         robot: str = "baxter") -> dict[str, Any]:
     """Every method with every seed (``<out>/<method>-s<seed>``; a finished run is reused),
     then the side-by-side plots and the table of means and spreads; with `record`, every
     run's evaluations in one Rerun recording (``.rrd``), group ``<method>-s<seed>``
-    (:func:`a2l.experiments.babbling.record_babbling`).
+    (:func:`a2l.experiments.babbling.record_babbling`). `robot`: the world's robot
+    (:class:`~a2l.experiments.babbling_world.WorldConfig`), a built-in name or a robot file.
 
     Returns
     -------
@@ -38,10 +39,12 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
     """
     root = make_run_dir(f"babbling-compare-{scene}", out)
     write_json(root / "config.json", {
-        "experiment": "babbling-compare", "scene": scene, "evaluations": evaluations,
-        "seeds": list(seeds), "methods": list(methods), "generation_size": generation_size,
+        "experiment": "babbling-compare", "scene": scene, "robot": robot,
+        "evaluations": evaluations, "seeds": list(seeds), "methods": list(methods),
+        "generation_size": generation_size,
         "command": shlex.join(
-            ["a2l", "experiment", "babbling-compare", "--scene", scene, "--evaluations",
+            ["a2l", "experiment", "babbling-compare", "--scene", scene, "--robot", robot,
+             "--evaluations",
              str(evaluations), "--seeds", str(len(seeds)), "--first-seed", str(seeds[0]),
              "--methods", *methods, "--generation-size", str(generation_size), "--out",
              str(root)]) if list(seeds) == list(range(seeds[0], seeds[0] + len(seeds)))
@@ -58,7 +61,7 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
             else:
                 m = run_babbling(method, evaluations, seed, scene, sub, workers=workers,
                                  cluster=cluster, generation_size=generation_size,
-                                 quiet=quiet)
+                                 quiet=quiet, world=WorldConfig(robot=robot))
             runs.setdefault(method, []).append(m)
             if seed == seeds[0]:
                 cfg = read_json(sub / "config.json")
@@ -78,11 +81,11 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
     plot_progress(runs, root / "progress.png")
     table = summary_table(runs)
     write_json(root / "metrics.json", {
-        "scene": scene, "evaluations": evaluations, "seeds": list(seeds),
+        "scene": scene, "robot": robot, "evaluations": evaluations, "seeds": list(seeds),
         "runs": {k: [m["totals"] for m in v] for k, v in runs.items()}})
     atomic_write_text(root / "report.md", mark_report("\n".join([
-        f"# Babbling methods compared on {scene} ({evaluations} evaluations, seeds "
-        f"{', '.join(map(str, seeds))})", "",
+        f"# Babbling methods compared on {scene}, robot {robot} ({evaluations} evaluations, "
+        f"seeds {', '.join(map(str, seeds))})", "",
         "Mean ± standard deviation over seeds (min–max).", "", table, "",
         f"![end-effector positions visited, seed {seeds[0]}](visits.png)", "",
         "![moved share and distinct outcomes](progress.png)", ""]),

@@ -13,10 +13,6 @@ from a2l.sim import make_config
 
 __all__ = ["plot_progress", "plot_visits", "summary_table"]
 
-#: Every box's footprint (x, y) (m): the push scene's box size.
-_BOX = (0.07, 0.085)
-
-
 def _plt() -> Any:
     import matplotlib
 
@@ -35,7 +31,9 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
     plt = _plt()
     from matplotlib.colors import LogNorm
 
-    boxes = object_homes(world, make_config("push"))
+    sim = make_config("push", robot=world.robot)
+    boxes = object_homes(world, sim)
+    box = sim.box_size  # every box's footprint (x, y) (m): the push scene's box
     fig, axes = plt.subplots(1, len(paths), figsize=(max(5.0, 3.6 * len(paths)), 3.0),
                              squeeze=False)
     for ax, (method, ps) in zip(axes[0], paths.items(), strict=True):
@@ -44,7 +42,7 @@ def plot_visits(paths: dict[str, list[np.ndarray]], world: WorldConfig, path: Pa
                   range=((world.low[1] - 0.05, world.high[1] + 0.05),
                          (world.low[0] - 0.05, world.high[0] + 0.05)), cmap="Blues", norm=LogNorm())
         for _name, (x, y) in boxes.items():
-            ax.add_patch(plt.Rectangle((y - _BOX[1] / 2, x - _BOX[0] / 2), _BOX[1], _BOX[0],
+            ax.add_patch(plt.Rectangle((y - box[1] / 2, x - box[0] / 2), box[1], box[0],
                                        color="tab:purple", alpha=0.8))
         ax.plot(world.start[1], world.start[0], "k^", ms=6)
         ax.set(title=f"{method} ({len(ps)} trajectories)", xlabel="y (m, robot's left ←)",

@@ -1,6 +1,10 @@
-"""The world of the babbling experiment: Baxter's PyBullet push scene with one box
-(``push``) or two boxes far apart (``two_objects``), a trajectory played from a genotype,
-and what comes out of it.
+"""The world of the babbling experiment: a robot's PyBullet push scene (Baxter's by default)
+with one box (``push``) or two boxes far apart (``two_objects``), a trajectory played from a
+genotype, and what comes out of it.
+
+The start, the waypoints' box and the two boxes' homes are the thesis' (on Baxter) as offsets
+from the robot's work point, turned and scaled with its table (:func:`a2l.robot.table_layout`):
+on Baxter they are the thesis' values to the micrometre.
 
 An evaluation has two parts that never mix:
 
@@ -31,8 +35,15 @@ __all__ = ["BABBLING_SCENES", "Evaluation", "EvaluationTask", "WorldConfig", "ac
 #: Scenes of the babbling experiment.
 BABBLING_SCENES = ("push", "two_objects")
 
-#: Where the boxes of the ``two_objects`` scene stand (x, y): 0.46 m apart.
-TWO_OBJECTS = {"box": (0.55, -0.45), "box2": (0.72, -0.02)}
+#: Where the boxes of the ``two_objects`` scene stand, from the work point (table frame, m
+#: at scale 1): 0.46 m apart (on Baxter (0.55, -0.45) and (0.72, -0.02)).
+TWO_OBJECTS = {"box": (-0.07, -0.20), "box2": (0.10, 0.23)}
+
+#: The start and the waypoints' box from the work point (table frame, m at scale 1; heights
+#: above the table top): on Baxter (0.42, -0.25, 0.25), (0.40, -0.72, 0.03), (0.78, 0.12, 0.30).
+START = (-0.20, 0.0, 0.25)
+LOW = (-0.22, -0.47, 0.03)
+HIGH = (0.16, 0.37, 0.30)
 
 
 @dataclass(frozen=True)
@@ -43,12 +54,17 @@ class WorldConfig:
     ----------
     scene : {"push", "two_objects"}
         One box (the push scene's), or two boxes far apart.
-    start : tuple of 3 float
-        Where every trajectory starts and ends (x, y, height above the table top) (m).
-    low, high : tuple of 3 float
+    robot : str
+        The robot: a built-in name (``baxter``, ``pr2``...) or a robot file's path.
+    start : tuple of 3 float, optional
+        Where every trajectory starts and ends (x, y, height above the table top) (m);
+        default :data:`START` placed at the robot's work point.
+    low, high : tuple of 3 float, optional
         The box the waypoints lie in (x, y, height above the table top) (m): the
-        workspace over the table that Baxter's right arm reaches with the gripper pointing
-        down (waypoints in its unreachable corners are given up on the way).
+        workspace over the table that the arm reaches with the gripper pointing down
+        (waypoints in its unreachable corners are given up on the way); default
+        :data:`LOW`, :data:`HIGH` placed at the robot's work point (the bounding box of the
+        turned rectangle on a turned table).
     n_waypoints : int
         Waypoints per trajectory (genotype length ``3 * n_waypoints``).
     max_moves : int
@@ -71,9 +87,10 @@ class WorldConfig:
     """
 
     scene: str = "push"
-    start: tuple[float, float, float] = (0.42, -0.25, 0.25)
-    low: tuple[float, float, float] = (0.40, -0.72, 0.03)
-    high: tuple[float, float, float] = (0.78, 0.12, 0.30)
+    robot: str = "baxter"
+    start: tuple[float, float, float] | None = None
+    low: tuple[float, float, float] | None = None
+    high: tuple[float, float, float] | None = None
     n_waypoints: int = 3
     max_moves: int = 16
     image_size: int = 32
@@ -87,6 +104,11 @@ class WorldConfig:
         if self.scene not in BABBLING_SCENES:
             raise ValueError(f"scene: unknown {self.scene!r}; choose one of "
                              f"{list(BABBLING_SCENES)}")
+        if None in (self.start, self.low, self.high):
+            start, low, high = _placed(self.robot)
+            for name, v in (("start", start), ("low", low), ("high", high)):
+                if getattr(self, name) is None:
+                    object.__setattr__(self, name, v)
         for name in ("n_waypoints", "max_moves", "image_size", "camera_width",
                      "camera_height"):
             v = getattr(self, name)
@@ -104,6 +126,12 @@ class WorldConfig:
         if self.low[2] <= 0:
             raise ValueError(f"low: the height must be above the table top, got {self.low}")
 
+    def layout(self) -> Any:
+        """The robot's table layout (:func:`a2l.robot.table_layout`)."""
+        from a2l.robot import robot_entry, table_layout
+
+        return table_layout(robot_entry(self.robot))
+
     def encoding(self, table_z: float) -> WaypointEncoding:
         """The genotype encoding over a table top at height `table_z`."""
         up = np.array([0.0, 0.0, table_z])
@@ -111,12 +139,30 @@ class WorldConfig:
                                 tuple(np.asarray(self.high) + up), self.n_waypoints)
 
 
+def _placed(robot: str) -> tuple[tuple[float, float, float], ...]:
+    """:data:`START`, :data:`LOW` and :data:`HIGH` placed at `robot`'s work point."""
+    from a2l.robot import robot_entry, table_layout
+
+    layout = table_layout(robot_entry(robot))
+    k = layout.scale
+
+    def z(v: float) -> float:
+        return round(k * v, 6)
+
+    corners = np.array([layout.place(c) for c in
+                        (LOW[:2], HIGH[:2], (LOW[0], HIGH[1]), (HIGH[0], LOW[1]))])
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    return ((*layout.place(START[:2]), z(START[2])),
+            (float(lo[0]), float(lo[1]), z(LOW[2])), (float(hi[0]), float(hi[1]), z(HIGH[2])))
+
+
 def make_world(cfg: WorldConfig) -> Any:
     """The PyBullet scene of `cfg` (close it when done)."""
     from a2l.sim import make_config
     from a2l.sim.bullet import PushScene
 
-    sim = make_config("push", object_jitter=0.0, context_source="ground_truth",
+    sim = make_config("push", robot=cfg.robot, object_jitter=0.0,
+                      context_source="ground_truth",
                       camera_width=cfg.camera_width, camera_height=cfg.camera_height,
                       extra_camera_eyes=(), speed=cfg.speed,
                       time_step=cfg.time_step)
@@ -128,10 +174,11 @@ def make_world(cfg: WorldConfig) -> Any:
 
         def _build_objects(self) -> None:
             c = self.config
-            self._add_box("box", c.box_size, c.box_mass, c.box_friction, TWO_OBJECTS["box"],
+            homes = object_homes(cfg, c)
+            self._add_box("box", c.box_size, c.box_mass, c.box_friction, homes["box"],
                           c.box_color)
-            self._add_box("box2", c.box_size, c.box_mass, c.box_friction,
-                          TWO_OBJECTS["box2"], (0.1, 0.65, 0.2, 1.0))
+            self._add_box("box2", c.box_size, c.box_mass, c.box_friction, homes["box2"],
+                          (0.1, 0.65, 0.2, 1.0))
 
     return TwoObjectsScene(sim, cfg.seed)
 
@@ -190,7 +237,8 @@ class Evaluation:
 def object_homes(cfg: WorldConfig, sim_config: Any) -> dict[str, tuple[float, float]]:
     """Where the scene of `cfg` puts each object on reset (x, y) (m)."""
     if cfg.scene == "two_objects":
-        return dict(TWO_OBJECTS)
+        layout = cfg.layout()
+        return {n: layout.place(o) for n, o in TWO_OBJECTS.items()}
     return {"box": tuple(sim_config.box_position)}
 
 
