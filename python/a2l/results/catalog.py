@@ -134,21 +134,28 @@ CONTEXTS = ("camera", "ground truth")
 
 def by_context(tables: Sequence[str]) -> str:
     """One Markdown table of the same table made per context source (:data:`CONTEXTS`, in
-    order): a leading ``context`` column names the source of each row.
+    order): a leading ``context`` column names the source of each row
+    (:func:`side_by_side`)."""
+    return side_by_side("context", CONTEXTS, tables)
+
+
+def side_by_side(column: str, labels: Sequence[str], tables: Sequence[str]) -> str:
+    """One Markdown table of the same table made once per label: a leading `column` names
+    the label of each row.
 
     Raises
     ------
     ValueError
-        The tables' headers differ, or there are not as many as :data:`CONTEXTS`.
+        The tables' headers differ, or there are not as many as `labels`.
     """
-    if len(tables) != len(CONTEXTS):
-        raise ValueError(f"expected {len(CONTEXTS)} tables (one per context), got "
+    if len(tables) != len(labels):
+        raise ValueError(f"expected {len(labels)} tables (one per {column}), got "
                          f"{len(tables)}")
     split = [t.strip().splitlines() for t in tables]
     if any(rows[:2] != split[0][:2] for rows in split):
-        raise ValueError("the per-context tables have different headers")
-    out = ["| context " + split[0][0], "|---" + split[0][1]]
-    for name, rows in zip(CONTEXTS, split, strict=True):
+        raise ValueError(f"the per-{column} tables have different headers")
+    out = [f"| {column} " + split[0][0], "|---" + split[0][1]]
+    for name, rows in zip(labels, split, strict=True):
         out += [f"| {name} {row}" for row in rows[2:]]
     return "\n".join(out)
 
@@ -157,6 +164,13 @@ def _lfd(ms: list[dict[str, Any]]) -> str:
     from a2l.experiments.lfd_skills import results_table
 
     return by_context([results_table(m["skills"]) for m in ms])
+
+
+def _lfd_robots(ms: list[dict[str, Any]]) -> str:
+    from a2l.experiments.lfd_skills import results_table
+
+    return side_by_side("robot", [(m.get("robot") or {}).get("name", "none") for m in ms],
+                        [results_table(m["skills"]) for m in ms])
 
 
 def _perturbations(ms: list[dict[str, Any]]) -> str:
@@ -202,6 +216,24 @@ def _push_robots(ms: list[dict[str, Any]]) -> str:
 #: The robot file of an arm that is not built in (docs/robots.md's worked example).
 XARM_FILE = "examples/robots/xarm7.yaml"
 
+#: The LfD skills the robots' table compares (a push each way, the grasp, the press).
+ROBOT_LFD_SKILLS = "push_far,push_right,grasp,press"
+
+
+def _lfd_on(robot: str, trials: int) -> Run:
+    """The LfD skills of :data:`ROBOT_LFD_SKILLS` on `robot`, `trials` trials (camera)."""
+    return Run(f"lfd-{robot}", ("experiment", "lfd-skills", "--robot", robot, "--skills",
+                                ROBOT_LFD_SKILLS, "--trials", str(trials), "--seed", "1000",
+                                "--quiet"))
+
+
+def _babbling_on(robot: str, evaluations: int, seeds: int) -> Run:
+    """NovEB and random motor babbling on `robot`, `seeds` seeds from 1000."""
+    return Run(f"compare-{robot}", ("experiment", "babbling-compare", "--scene", "push",
+                                    "--robot", robot, "--methods", "noveb", "random",
+                                    "--evaluations", str(evaluations), "--seeds", str(seeds),
+                                    "--first-seed", "1000", "--quiet"))
+
 #: Every table, in the order of the README.
 ENTRIES: tuple[Entry, ...] = (
     # what `make demo` runs after its set-up, on the demo's own seed (a tuning seed: the
@@ -232,6 +264,17 @@ ENTRIES: tuple[Entry, ...] = (
                     _push_on(XARM_FILE, 1000)]},
           _push_robots, ("trajectories.png", "heldout_trajectories.png"),
           details=_push_baxter_misses),
+    Entry("robots-lfd", "Skills learned from demonstrations on the Panda beside Baxter "
+          "(a2l experiment lfd-skills --robot; camera context)",
+          {"quick": [_lfd_on("baxter", 10), _lfd_on("panda", 10)],
+           "full": [_lfd_on("baxter", 40), _lfd_on("panda", 40)]},
+          _lfd_robots),
+    # the PR2 (the robot of the thesis' NovEB chapter) plays an evaluation in ~1.1 s, twice
+    # Baxter's: the full profile runs 1000 evaluations (Baxter's table: 2000) on 2 seeds
+    Entry("robots-babbling", "Exploration on the PR2: NovEB against random motor babbling "
+          "(a2l experiment babbling-compare --robot pr2)",
+          {"quick": [_babbling_on("pr2", 400, 2)], "full": [_babbling_on("pr2", 1000, 2)]},
+          _babbling, ("progress.png", "visits.png")),
     Entry("babbling", "Exploration: NovEB against random motor and random goal babbling "
           "(a2l experiment babbling-compare)",
           {"quick": [Run("compare", ("experiment", "babbling-compare", "--scene", "push",
