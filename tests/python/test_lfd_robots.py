@@ -101,3 +101,39 @@ def test_a_start_out_of_a_small_arms_reach_is_a_failed_trial(tmp_path: Path) -> 
     assert (row["success"], row["stop"], row["movements"]) == (False, "start_unreachable", 0)
     assert "Robot so101's scene is scaled by 0.52" in scale_note("bullet", "so101")[0]
     assert scale_note("bullet", "panda") == [] == scale_note("baxter", "baxter")
+
+
+def test_perturbations_and_parametrization_run_on_the_panda(tmp_path: Path) -> None:
+    """``perturbations --robot panda``: the skill learned for the Panda (its bundle says so),
+    tried in the Panda's scene with the object moved mid-action; ``parametrization --robot
+    panda``: a one-cell study learns and tries it there."""
+    from a2l.experiments.parametrization import run_parametrization
+    from a2l.experiments.perturbations import DEFAULT_SEED, run_perturbations
+    from a2l.skills import load_bundle
+
+    m = run_perturbations(tmp_path / "pert", ["push_far"], trials=1, seed=DEFAULT_SEED,
+                          conditions=["none", "move_object"], quiet=True, plots=False,
+                          context_source="ground_truth", robot="panda")
+    assert m["robot"] == "panda"
+    assert load_bundle(m["learning"]["push_far"]["bundle"]).robot["name"] == "panda"
+    config = json.loads((tmp_path / "pert" / "config.json").read_text())
+    assert "--robot panda" in config["command"]
+    rows = m["skills"]["push_far"]
+    assert rows, m["skills"]
+    # the trials ran in the Panda's scene: the object starts where the trial's reset puts it
+    trials = np.load(tmp_path / "pert" / "trajectories.npz")
+    obj = trials[f"push_far/none/table/{DEFAULT_SEED}/obj"]
+    with make_skill_scene("push_far", scene=m["scenes"]["push_far"], robot="panda") as scene:
+        home = reset_for_trial(scene, "push_far", DEFAULT_SEED)["object"]
+    np.testing.assert_allclose(obj[0][:2], home[:2], atol=0.005)
+
+    p = run_parametrization(tmp_path / "param", ["push_far"],
+                            {"resolution": (0.02,), "step": (0.05,), "n_orient": (16,),
+                             "n_dist": (3,), "smoothing": (False,)},
+                            trials=2, quiet=True, robot="panda")
+    assert p["scene"] == "bullet" and p["robot"] == "panda" and p["cells"] == 1
+    assert "--robot panda" in json.loads((tmp_path / "param" / "config.json").read_text())[
+        "command"]
+    with pytest.raises(ConfigError, match="scene 'baxter' is Baxter's"):
+        run_parametrization(tmp_path / "bad", ["push_far"], scene="baxter", robot="panda",
+                            quiet=True)

@@ -66,12 +66,7 @@ def _lfd_skills_parser() -> Parser:
                    help="comma-separated skill names (default: the push skills)")
     p.add_argument("--trials", type=int, default=20, help="trials per skill (default 20)")
     p.add_argument("--seed", type=int, default=1000, help="first trial seed (default 1000)")
-    p.add_argument("--robot", default="baxter", metavar="NAME|FILE",
-                   help="the robot the skills are learned for and tried on: a built-in name "
-                   "(baxter, panda, ...) or a robot file (default baxter)")
-    p.add_argument("--scene", choices=("baxter", "bullet", "virtual"), default=None,
-                   help="the recipes' PyBullet scenes on Baxter (baxter) or on --robot "
-                   "(bullet), or the virtual scene (default: baxter for Baxter, else bullet)")
+    add_robot_options(p)
     p.add_argument("--mode", choices=("table", "ds"), default="table")
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),
                    default="perceived", help="where the skills read the context: the camera "
@@ -121,6 +116,19 @@ def grid_of(args: Namespace) -> dict[str, Sequence[Any]]:
     return grid
 
 
+def add_robot_options(p: Parser, scene: bool = True) -> None:
+    """``--robot`` (and with `scene`, ``--scene``) of the experiments on demonstrated
+    skills."""
+    p.add_argument("--robot", default="baxter", metavar="NAME|FILE",
+                   help="the robot the skills are learned for and tried on: a built-in name "
+                   "(baxter, panda, ...) or a robot file (default baxter)")
+    if scene:
+        p.add_argument("--scene", choices=("baxter", "bullet", "virtual"), default=None,
+                       help="the recipes' PyBullet scenes on Baxter (baxter) or on --robot "
+                       "(bullet), or the virtual scene (default: baxter for Baxter, else "
+                       "bullet)")
+
+
 def _cmd_parametrization(args: Namespace) -> int:
     # imported here: parsing and --help do not load this command's stack
     from a2l.experiments.parametrization import run_parametrization
@@ -131,7 +139,7 @@ def _cmd_parametrization(args: Namespace) -> int:
         check_record(Path(args.record))
     run_parametrization(out, skills, grid, args.trials, args.seed, args.scene,
                         args.workers, base=lfd_config(args), quiet=args.quiet,
-                        record=args.record)
+                        record=args.record, robot=args.robot)
     return 0
 
 
@@ -153,7 +161,7 @@ def _parametrization_parser() -> Parser:
     p.add_argument("--smoothing", default=None, help="off,on (default both)")
     p.add_argument("--trials", type=int, default=20, help="trials per cell (default 20)")
     p.add_argument("--seed", type=int, default=500, help="first trial seed (default 500)")
-    p.add_argument("--scene", choices=("baxter", "virtual"), default="baxter")
+    add_robot_options(p)
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--record", default=None, metavar="FILE.rrd",
                    help="write every cell's trials to one Rerun recording, "
@@ -172,7 +180,8 @@ def _cmd_perturbations(args: Namespace) -> int:
     run_perturbations(args.out, comma_list(args.skills), args.trials, args.seed,
                       args.workers, args.cluster, comma_list(args.conditions) or CONDITIONS,
                       cfg=lfd_config(args), quiet=args.quiet, plots=not args.no_plots,
-                      context_source=args.context_source, record=args.record)
+                      context_source=args.context_source, record=args.record,
+                      robot=args.robot)
     return 0
 
 
@@ -200,6 +209,7 @@ def _perturbations_parser() -> Parser:
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),
                    default="perceived", help="where the skills read the context: the camera "
                    "(perceived, default) or the simulator's ground truth")
+    add_robot_options(p, scene=False)
     p.add_argument("--no-plots", action="store_true", help="no trajectory plots")
     p.add_argument("--record", default=None, metavar="FILE.rrd",
                    help="write a Rerun recording of every trial, one rollout each "

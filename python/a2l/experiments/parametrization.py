@@ -30,7 +30,13 @@ import numpy as np
 import pandas as pd
 
 from a2l.errors import ConfigError
-from a2l.experiments.lfd_skills import LfdTrial, check_package, package_dir, trial_task
+from a2l.experiments.lfd_skills import (
+    LfdTrial,
+    check_package,
+    package_dir,
+    resolve_scene,
+    trial_task,
+)
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
 
@@ -75,7 +81,7 @@ class ParametrizationCell:
         The skill's configuration with the cell's values.
     seeds : tuple of int
         Trial seeds.
-    scene : {"baxter", "virtual"}
+    scene : {"baxter", "bullet", "virtual"}
         Where the trials run (:class:`a2l.experiments.lfd_skills.LfdTrial`).
     out_dir : str
         The skill's directory of learned bundles.
@@ -85,6 +91,9 @@ class ParametrizationCell:
     keep_runs : bool
         The result then holds the trials with their runs (``"trials"``,
         :func:`a2l.experiments.lfd_skills.trial_task`'s) and the ``"bundle"``, to record.
+    robot : str
+        The robot of scene ``bullet`` (a built-in name or a robot file), which the skill is
+        learned for.
     """
 
     skill: str
@@ -95,6 +104,7 @@ class ParametrizationCell:
     out_dir: str
     package: str = field(default_factory=package_dir)
     keep_runs: bool = False
+    robot: str = "baxter"
 
 
 def cell_task(task: ParametrizationCell) -> dict[str, Any]:
@@ -111,10 +121,11 @@ def cell_task(task: ParametrizationCell) -> dict[str, Any]:
     check_package(task.package)
     cfg = task.config
     t0 = time.perf_counter()
-    learned = learn_recipe(task.skill, Path(task.out_dir) / f"cell{task.cell:03d}", cfg)
+    learned = learn_recipe(task.skill, Path(task.out_dir) / f"cell{task.cell:03d}", cfg,
+                           robot=None if task.scene == "virtual" else task.robot)
     learn_s = time.perf_counter() - t0
     runs = [trial_task(LfdTrial(task.skill, str(learned.bundle), s, task.scene, "table", cfg,
-                                task.package, keep_run=task.keep_runs))
+                                task.package, keep_run=task.keep_runs, robot=task.robot))
             for s in task.seeds]
     ok = [r for r in runs if r["success"]]
     stops: dict[str, int] = {}
@@ -216,20 +227,21 @@ def _plot(cells: pd.DataFrame, chosen: dict[str, Any], path: Path) -> None:
 
 def _write_config(run_dir: Path, names: list[str], trials: int, seed: int, scene: str,
                   workers: int, values: dict[str, Sequence[Any]], base: LfDConfig | None,
-                  seeds: list[int]) -> None:
+                  seeds: list[int], robot: str = "baxter") -> None:
     """Write the study's ``config.json``, with the command that reruns it."""
     from a2l.rundir import command_line, write_json
     from a2l.seeds import seed_record
 
     words = ["a2l", "experiment", "parametrization", "--out", run_dir, "--skills",
              ",".join(names), "--trials", trials, "--seed", seed, "--scene", scene,
-             "--workers", workers]
+             "--workers", workers, *(["--robot", robot] if scene == "bullet" else [])]
     for key, option in GRID_OPTIONS.items():
         words += [option, ",".join(("on" if v else "off") if key == "smoothing" else str(v)
                                    for v in values[key])]
     write_json(run_dir / "config.json", {
         "experiment": "parametrization", "skills": names, "trials": trials, "seed": seed,
-        "scene": scene, "workers": workers, "grid": {k: list(v) for k, v in values.items()},
+        "scene": scene, "robot": None if scene == "virtual" else robot, "workers": workers,
+        "grid": {k: list(v) for k, v in values.items()},
         "base": None if base is None else base.to_json(),
         "command": command_line(words, base, prefix="lfd."),
         "seed_use": seed_record("parametrization", seeds)})
@@ -261,15 +273,17 @@ def _report_lines(cells: pd.DataFrame, chosen: dict[str, Any], own: dict[str, An
 
 def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
                         grid: dict[str, Sequence[Any]] | None = None, trials: int = 20,
-                        seed: int = 500, scene: str = "baxter", workers: int = 1,
+                        seed: int = 500, scene: str | None = None, workers: int = 1,
                         base: LfDConfig | None = None, quiet: bool = False,
-                        record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
+                        record: str | os.PathLike[str] | None = None,
+                        robot: str = "baxter") -> dict[str, Any]:
     """The study (see the module docstring); returns the metrics written to
     ``metrics.json``. A cell's configuration is the skill's own
     (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values. With
     `record`, every cell's trials go to one Rerun recording (``.rrd``), group
     ``<skill>/cell<NNN>`` (the ``cell`` of ``cells.csv``), as ``lfd-skills --record``
-    records its trials."""
+    records its trials. `robot` (a built-in name or a robot file): the robot of scene
+    ``"bullet"`` (:func:`a2l.experiments.lfd_skills.resolve_scene`)."""
     from a2l.atomic import atomic_write_text
     from a2l.lfd.library import SKILLS, skill_config
     from a2l.parallel import Executor
@@ -280,11 +294,12 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     unknown = [n for n in names if n not in SKILLS]
     if unknown:
         raise ConfigError("--skills", f"unknown skill(s) {unknown}; known: {sorted(SKILLS)}")
+    scene = resolve_scene(scene, robot)
     values = {**DEFAULT_GRID, **(grid or {})}
     combos = list(itertools.product(*(values[k] for k in DEFAULT_GRID)))
     run_dir = make_run_dir("parametrization", out)
     seeds = list(range(seed, seed + trials))
-    _write_config(run_dir, names, trials, seed, scene, workers, values, base, seeds)
+    _write_config(run_dir, names, trials, seed, scene, workers, values, base, seeds, robot)
     tasks = []
     for name in names:
         for i, combo in enumerate(combos):
@@ -292,7 +307,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
                 {GRID_FIELDS[k]: v for k, v in zip(DEFAULT_GRID, combo, strict=True)})
             tasks.append(ParametrizationCell(name, i, cfg, tuple(seeds), scene,
                                              str(run_dir / "skills" / name), package_dir(),
-                                             record is not None))
+                                             record is not None, robot))
     t0 = time.perf_counter()
     # long cells first: the small steps take the most movements
     order = sorted(range(len(tasks)), key=lambda k: tasks[k].config.step)
@@ -309,7 +324,8 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
     own = {n: {k: cell_fields(skill_config(n, base).to_json())[k] for k in DEFAULT_GRID}
            for n in names}
     agrees = all(all(c[k] == chosen[k] for k in DEFAULT_GRID) for c in own.values())
-    metrics = {"skills": names, "scene": scene, "trial_seeds": [seeds[0], seeds[-1]],
+    metrics = {"skills": names, "scene": scene,
+               "robot": None if scene == "virtual" else robot, "trial_seeds": [seeds[0], seeds[-1]],
                "grid": {k: list(v) for k, v in values.items()}, "cells": len(combos),
                "selected": chosen, "skill_configs": own,
                "default_is_selected": agrees, "wall_s": time.perf_counter() - t0}

@@ -96,6 +96,8 @@ class PerturbationTrial:
         The skill's configuration.
     context_source : {"perceived", "ground_truth"}
         Where the skill reads the context: the camera (default) or the simulator's truth.
+    robot : str
+        The robot of the scene (a built-in name or a robot file).
     """
 
     skill: str
@@ -106,6 +108,7 @@ class PerturbationTrial:
     conditions: tuple[str, ...]
     config: LfDConfig
     context_source: str = "perceived"
+    robot: str = "baxter"
 
 
 def draw_perturbation(condition: str, seed: int, movements: int,
@@ -198,14 +201,16 @@ def skill_test(recipe: Any, by_light: dict[str, str] | None
     return light_test(by_light)
 
 
-def _scene(skill: str, scene_name: str, cfg: LfDConfig, source: str = "perceived") -> Any:
+def _scene(skill: str, scene_name: str, cfg: LfDConfig, source: str = "perceived",
+           robot: str = "baxter") -> Any:
     """A new scene for one trial task (closed by the caller). Not one scene per worker: a
     rollout's physics was not bitwise the same after different earlier trials in the same
     scene (1 and 2 workers once differed by 0.2 mm on one DS run, docs/experiments/
     perturbations.md), while a new scene makes a trial depend on its task alone."""
     from a2l.lfd.library import make_skill_scene
 
-    return make_skill_scene(skill, 0, cfg, scene=scene_name, context_source=source)
+    return make_skill_scene(skill, 0, cfg, scene=scene_name, context_source=source,
+                            robot=robot)
 
 
 def _truth(scene: SceneProtocol, name: str) -> np.ndarray:
@@ -304,7 +309,7 @@ def trial_task(task: PerturbationTrial) -> list[dict[str, Any]]:
     recipe = SKILLS[task.skill]
     by_light = light_effects(recipe, cfg)
     test = skill_test(recipe, by_light)
-    with _scene(task.skill, task.scene, cfg, task.context_source) as scene:
+    with _scene(task.skill, task.scene, cfg, task.context_source, task.robot) as scene:
         t_move = movement_seconds(scene)
         base, log = _perturbed_run(scene, task, None, test)
         none = Perturbation("none")

@@ -93,11 +93,14 @@ class _LearnTask:
         Where its bundle goes.
     config : LfDConfig
         Its configuration (:func:`skill_cfg`).
+    robot : str
+        The robot it is learned for (a built-in name or a robot file).
     """
 
     skill: str
     out_dir: str
     config: LfDConfig
+    robot: str = "baxter"
 
 
 def _learn(task: _LearnTask) -> dict[str, Any]:
@@ -106,7 +109,7 @@ def _learn(task: _LearnTask) -> dict[str, Any]:
     from a2l.lfd.library import learn_recipe
 
     t0 = time.perf_counter()
-    learned = learn_recipe(task.skill, task.out_dir, task.config)
+    learned = learn_recipe(task.skill, task.out_dir, task.config, robot=task.robot)
     return {"skill": task.skill, "bundle": str(learned.bundle), "rows": int(learned.rows),
             "seconds": time.perf_counter() - t0}
 
@@ -168,7 +171,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
                       quiet: bool = False, plots: bool = True,
                       command: str | None = None,
                       context_source: str = "perceived",
-                      record: str | os.PathLike[str] | None = None) -> dict[str, Any]:
+                      record: str | os.PathLike[str] | None = None,
+                      robot: str = "baxter") -> dict[str, Any]:
     """Learn the skills, run every trial under every condition and write the run directory.
 
     Parameters
@@ -199,6 +203,10 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     record : path, optional
         A Rerun recording (``.rrd``) of every trial, one rollout each, named
         ``skill/condition/mode/seed`` with how it ended (``a2l view FILE``).
+    robot : str
+        The robot the skills are learned for and tried on: a built-in name (default
+        ``"baxter"``) or a robot file (:func:`a2l.robot.robot_entry`); the scenes put the
+        objects at its work point. The perturbations' sizes are the thesis' (not scaled).
 
     Returns
     -------
@@ -230,7 +238,8 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
          ",".join(names), "--trials", str(trials), "--seed", str(seed), "--workers",
          str(workers)] + (["--cluster", cluster] if cluster else [])
         + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)])
-        + ["--context_source", context_source])
+        + ["--context_source", context_source]
+        + ([] if robot == "baxter" else ["--robot", robot]))
     if cfg is not None:  # the skills' configuration given: its every field on the command
         command = command_line(shlex.split(command), cfg, prefix="lfd.")
     config = {"experiment": "perturbations", "skills": names, "conditions": conds,
@@ -239,18 +248,18 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
               "window": list(WINDOW), "move_m": list(MOVE_RANGE), "hold_s": list(HOLD_RANGE),
               "lfd": {n: c.to_json() for n, c in cfgs.items()}, "workers": workers,
               "cluster": cluster, "command": command, "context_source": context_source,
-              "seed_use": seed_record("perturbations", seeds)}
+              "robot": robot, "seed_use": seed_record("perturbations", seeds)}
     write_json(run_dir / "config.json", config)
     t0 = time.perf_counter()
     with Executor(workers, cluster) as ex:
         todo = [n for n in names if not bundles or n not in bundles]
-        learned = ex.map(_learn, [_LearnTask(n, str(run_dir / "skills"), cfgs[n])
+        learned = ex.map(_learn, [_LearnTask(n, str(run_dir / "skills"), cfgs[n], robot)
                                   for n in todo])
         learning = {r["skill"]: r for r in learned}
         paths = {**{n: str(b) for n, b in (bundles or {}).items() if n in names},
                  **{r["skill"]: r["bundle"] for r in learned}}
         tasks = [PerturbationTrial(n, paths[n], m, s, scenes[n], tuple(conds), cfgs[n],
-                                   context_source)
+                                   context_source, robot)
                  for n in names for m in MODES for s in seeds]
         with progress_bar("perturbation trials", len(tasks), quiet) as bar:
             results = ex.map(trial_task, tasks, on_done=bar)
@@ -265,7 +274,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     metrics = {"experiment": "perturbations", "trial_seeds": config["trial_seeds"],
                "demonstration_seeds": config["demonstration_seeds"], "scenes": scenes,
-               "context_source": context_source,
+               "context_source": context_source, "robot": robot,
                "skills": summarise(frame), "learning": learning, "wall_s": wall,
                "workers": workers}
     write_json(run_dir / "metrics.json", metrics)

@@ -169,7 +169,7 @@ def _lfd(ms: list[dict[str, Any]]) -> str:
 def _lfd_robots(ms: list[dict[str, Any]]) -> str:
     from a2l.experiments.lfd_skills import results_table
 
-    return side_by_side("robot", [(m.get("robot") or {}).get("name", "none") for m in ms],
+    return side_by_side("robot", [m.get("robot") or "none" for m in ms],
                         [results_table(m["skills"]) for m in ms])
 
 
