@@ -183,35 +183,50 @@ class Perception:
         m = cv2.morphologyEx(m, cv2.MORPH_OPEN, self._kernel)
         return m.astype(bool)
 
-    def top_faces(self, rgb: NDArray[np.uint8], depth: NDArray[np.float32]
-                  ) -> tuple[dict[str, NDArray[np.float64]], dict[str, bool]]:
-        """The top face of every target seen in one frame, and the lamp state.
+    def segment(self, rgb: NDArray[np.uint8], depth: NDArray[np.float32]
+                ) -> tuple[dict[str, NDArray[np.float64]], dict[str, bool]]:
+        """Every target seen in one frame, and the lamp state.
 
         Returns
         -------
-        faces : dict of str to ndarray, shape (n, 3)
-            For every target seen, the world points of its segmented pixels that lie within
-            ``top_band`` of its highest point (all its points when fewer than
-            ``min_pixels`` do).
+        points : dict of str to ndarray, shape (n, 3)
+            For every target seen (at least ``min_pixels`` pixels), the world points of its
+            segmented pixels.
         lamp : dict
             ``{"light_on": bool}`` when the scene has a lamp, else empty.
         """
         hsv = cv2.cvtColor(rgb, cv2.COLOR_RGB2HSV)
-        faces: dict[str, NDArray[np.float64]] = {}
+        points: dict[str, NDArray[np.float64]] = {}
         for t in self.targets:
-            mask = self._mask(hsv, self._hues[t.name])
-            rows, cols = np.nonzero(mask)
-            if rows.shape[0] < self.min_pixels:
-                continue
-            pts = self.camera.lift(rows, cols, depth)
-            z_top = float(np.percentile(pts[:, 2], 98))
-            top = pts[pts[:, 2] >= z_top - self.top_band]
-            faces[t.name] = top if top.shape[0] >= self.min_pixels else pts
+            rows, cols = np.nonzero(self._mask(hsv, self._hues[t.name]))
+            if rows.shape[0] >= self.min_pixels:
+                points[t.name] = self.camera.lift(rows, cols, depth)
         lamp: dict[str, bool] = {}
         if self._lamp_hue is not None:
             lit = int(self._mask(hsv, self._lamp_hue).sum())
             lamp["light_on"] = lit >= self.min_pixels
-        return faces, lamp
+        return points, lamp
+
+    def top_face(self, pts: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The points of `pts` (n, 3) within ``top_band`` of its highest point (98th
+        percentile of the heights); all of them when fewer than ``min_pixels`` are."""
+        z_top = float(np.percentile(pts[:, 2], 98))
+        top = pts[pts[:, 2] >= z_top - self.top_band]
+        return top if top.shape[0] >= self.min_pixels else pts
+
+    def is_flat(self, face: NDArray[np.float64]) -> bool:
+        """Whether points `face` (n, 3) lie at one height (their 2nd to 98th height
+        percentiles within twice ``top_band``): a top face, not the side faces
+        :meth:`top_face` returns when the top is hidden."""
+        low, high = np.percentile(face[:, 2], (2, 98))
+        return bool(high - low <= 2 * self.top_band)
+
+    def top_faces(self, rgb: NDArray[np.uint8], depth: NDArray[np.float32]
+                  ) -> tuple[dict[str, NDArray[np.float64]], dict[str, bool]]:
+        """The top face of every target seen in one frame (:meth:`top_face` of its
+        :meth:`segment` points, shape (n, 3) each), and the lamp state."""
+        points, lamp = self.segment(rgb, depth)
+        return {name: self.top_face(pts) for name, pts in points.items()}, lamp
 
     def estimate(self, name: str, face: NDArray[np.float64]
                  ) -> tuple[tuple[float, float, float], float]:

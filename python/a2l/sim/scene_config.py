@@ -100,6 +100,11 @@ class SceneConfig:
         keeping for each object the view that sees most of it.
     min_visible : float
         Share of an object's top face in view above which no other camera is rendered.
+    track_hidden : bool
+        While the hand hides more than ``1 - min_visible`` of an object's top face, or all
+        of it, locate the object from where it was last seen well, moved as little as what
+        the cameras still see of it requires (:mod:`a2l.sim.tracking`); off: from the
+        visible part of the top face alone, and an object no camera sees is not located.
     context_source : str
         ``"perceived"`` (camera + OpenCV, the default in experiments) or ``"ground_truth"``.
     n_push_effects : int
@@ -144,6 +149,7 @@ class SceneConfig:
     camera_fov: float = 55.0
     extra_camera_eyes: tuple[tuple[float, float, float], ...] = None  # type: ignore[assignment]
     min_visible: float = 0.9
+    track_hidden: bool = True
     context_source: str = "perceived"
     n_push_effects: int = 8
     effect_threshold: float = None  # type: ignore[assignment]

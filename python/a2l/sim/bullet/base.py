@@ -20,6 +20,7 @@ from a2l.sim.observation import Observation
 from a2l.sim.perception import Camera, ColorTarget, Perception
 from a2l.sim.scene import Scene
 from a2l.sim.scene_config import SceneConfig
+from a2l.sim.tracking import Footprint, Sighting
 
 __all__ = ["BulletScene"]
 
@@ -52,9 +53,11 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
         self._tick = 0
         self._perceived_cache: tuple[int, Observation] | None = None
-        #: What the cameras saw (object positions, lamp) in each world state met right
-        #: after a reset, by that state (:meth:`_world_key`): see :meth:`_perceive`.
-        self._start_views: dict[Any, tuple[dict[str, Any], bool | None]] = {}
+        #: What the cameras saw (each object's sighting, the lamp) in each world state met
+        #: right after a reset, by that state (:meth:`_world_key`): see :meth:`_perceive`.
+        self._start_views: dict[Any, tuple[dict[str, Sighting], bool | None]] = {}
+        #: Where each object was last seen well (a2l.sim.tracking), while it is hidden.
+        self._footprints: dict[str, Footprint] = {}
         self._reset_tick = -1
         self._objects: dict[str, SceneObject] = {}
         self._states: dict[str, str] = cfg.initial_states()
@@ -118,6 +121,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         self._reset_extra()
         self._tick += 1
         self._perceived_cache = None
+        self._footprints.clear()
         self._reset_tick = self._tick
         self._episode_start = self._snapshot()
         self._step_start = self._episode_start
@@ -188,7 +192,8 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
                 if len(self._start_views) >= self.START_VIEWS:
                     self._start_views.clear()
                 self._start_views[key] = seen
-        objs, lit = seen
+        sightings, lit = seen
+        objs = self._follow(sightings)
         states = dict(self._states)
         if lit is not None:
             states["light"] = "on" if lit else "off"
@@ -197,28 +202,53 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         self._perceived_cache = (self._tick, obs)
         return obs
 
-    def _look(self) -> tuple[dict[str, tuple[float, float, float]], bool | None]:
-        """Render the cameras and locate the objects: their positions, and whether the
-        lamp is lit (None without a lamp)."""
+    def _look(self) -> tuple[dict[str, Sighting], bool | None]:
+        """Render the cameras and locate the objects: what they saw of each object, and
+        whether the lamp is lit (None without a lamp)."""
         # every view's top-face points of an object, joined: a face the arm hides in part
         # from one camera is completed by the others (the smallest rectangle around the
         # union, where the best single view's clipped rectangle was off by up to 1 cm)
-        faces: dict[str, list[NDArray[np.float64]]] = {}
-        best: dict[str, tuple[float, tuple[float, float, float]]] = {}
+        tops: dict[str, list[NDArray[np.float64]]] = {}
+        points: dict[str, list[NDArray[np.float64]]] = {}
+        best: dict[str, Sighting] = {}
         lit: bool | None = None
         for perception in self.perceptions:
-            seen, lamp = perception.top_faces(*perception.camera.render())
-            for name, face in seen.items():
-                faces.setdefault(name, []).append(face)
-                pts = faces[name][0] if len(faces[name]) == 1 else np.vstack(faces[name])
-                pos, share = perception.estimate(name, pts)
-                best[name] = (share, pos)
+            seen, lamp = perception.segment(*perception.camera.render())
+            for name, pts in seen.items():
+                tops.setdefault(name, []).append(perception.top_face(pts))
+                points.setdefault(name, []).append(pts)
+                top = tops[name][0] if len(tops[name]) == 1 else np.vstack(tops[name])
+                pos, share = perception.estimate(name, top)
+                best[name] = Sighting(pos, share, top, np.vstack(points[name]),
+                                      perception.is_flat(top))
             if "light_on" in lamp:
                 lit = bool(lit) or lamp["light_on"]
             if len(best) == len(perception.targets) and all(
-                    v >= self.config.min_visible for v, _ in best.values()):
+                    v.visible >= self.config.min_visible for v in best.values()):
                 break  # every object well seen: no need for another view
-        return {name: pos for name, (_, pos) in best.items()}, lit
+        return best, lit
+
+    def _follow(self, sightings: dict[str, Sighting]) -> dict[str, tuple[float, float, float]]:
+        """Each object's position from what the cameras saw of it (``sightings``): its
+        sighting's when well seen (its footprint then remembered), its footprint followed
+        while the hand hides it, its footprint's when no camera sees it (module
+        :mod:`a2l.sim.tracking`; ``track_hidden`` off: the sightings' positions only)."""
+        if not self.config.track_hidden:
+            return {name: s.position for name, s in sightings.items()}
+        out: dict[str, tuple[float, float, float]] = {}
+        for name, s in sightings.items():
+            known = self._footprints.get(name)
+            if s.well_seen(self.config.min_visible):
+                self._footprints[name] = Footprint.of(s.top, s.position[2])
+                out[name] = s.position
+            elif known is None:
+                out[name] = s.position
+            else:
+                self._footprints[name] = known.follow(s.points, s.position[2])
+                out[name] = self._footprints[name].position
+        for name, known in self._footprints.items():
+            out.setdefault(name, known.position)
+        return out
 
     def render(self, camera: int = 0) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
         """One frame of camera `camera` (0: the main one): RGB (H, W, 3) uint8 and the
@@ -233,6 +263,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=c)
         shift = np.asarray(xyz, dtype=float) - np.asarray(self._object_position(o))
         self._teleport(o.body, tuple(np.asarray(pos) + shift), orn)
+        self._footprints.pop(name, None)
         self._tick += 1
 
     def _park(self, name: str) -> None:
@@ -243,6 +274,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         z = self._floor_z + o.size[2] / 2 + 0.05
         self._teleport(o.body, (PARK[0], PARK[1] + 0.5 * k, z),
                        orn)
+        self._footprints.pop(name, None)
         self._tick += 1
 
     def _toggle(self, state: str) -> None:
