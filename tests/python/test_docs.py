@@ -1,6 +1,7 @@
 """The repository's documents stand on their own: no file cites a document the repository
-does not contain, and every relative link of the README and of ``docs/`` points to a file that
-exists (and, for a link to a heading, to a heading that exists)."""
+does not contain, every relative link of the README and of ``docs/`` points to a file that
+exists (and, for a link to a heading, to a heading that exists), and every commit a document
+cites is in the history."""
 
 from __future__ import annotations
 
@@ -15,6 +16,20 @@ OUTSIDE = re.compile(r"METHOD\.md|DESIGN\.md|\.\./shared")
 
 #: A markdown link or image: ``[text](target)``.
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")
+
+
+#: A commit as the documents cite one: a short or full hash standing alone (7 to 40 lower-case
+#: hex digits, with at least one digit and one letter, so that neither a number nor a word is
+#: taken for one), not inside a path, a URL, a version or an identifier (``tel-01809989``).
+COMMIT = re.compile(r"(?<![\w./#:-])(?=[0-9a-f]*[0-9])(?=[0-9a-f]*[a-f])([0-9a-f]{7,40})(?![\w/-])")
+
+#: What precedes a hash that is not a commit: a file's digest, e.g. the benchmarks' stamp
+#: "uncommitted changes on top of COMMIT (diff sha256 0123456789ab)".
+NOT_A_COMMIT = re.compile(r"(sha-?256|sha-?1|md5|crc32|digest|checksum)\W{0,3}$", re.I)
+
+#: The documents whose cited commits are checked: the README, the benchmarks, the project files
+#: and every page under docs/.
+CITING = ["README.md", "BENCHMARKS.md", "CHANGELOG.md", "CONTRIBUTING.md"]
 
 
 def _tracked_files() -> list[str]:
@@ -77,3 +92,50 @@ def test_readme_is_a_guide_that_shows_the_two_commands() -> None:
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     assert "make demo" in text and "make test" in text
     assert len(text.splitlines()) <= 300
+
+
+def _cited_commits() -> dict[str, list[str]]:
+    """Every hash the documents cite as a commit -> where (``file:line``)."""
+    cited: dict[str, list[str]] = {}
+    docs = [ROOT / name for name in CITING if (ROOT / name).exists()]
+    for doc in [*docs, *sorted((ROOT / "docs").rglob("*.md"))]:
+        for i, line in enumerate(doc.read_text(encoding="utf-8").splitlines(), 1):
+            for m in COMMIT.finditer(line):
+                if not NOT_A_COMMIT.search(line[:m.start()]):
+                    cited.setdefault(m.group(1), []).append(f"{doc.relative_to(ROOT)}:{i}")
+    return cited
+
+
+def test_the_commit_pattern_takes_hashes_and_leaves_numbers() -> None:
+    def found(text: str) -> list[str]:
+        return [m.group(1) for m in COMMIT.finditer(text)
+                if not NOT_A_COMMIT.search(text[:m.start()])]
+
+    assert found("measured at 98b7595 (the code of 3c9e826), | 0c0cd98 | 2026-12-03") == [
+        "98b7595", "3c9e826", "0c0cd98"]
+    assert found("commit 072b740._ and 705e57402216f9d1f47deafa29a70c0c33167e41") == [
+        "072b740", "705e57402216f9d1f47deafa29a70c0c33167e41"]
+    assert found("on top of 98b7595 (diff sha256 0a1b2c3d4e5f)") == ["98b7595"]
+    assert found("1000000 starts, 1.16582199, deadbeef, facade, tel-01809989v2, "
+                 "docs/a1b2c3d.png, https://x.org/commit/a1b2c3d4, v1.2.3abcdef0") == []
+
+
+def test_every_cited_commit_is_in_the_history() -> None:
+    """Every commit hash cited by README.md, BENCHMARKS.md, the project files and docs/ names
+    a commit of the repository (``git cat-file -e HASH^{commit}``): a figure's commit that a
+    rebase rewrote is found nowhere else, and the figure stands on nothing."""
+    shallow = subprocess.run(["git", "rev-parse", "--is-shallow-repository"], cwd=ROOT,
+                             check=True, capture_output=True, text=True).stdout.strip()
+    assert shallow == "false", "a shallow clone lacks the cited commits: git fetch --unshallow"
+    cited = _cited_commits()
+    assert cited, "no commit cited: the pattern no longer matches how the documents cite one"
+    query = "".join(f"{h}^{{commit}}\n" for h in cited)
+    out = subprocess.run(["git", "cat-file", "--batch-check=%(objecttype)"], cwd=ROOT,
+                         input=query, check=True, capture_output=True, text=True).stdout
+    answers = out.splitlines()
+    assert len(answers) == len(cited)
+    bad = [f"{h} ({answer}): {', '.join(where)}"
+           for (h, where), answer in zip(cited.items(), answers, strict=True)
+           if answer != "commit"]
+    assert not bad, "cited commits not in the history:\n" + "\n".join(bad)
+
