@@ -1,7 +1,8 @@
 """The project files agree with the code and with each other: ``CITATION.cff`` is valid
 Citation File Format 1.2.0 (``tests/check_cff.py``, also run by ``make lint``) and a broken
 one is refused; the licence is the same in ``LICENSE``, ``pyproject.toml`` and
-``CITATION.cff``."""
+``CITATION.cff``; ``CHANGELOG.md``'s newest version is the package's, dated from the
+history."""
 
 from __future__ import annotations
 
@@ -112,3 +113,19 @@ def test_citation_names_the_package_version_and_the_thesis() -> None:
     assert thesis["authors"] == [{"family-names": "Maestre", "given-names": "Carlos"}]
     assert thesis["institution"]["name"] == "Sorbonne Université"
 
+
+def test_the_changelog_ends_at_the_package_version_with_dates_from_the_history() -> None:
+    text = (ROOT / "CHANGELOG.md").read_text(encoding="utf-8")
+    versions = re.findall(r"^## \[(\d+\.\d+\.\d+)\] - (\d{4}-\d{2}-\d{2})$", text, flags=re.M)
+    assert versions, "no dated version"
+    package = _pyproject_field("version").strip('"')
+    cmake = re.search(r"project\(a2l VERSION (\S+)", (ROOT / "CMakeLists.txt").read_text())
+    assert cmake and cmake.group(1) == package
+    assert versions[0][0] == package, "the newest version is not the package's"
+    numbers = [tuple(int(x) for x in v.split(".")) for v, _ in versions]
+    assert numbers == sorted(numbers, reverse=True) and len(set(numbers)) == len(numbers)
+    dates = [d for _, d in versions]
+    assert dates == sorted(dates, reverse=True)
+    days = set(subprocess.run(["git", "log", "--format=%ad", "--date=short"], cwd=ROOT,
+                              check=True, capture_output=True, text=True).stdout.split())
+    assert set(dates) <= days, "a version dated on a day without a commit"
