@@ -139,3 +139,20 @@ def test_every_cited_commit_is_in_the_history() -> None:
            if answer != "commit"]
     assert not bad, "cited commits not in the history:\n" + "\n".join(bad)
 
+
+def test_the_thesis_page_quotes_its_figures_from_the_generated_pages() -> None:
+    """docs/thesis.md: every figure quoted in a row ("...") is on the results page that row
+    links, so a regenerated page that changes it fails here; and the thesis is cited by its
+    HAL identifier."""
+    text = (ROOT / "docs" / "thesis.md").read_text(encoding="utf-8")
+    rows = [line for line in text.splitlines() if line.startswith("| ") and "results/" in line]
+    assert len(rows) >= 6, "a row per experiment chapter"
+    for row in rows:
+        pages = re.findall(r"\]\((results/[\w-]+\.md)\)", row)
+        quoted = re.findall(r'"([^"]+)"', row)
+        assert pages and quoted, row
+        sources = "".join((ROOT / "docs" / p).read_text(encoding="utf-8") for p in pages)
+        absent = [q for q in quoted if q not in sources]
+        assert not absent, f"quoted in docs/thesis.md but not on {pages}: {absent}"
+    hal = "https://hal.archives-ouvertes.fr/tel-01809989v2"
+    assert hal in text
