@@ -140,10 +140,57 @@ def test_every_cited_commit_is_in_the_history() -> None:
     assert not bad, "cited commits not in the history:\n" + "\n".join(bad)
 
 
+#: An abbreviation of the README: a word of capitals and digits with at least two capitals
+#: (an "s" of the plural allowed), outside code, and not a file's name (``BENCHMARKS.md``).
+ABBREVIATION = re.compile(r"\b((?=[A-Z0-9]*[A-Z][A-Z0-9]*[A-Z])[A-Z][A-Z0-9]*)s?\b(?!\.[a-z])")
+
+#: Capitalised words of the README that are not abbreviations, with the reason.
+NOT_ABBREVIATIONS = {
+    "README": "a file's name, also written without its extension",
+    "LICENSE": "a file's name, also written without its extension",
+}
+
+
+def _prose(text: str) -> str:
+    """`text` without fenced code, inline code and link targets."""
+    text = re.sub(r"```.*?```", "", text, flags=re.S)
+    text = re.sub(r"`[^`\n]*`", "", text)
+    return re.sub(r"\]\([^)]*\)", "]", text)
+
+
+def _glossary_terms() -> set[str]:
+    """The words of the first column of docs/glossary.md's table (``RGB-D`` gives ``RGB``
+    and ``D``; ``ASan, UBSan`` gives both)."""
+    terms: set[str] = set()
+    for line in (ROOT / "docs" / "glossary.md").read_text(encoding="utf-8").splitlines():
+        if line.startswith("| ") and not line.startswith("| abbreviation"):
+            terms.update(re.split(r"[\s,/-]+", line.split("|")[1].strip()))
+    return terms
+
+
+def test_every_abbreviation_of_the_readme_is_in_the_glossary() -> None:
+    """Every abbreviation the README uses (all capitals, digits allowed, outside code) is
+    spelt out in docs/glossary.md, and the README links the glossary."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert "(docs/glossary.md)" in text, "the README does not link docs/glossary.md"
+    terms = _glossary_terms()
+    used = {m.group(1) for m in ABBREVIATION.finditer(_prose(text))}
+    missing = sorted(used - terms - set(NOT_ABBREVIATIONS))
+    assert not missing, f"abbreviations of the README missing from docs/glossary.md: {missing}"
+    for word in ("NovEB", "LfD", "BDeu", "A2L", "K2"):
+        assert word in terms, word
+
+
+def test_the_abbreviation_pattern() -> None:
+    found = [m.group(1) for m in ABBREVIATION.finditer(
+        "A2L, URDFs and UR5, PR2, SO-101, RGB-D; not Baxter, K, A, PyBullet, BENCHMARKS.md")]
+    assert found == ["A2L", "URDF", "UR5", "PR2", "SO", "RGB"]
+
+
 def test_the_thesis_page_quotes_its_figures_from_the_generated_pages() -> None:
     """docs/thesis.md: every figure quoted in a row ("...") is on the results page that row
     links, so a regenerated page that changes it fails here; and the thesis is cited by its
-    HAL identifier."""
+    HAL identifier, in the README too."""
     text = (ROOT / "docs" / "thesis.md").read_text(encoding="utf-8")
     rows = [line for line in text.splitlines() if line.startswith("| ") and "results/" in line]
     assert len(rows) >= 6, "a row per experiment chapter"
@@ -156,3 +203,4 @@ def test_the_thesis_page_quotes_its_figures_from_the_generated_pages() -> None:
         assert not absent, f"quoted in docs/thesis.md but not on {pages}: {absent}"
     hal = "https://hal.archives-ouvertes.fr/tel-01809989v2"
     assert hal in text
+    assert hal in (ROOT / "README.md").read_text(encoding="utf-8"), "the README cites the thesis"
