@@ -103,6 +103,7 @@ def test_the_licence_is_the_same_everywhere() -> None:
     doc = yaml.safe_load(_citation())
     assert doc["license"] == "BSD-3-Clause"
     assert doc["authors"] == [{"name": "the a2l developers"}]
+    assert 'author = "the a2l developers"' in (ROOT / "docs" / "api" / "conf.py").read_text()
     assert "BSD-3-Clause ([LICENSE](LICENSE))" in (ROOT / "README.md").read_text(encoding="utf-8")
 
 
