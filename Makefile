@@ -8,6 +8,7 @@
 #                prints its wall time
 #   make bench   set up, then run the benchmarks and rewrite BENCHMARKS.md
 #   make lint    ruff + the import-layer contracts (lint-imports) + clang-format --dry-run
+#                + CITATION.cff against the Citation File Format 1.2.0 schema
 #   make docs    set up, then build the API reference (Sphinx, docs/api) into build/docs
 # Variables: VENV (virtual environment, default .venv), BUILD (build tree, default build),
 # JOBS (parallel compile jobs).
@@ -60,7 +61,7 @@ LAP = read t0 c0 < $(BUILD)/.clock-$(1) && echo "$(2): $$(( $$(date +%s) - t0 ))
   test-guarded test-python fuzz-build fuzz-run fuzz bench docs lint format clean
 
 help:
-	@sed -n '2,13p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,14p' Makefile | sed 's/^# \{0,1\}//'
 
 # --- set-up ---------------------------------------------------------------
 $(STAMP_APT):
@@ -255,10 +256,13 @@ docs: setup
 	@echo "[docs] $(BUILD)/docs/index.html"
 
 # --- style ----------------------------------------------------------------
+# (CITATION.cff: tests/check_cff.py, the vendored schema tests/data/cff-1.2.0.schema.json;
+# no package beyond the set-up's)
 lint: setup
 	@$(VENV)/bin/ruff check python tests benchmarks
 	@$(VENV)/bin/lint-imports --no-cache
 	@clang-format --dry-run --Werror $$(find cpp bindings tests/cpp benchmarks/cpp -name '*.cpp' -o -name '*.hpp')
+	@$(PY) tests/check_cff.py CITATION.cff
 
 format: setup
 	@$(VENV)/bin/ruff check --fix python tests benchmarks || true

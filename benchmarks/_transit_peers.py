@@ -442,7 +442,7 @@ def run_all(baselines: dict[str, dict[str, object]] | None = None) -> str:
     )
 
 
-#: The a2l settings before the transit was made faster (issue 26), kept as baseline rows:
+#: The a2l settings before the transit was made faster (from 81b1535 on), kept as baseline rows:
 #: Bullet's world pass for every check, 20 rounds of 10 shortcut attempts without stopping,
 #: every motion checked at 0.01 rad; then pairwise checks with shortcutting that stops
 #: (81b1535), still at one resolution.

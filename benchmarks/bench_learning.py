@@ -73,7 +73,7 @@ def _push_rows(n_rows: int, seed: int = 0) -> pd.DataFrame:
 
 
 def _old_numpy() -> object:
-    """The numpy bins and effects replaced by the C++ ones (issue 11), kept as the reference
+    """The numpy bins and effects replaced by the C++ ones (b6c53fc), kept as the reference
     of tests/python/test_skills_one_implementation.py: that module, loaded from its file."""
     path = Path(__file__).resolve().parents[1] / "tests/python/test_skills_one_implementation.py"
     spec = importlib.util.spec_from_file_location("_bins_reference", path)
@@ -328,7 +328,7 @@ def run() -> str:
         "",
     ]
     parts += ["### Compilation and lookups", "", _compile_and_lookup(), ""]
-    parts += ["### Binning: C++ vs the old numpy (issue 11: one implementation)", "",
+    parts += ["### Binning: C++ vs the old numpy (one implementation of the bins, in C++)", "",
               _binning(), ""]
     return "\n".join(parts)
 

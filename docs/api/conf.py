@@ -18,7 +18,7 @@ from sphinx.application import Sphinx
 import a2l
 
 project = "a2l"
-author = "a2l contributors"
+author = "the a2l developers"
 release = version = a2l.__version__
 
 extensions = ["sphinx.ext.autodoc", "numpydoc"]

@@ -1,7 +1,7 @@
 // Movement actions (open, close, stay) in the repertoire: the repertoire's layout, the bundle's
 // `movements.actions` and its checks, step() returning an action, and the acceptance test of
-// issue 11: a high-level state (the light) toggled mid-action switches the behaviour in the
-// very next C++ step.
+// the demonstrated skills: a high-level state (the light) toggled mid-action switches the behaviour
+// in the very next C++ step.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -157,8 +157,8 @@ TEST(MovementActions, StepReturnsTheActionWithNoDisplacement) {
   EXPECT_EQ(out.action, MovementAction::none);
 }
 
-// Acceptance test (issue 11): "a light toggle mid-action switches the behaviour in the C++
-// step". The same eef/object context gives the light-off movement, then, after the light
+// Acceptance test of the demonstrated skills: "a light toggle mid-action switches the behaviour in
+// the C++ step". The same eef/object context gives the light-off movement, then, after the light
 // turned on, the light-on movement, in consecutive step() calls of one run; and the light-on
 // behaviour ends with the demonstrated action (stay) where light-off would approach.
 TEST(MovementActions, LightToggleMidActionSwitchesTheBehaviourInTheCppStep) {

@@ -165,7 +165,7 @@ def test_waypoint_encoding_and_image_descriptor() -> None:
 
 
 def test_drive_is_the_loop_written_by_hand() -> None:
-    """Issue 23: the babbling experiment and NovEB's acquisition are driven by ``drive``
+    """The babbling experiment and NovEB's acquisition are driven by ``drive``
     (told a part of each outcome, recording the rest after each batch): it asks, evaluates,
     tells and records in the order of the loop they wrote by hand, so a seed gives the same
     genotypes, archive and records."""

@@ -252,7 +252,7 @@ def test_bundle_missing_file(tmp_path: Path) -> None:
 
 
 def test_one_bundle_reader() -> None:
-    """Issue 23: the package reads bundle bytes in one place, through the manifest
+    """The package reads bundle bytes in one place, through the manifest
     (:func:`a2l.skills.bundle_format.read_bundle`); no other module parses the header."""
     root = Path(a2l.__file__).parent
     home = root / "skills" / "bundle_format.py"

@@ -82,7 +82,7 @@ def test_phases_round_trip(bundle: Path) -> None:
 
 def test_phase_direction_reads_back_as_the_cpp_loader_reads_it(tmp_path: Path) -> None:
     """A phase written with direction ``to_line`` reads back as ``to_line`` in Python, and its
-    velocity is the one the C++ loader's step_ds follows (issue 23: load_ds_phases used to drop
+    velocity is the one the C++ loader's step_ds follows (load_ds_phases used to drop
     the stored direction and return ``to_demo``, the same maps composed the other way)."""
     rng = np.random.default_rng(5)
     maps = (np.array([0.10, 0.03, 0.08]) + 0.03 * rng.uniform(-1, 1, (4, 3)),

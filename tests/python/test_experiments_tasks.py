@@ -1,5 +1,5 @@
 """``a2l experiment tasks`` on a short configuration: one seed per task, with and without its
-fault (issue 13, item 5)."""
+fault."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Held-out evaluation (issue 14, deliverable 5): the held-out starts, their own seed
+"""Held-out evaluation: the held-out starts, their own seed
 stream, and the rollouts from them deciding nothing; plus the framework's batched driving
 of effect-directed pairs and the ground-truth scene of :func:`make_env`."""
 

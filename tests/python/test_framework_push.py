@@ -2,11 +2,11 @@
 run once through ``a2l experiment push``: the run directory, the acceptance
 rule, and convergence to score 100.
 
-Issue 5 asks for score 100 within 3 iterations on the virtual scene; the test asserts it
-(:data:`ITERATIONS_TO_100`). Measured with the default FrameworkConfig (waypoint
+The push framework's target is score 100 within 3 iterations on the virtual scene; the test
+asserts it (:data:`ITERATIONS_TO_100`). Measured with the default FrameworkConfig (waypoint
 effect-directed babbling, 40 trajectories a stuck pair): seed 0 reaches 100 in 2 iterations
 (iteration 0 included) with hill-climbing + K2, neighbour smoothing and ``distance -> move``
-fixed, the defaults since issue 14 (docs/experiments/push.md has seeds 0-29).
+fixed, the defaults since 54a7e03 (docs/experiments/push.md has seeds 0-29).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from a2l.framework import FrameworkConfig, score_of, validate
 from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor
 
-#: Most iterations (iteration 0 included) to reach score 100 with the defaults (issue 5).
+#: Most iterations (iteration 0 included) to reach score 100 with the defaults (the target).
 ITERATIONS_TO_100 = 3
 EFFECTS = ["left", "right", "close", "far"]
 

@@ -1,9 +1,9 @@
 """The framework's results did not change when ``a2l/framework.py`` and
 ``a2l/framework_env.py`` became the ``a2l.framework`` and ``a2l.acquisition`` packages
-(issue 12): the virtual push experiment with 4 effects and seeds 0-3 gives, iteration by
+(b30c851): the virtual push experiment with 4 effects and seeds 0-3 gives, iteration by
 iteration, the metrics the old modules gave (with the structure and smoothing of that time,
 ``structure="hc-k2"``, ``smoothing=False``, ``fixed_parents=()``, given explicitly since
-issue 14 changed the defaults).
+the held-out evaluation's work changed the defaults).
 
 ``EXPECTED`` was measured with the old code, at commit 15ce53e (the last commit with
 ``framework.py``), by ``a2l experiment push --scene virtual --effects 4 --seed S --out DIR``
@@ -85,14 +85,15 @@ EXPECTED_SMOOTHING: dict[int, list[dict[str, Any]]] = {
 }
 
 
-#: The training starts and the step's answer in a cell without data before issue 27: every
+#: The training starts and the step's answer in a cell without data before 9595fda: every
 #: start on the 0.2 m circle, no fallback (the step stops with ``unknown_context``).
 CIRCLE: dict[str, Any] = {"starts.layout": "circle", "skill.fallback": "none"}
 
 
-#: The defaults from commit 54a7e03 to issue 27: the same with ``distance -> move`` fixed
-#: (``fixed_parents=("distance",)``), measured with ``FrameworkConfig(scene="virtual",
-#: n_effects=4, seed=S)`` and :func:`run_framework` (1 worker) at that commit.
+#: The defaults from commit 54a7e03 until 9595fda (ring starts, fallback): the same with
+#: ``distance -> move`` fixed (``fixed_parents=("distance",)``), measured with
+#: ``FrameworkConfig(scene="virtual", n_effects=4, seed=S)`` and :func:`run_framework`
+#: (1 worker) at 54a7e03.
 EXPECTED_DEFAULT: dict[int, list[dict[str, Any]]] = {
     0: [
         _it(0, 41.40625, (0.25, 0.375, 0.5, 0.5), 1, 4.384615384615385, 189),

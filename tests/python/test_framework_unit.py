@@ -180,7 +180,7 @@ def test_a_flat_config_of_an_earlier_version_is_converted_naming_each_renamed_fi
 
 
 def test_fallback_defaults_by_scene_and_an_explicit_rule_wins() -> None:
-    """Baxter heads for the nearest cell with data, the virtual scene stops (issue 27:
+    """Baxter heads for the nearest cell with data, the virtual scene stops (as
     measured in ``docs/experiments/push.md``); a rule given explicitly is kept, and a
     config read back from its dict keeps the resolved rule."""
     assert FrameworkConfig(scene="baxter").skill.fallback == "approach"

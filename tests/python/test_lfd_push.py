@@ -1,8 +1,9 @@
 """LfD part 2, push: scripted demonstrations -> vector-field dataset -> skill -> closed loop.
 
-The acceptance test of issue 11: a skill learned from a scripted demonstration reproduces
-its effect in the virtual scene, on held-out trial seeds (1000-1019: no demonstration and no
-tuning used them). The full Baxter figures are ``a2l experiment lfd-skills`` (docs/experiments/).
+The acceptance test of the demonstrated skills: a skill learned from a scripted demonstration
+reproduces its effect in the virtual scene, on held-out trial seeds (1000-1019: no
+demonstration and no tuning used them). The full Baxter figures are ``a2l experiment
+lfd-skills`` (docs/experiments/).
 """
 
 from __future__ import annotations
@@ -142,7 +143,7 @@ def test_bundle_holds_the_table_and_the_ds(bundles):
 @pytest.mark.parametrize("name", ["push_right", "push_left", "push_close", "push_far"])
 def test_acceptance_skill_from_demonstrations_reproduces_its_effect_in_virtual_scene(
         bundles, name):
-    """Issue 11 acceptance: held-out trials in the virtual scene, through the C++ step."""
+    """Acceptance: held-out trials in the virtual scene, through the C++ step."""
     recipe = SKILLS[name]
     with make_skill_scene(name, 0, scene="virtual") as scene:
         runs = []

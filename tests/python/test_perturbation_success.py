@@ -1,4 +1,4 @@
-"""Perturbation success per condition (issue 24, part 4): a few skills, a short
+"""Perturbation success per condition: a few skills, a short
 configuration, each condition's success count held to a one-sided binomial bound.
 
 Each skill is learned with its own configuration and run as the context skill (the compiled
@@ -31,7 +31,7 @@ from a2l.lfd.library import SKILLS, learn_recipe
 #: First trial seed: evaluation seeds of the perturbations block (docs/seeds.md), apart
 #: from the reported runs' (5000 ..., 5100 ..., 5200 ...).
 SEED = 6500
-#: Trials per skill: the sideways pushes (issue 27's) and the press.
+#: Trials per skill: the sideways pushes and the press.
 TRIALS = {"push_right": 24, "push_left": 24, "press": 12}
 #: Probability that a skill at its claimed rate fails a condition's bound.
 ALPHA = 0.01
@@ -41,7 +41,7 @@ MOVED_RATE = 0.98
 
 
 def _rate(skill: str, condition: str) -> float:
-    """The success rate claimed for `skill` under `condition`: the issue's target
+    """The success rate claimed for `skill` under `condition`: the target
     (:func:`a2l.experiments.perturbation_report.target`), which the sideways pushes reach
     since their gripper is turned (docs/experiments/perturbations.md: seeds 5200-5249, 98-100 %
     with the camera and with the ground truth)."""

@@ -1,5 +1,5 @@
 """Closed-loop task execution on Baxter in PyBullet: plan, run the learned skills through
-the C++ step, perceive, replan when the world disagrees (issue 13, item 3)."""
+the C++ step, perceive, replan when the world disagrees."""
 
 from __future__ import annotations
 

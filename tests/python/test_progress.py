@@ -1,4 +1,4 @@
-"""The one progress helper (:mod:`a2l.progress`, issue 23): silent when quiet, one bar per
+"""The one progress helper (:mod:`a2l.progress`): silent when quiet, one bar per
 label otherwise, and no other module builds ``rich`` progress bars."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The gripper's turn about the vertical (``SceneConfig.gripper_yaw``): validated, obeyed by
-every reset and movement, and set by the sideways push skills' recipes (issue 27: their
+every reset and movement, and set by the sideways push skills' recipes (their
 fingers close along x, so they lie side by side on the face a push across y meets)."""
 
 from __future__ import annotations

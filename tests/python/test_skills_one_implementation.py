@@ -1,4 +1,4 @@
-"""One implementation of the context bins and of the effect classification (issue 11, item 8).
+"""One implementation of the context bins and of the effect classification.
 
 The Python learning side (:mod:`a2l.skills.bins`, :mod:`a2l.skills.effects`) calls the C++
 functions the runtime uses (``a2l::Discretizer::context_bin`` and ``a2l::classify_effect``,
@@ -28,7 +28,7 @@ from a2l.skills.bins import context_bins
 
 N = 100_000
 
-# --- the numpy implementation before issue 11 (reference only) ---------------------------
+# --- the numpy implementation before b6c53fc (reference only) ---------------------------
 
 _atan2_ufunc = np.frompyfunc(math.atan2, 2, 1)
 

@@ -1,5 +1,5 @@
 """The one learn -> compile -> bundle pipeline (:func:`a2l.skills.pipeline.learn_bundle`),
-used by the framework and LfD (issue 23): its bundle is byte for byte the one the steps
+used by the framework and LfD (one pipeline for both): its bundle is byte for byte the one the steps
 called one by one write, its metadata may depend on the rows kept, and an empty dataset is
 refused naming the skill."""
 

@@ -21,7 +21,8 @@ _MODE_KEY = {"table": "context", "ds": "ds"}
 
 
 def target(skill: str, condition: str) -> float:
-    """Issue 11's success target: grasps 80 %, others 95 % unperturbed and 90 % perturbed."""
+    """The demonstrated skills' success target: grasps 80 %, others 95 % unperturbed and 90 %
+    perturbed."""
     if "grasp" in skill:
         return 0.80
     return 0.95 if condition == "none" else 0.90
@@ -134,7 +135,7 @@ def results_table(skills: dict[str, dict[str, dict[str, Any]]]) -> str:
     """Markdown table: per skill and condition, context and DS success, Fisher p, steps.
 
     A ``†`` marks conditions where context and DS differ (p < :data:`SIGNIFICANCE`); a
-    ``✗`` a success rate below the issue's target.
+    ``✗`` a success rate below its :func:`target`.
     """
     head = ["skill", "condition", "context (table)", "DS alone", "Fisher p", "steps ctx / DS",
             "perturbation measured"]

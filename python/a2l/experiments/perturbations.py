@@ -1,4 +1,4 @@
-"""``a2l experiment perturbations``: demonstrated skills under perturbations (issue 11, part 5).
+"""``a2l experiment perturbations``: demonstrated skills under perturbations.
 
 Every skill of :data:`a2l.lfd.library.SKILLS` is demonstrated (demonstration seeds
 ``0 .. n_demos - 1``), learned (:func:`a2l.lfd.library.learn_recipe`) and run in closed loop

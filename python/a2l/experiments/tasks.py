@@ -1,5 +1,4 @@
-"""``a2l experiment tasks``: planned tasks on Baxter in PyBullet, with and without faults
-(issue 13, item 5).
+"""``a2l experiment tasks``: planned tasks on Baxter in PyBullet, with and without faults.
 
 Each task is a goal in PDDL reached in the ``task`` scene (button, lamp, grasp block) by
 :func:`a2l.planning.execute.execute_task`: perceive, plan (pyperplan by default), then per

@@ -43,7 +43,7 @@ __all__ = ["SIDEWAYS_SCENE", "SKILLS", "SkillRecipe", "check_robot_for", "learn_
 _TRIAL_STREAM = 0x7472696C  # seeds trial draws apart from every other stream
 
 
-#: The sideways pushes' scene (issue 27): the gripper turned by 90 degrees about the
+#: The sideways pushes' scene: the gripper turned by 90 degrees about the
 #: vertical, its fingers closing along x. With the fingers along y (every other skill's
 #: gripper), a push across y meets the box with the outer finger, which reaches 4.9 cm
 #: beyond the gripper's centre: an approach from far off the push axis slid along x within

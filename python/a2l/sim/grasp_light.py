@@ -1,6 +1,6 @@
 """The ``grasp_light`` scene: the grasp block next to a lamp, a "hot stove".
 
-A skill whose behaviour depends on a high-level state (issue 11): with the light off it
+A skill whose behaviour depends on a high-level state (a demonstrated skill): with the light off it
 grasps the block; with the light on it must move away from the block and wait. The light
 does not change by itself; it is set at reset (config ``states={"light": "on"}``) or
 switched mid-action by ``scene.perturb("toggle", state="light")``; being no effect of the

@@ -1,5 +1,5 @@
 """The ``task`` scene: the press scene's button and lamp with the grasp block, for tasks that
-chain skills (press the light off, then grasp the block: issue 13's executor).
+chain skills (press the light off, then grasp the block: :mod:`a2l.planning.execute`).
 
 The box of the press scene stands out of the way (far right corner); the block is the grasp
 scene's, between it and the button.
