@@ -151,3 +151,28 @@ def test_the_package_names_baxter_only_as_a_robot_and_once_as_an_earlier_scene()
     assert "None" not in hits, "\n".join(hits["None"])
     assert len(hits["legacy scene"]) == 1
     assert hits["default"] and hits["robot entry"]
+
+
+def test_a_sweep_of_scene_baxter_continues_with_the_same_command(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """An earlier sweep's ``config.json`` names scene ``baxter``: the same configuration,
+    read today as scene bullet on Baxter, continues it (it goes on to run its seed);
+    other seeds are refused."""
+    import a2l.experiments.sweep as sweep
+    from a2l.rundir import write_json
+
+    class Ran(Exception):
+        pass
+
+    def run(*args: object, **kwargs: object) -> None:
+        raise Ran
+
+    cfg = FrameworkConfig(scene="baxter", discretization={"n_effects": 4})
+    write_json(tmp_path / "config.json", {
+        "experiment": "sweep", "framework": {**cfg.to_dict(), "scene": "baxter"},
+        "overrides": {}, "seeds": [1]})
+    monkeypatch.setattr(sweep, "run_push_experiment", run)
+    with pytest.raises(ValueError, match="another configuration"):
+        sweep.run_seed_sweep(cfg, [2], out=tmp_path, quiet=True)
+    with pytest.raises(Ran):
+        sweep.run_seed_sweep(cfg, [1], out=tmp_path, quiet=True)
