@@ -27,7 +27,7 @@ def test_breakdown_times_phases_physics_and_rendering(tmp_path: Path) -> None:
     bench = _bench()
     before = (loop.acquire, push.plot_scores, MotionMixin._sim_step, Camera.render)
     cfg = FrameworkConfig(
-        scene="baxter",
+        scene="bullet",
         max_iterations=1,
         seed=0,
         discretization={"n_effects": 4},

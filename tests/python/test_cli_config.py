@@ -47,7 +47,7 @@ def test_push_help_lists_every_framework_config_field(
 @pytest.mark.parametrize("command", ["push", "discretization", "sweep"])
 def test_every_field_is_an_option(command: str) -> None:
     skip = {"seed"} if command == "sweep" else set()
-    cfg = FrameworkConfig(scene="baxter", scene_config={"gui": False},
+    cfg = FrameworkConfig(scene="bullet", scene_config={"gui": False},
                           discretization={"n_effects": 8, "n_offset": 3, "step": 0.04},
                           learning={"fixed_parents": ("distance", "orientation"),
                                     "structure": "hand-coded"},

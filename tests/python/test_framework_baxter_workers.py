@@ -21,7 +21,7 @@ def _config() -> FrameworkConfig:
     # validation, extension and effect-directed babbling). Rollouts read the simulator's
     # truth; the scene is told so and renders no camera frame.
     return FrameworkConfig(
-        scene="baxter",
+        scene="bullet",
         max_iterations=2,
         seed=0,
         scene_config={"context_source": "ground_truth"},

@@ -243,7 +243,7 @@ def test_make_env_sets_the_scene_to_the_source_it_reads() -> None:
 def test_baxter_env_renders_no_camera_frame_per_movement() -> None:
     """The Baxter scene of a ground-truth env records no perceived observation: nothing
     renders a camera frame at each movement's start."""
-    env = make_env("baxter", seed=0, source="ground_truth")
+    env = make_env("bullet", seed=0, source="ground_truth")
     try:
         assert env.scene.config.context_source == "ground_truth"
         env.begin(np.array([0.2, 0.0, 0.0]))
@@ -263,7 +263,7 @@ def test_an_unreachable_heldout_start_is_redrawn_the_same_way_everywhere() -> No
     from a2l.framework.validation import reachable_heldout
     from a2l.rollout.env import scene_env
 
-    cfg = FrameworkConfig(scene="baxter", seed=1, discretization={"n_effects": 4})
+    cfg = FrameworkConfig(scene="bullet", seed=1, discretization={"n_effects": 4})
     raw = cfg.heldout_offsets()
     env = scene_env(cfg)
     with pytest.raises(UnreachableError, match="unreachable"):
@@ -285,7 +285,7 @@ def test_the_framework_reads_the_context_from_the_camera_by_default() -> None:
     movement of the main camera on Baxter."""
     from a2l.rollout.env import scene_env
 
-    cfg = FrameworkConfig(scene="baxter", seed=3)
+    cfg = FrameworkConfig(scene="bullet", seed=3)
     assert cfg.context_source == "perceived"
     env = scene_env(cfg)
     assert env.source == env.scene.config.context_source == "perceived"
@@ -299,9 +299,9 @@ def test_the_framework_reads_the_context_from_the_camera_by_default() -> None:
     env.object()
     assert len(renders) == 4  # the start, then one frame after each movement
     assert "perceived" in env.scene._step_start
-    truth = scene_env(FrameworkConfig(scene="baxter", seed=3, context_source="ground_truth"))
+    truth = scene_env(FrameworkConfig(scene="bullet", seed=3, context_source="ground_truth"))
     assert truth.source == "ground_truth" and truth is not env
-    old = scene_env(FrameworkConfig(scene="baxter", seed=3,
+    old = scene_env(FrameworkConfig(scene="bullet", seed=3,
                                     scene_config={"source": "ground_truth"}))
     assert old.source == "ground_truth"
     with pytest.raises(ConfigError, match="context_source"):

@@ -174,7 +174,7 @@ def test_a_flat_config_of_an_earlier_version_is_converted_naming_each_renamed_fi
                       r"heldout_starts is now heldout.n_starts, directed_per_pair is now "
                       r"directed.per_pair, fixed_parents is now learning.fixed_parents"):
         cfg = FrameworkConfig.from_dict(flat)
-    assert cfg == FrameworkConfig(scene="baxter", seed=3, discretization={"n_effects": 8},
+    assert cfg == FrameworkConfig(scene="bullet", seed=3, discretization={"n_effects": 8},
                                   heldout={"n_starts": 4}, directed={"per_pair": 9},
                                   learning={"fixed_parents": ("distance", "orientation")})
 
@@ -183,16 +183,16 @@ def test_fallback_defaults_by_scene_and_an_explicit_rule_wins() -> None:
     """Baxter heads for the nearest cell with data, the virtual scene stops (as
     measured in ``docs/experiments/push.md``); a rule given explicitly is kept, and a
     config read back from its dict keeps the resolved rule."""
-    assert FrameworkConfig(scene="baxter").skill.fallback == "approach"
+    assert FrameworkConfig(scene="bullet").skill.fallback == "approach"
     assert FrameworkConfig(scene="virtual").skill.fallback == "none"
-    assert FrameworkConfig(scene="baxter", skill={"fallback": "none"}).skill.fallback == "none"
+    assert FrameworkConfig(scene="bullet", skill={"fallback": "none"}).skill.fallback == "none"
     assert FrameworkConfig(scene="virtual",
                            skill={"fallback": "nearest"}).skill.fallback == "nearest"
-    cfg = FrameworkConfig(scene="baxter")
+    cfg = FrameworkConfig(scene="bullet")
     assert FrameworkConfig.from_dict({**cfg.to_dict(), "scene": "virtual"}
                                      ).skill.fallback == "approach"
     with pytest.raises(ConfigError, match="fallback"):
-        FrameworkConfig(scene="baxter", skill={"fallback": "guess"})
+        FrameworkConfig(scene="bullet", skill={"fallback": "guess"})
 
 
 def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
@@ -205,11 +205,11 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     from a2l.skills.pipeline import compile_policy, learn_network, make_skill_spec
     from a2l.skills.synthetic import push_dataset
 
-    base = FrameworkConfig(scene="baxter")
+    base = FrameworkConfig(scene="bullet")
     assert (base.skill.fallback, base.skill.train_fallback) == ("approach", "nearest")
     virtual = FrameworkConfig(scene="virtual")
     assert (virtual.skill.fallback, virtual.skill.train_fallback) == ("none", "none")
-    assert FrameworkConfig(scene="baxter", skill={"train_fallback": "approach"}
+    assert FrameworkConfig(scene="bullet", skill={"train_fallback": "approach"}
                            ).skill.train_fallback == "approach"
     disc = Discretizer(movements=MovementRepertoire(planar=True), inclination=None)
     net = learn_network(disc.discretize(push_dataset(300, seed=1)), "hand-coded")

@@ -69,7 +69,8 @@ def test_a_robot_that_cannot_is_refused_by_name(tmp_path: Path) -> None:
         make_skill_scene("push_far", scene="virtual", robot="panda")
     with pytest.raises(ConfigError, match="skill 'grasp_light' closes the gripper"):
         run_lfd_skills(tmp_path / "r", ["push_far", "grasp_light"], robot="ur5", quiet=True)
-    assert resolve_scene(None, "baxter") == "baxter" and resolve_scene(None, "ur5") == "bullet"
+    assert resolve_scene(None, "baxter") == "bullet" and resolve_scene(None, "ur5") == "bullet"
+    assert resolve_scene("baxter", "baxter") == "bullet"  # the earlier name of Baxter's
     for scene, robot, message in (("baxter", "panda", "scene 'baxter' is Baxter's"),
                                   ("virtual", "panda", "the virtual scene has no robot"),
                                   (None, "kuka", "unknown robot 'kuka'")):
@@ -100,7 +101,7 @@ def test_a_start_out_of_a_small_arms_reach_is_a_failed_trial(tmp_path: Path) -> 
                               "table", CONFIG, robot="so101"))
     assert (row["success"], row["stop"], row["movements"]) == (False, "start_unreachable", 0)
     assert "Robot so101's scene is scaled by 0.52" in scale_note("bullet", "so101")[0]
-    assert scale_note("bullet", "panda") == [] == scale_note("baxter", "baxter")
+    assert scale_note("bullet", "panda") == [] == scale_note("bullet", "baxter")
 
 
 def test_perturbations_and_parametrization_run_on_the_panda(tmp_path: Path) -> None:

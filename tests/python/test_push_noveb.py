@@ -19,7 +19,7 @@ from a2l.rollout.env import scene_env
 def test_noveb_interactions_are_dataset_rows_cut_where_the_object_moved(
         monkeypatch: pytest.MonkeyPatch) -> None:
     cfg = FrameworkConfig(
-        scene="baxter", seed=0, discretization={"n_effects": 4}, starts={"n_starts": 4}
+        scene="bullet", seed=0, discretization={"n_effects": 4}, starts={"n_starts": 4}
     )
     scene = scene_env(cfg).scene        # the scene the tasks of this thread play in
     executed = []

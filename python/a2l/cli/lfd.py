@@ -12,8 +12,10 @@ from jsonargparse import Namespace
 from a2l.cli.args import UsageError, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.errors import ConfigError
+from a2l.experiments.lfd_skills import SCENES
 from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
 from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.rollout.env import LEGACY_SCENES
 
 
 def lfd_config(args: Namespace) -> LfDConfig | None:
@@ -123,10 +125,10 @@ def add_robot_options(p: Parser, scene: bool = True) -> None:
                    help="the robot the skills are learned for and tried on: a built-in name "
                    "(baxter, panda, ...) or a robot file (default baxter)")
     if scene:
-        p.add_argument("--scene", choices=("baxter", "bullet", "virtual"), default=None,
-                       help="the recipes' PyBullet scenes on Baxter (baxter) or on --robot "
-                       "(bullet), or the virtual scene (default: baxter for Baxter, else "
-                       "bullet)")
+        p.add_argument("--scene", choices=(*SCENES, *LEGACY_SCENES), default=None,
+                       help="the recipes' PyBullet scenes on --robot (bullet, the default), "
+                       "or the virtual scene; baxter, their earlier name on Baxter, is "
+                       "bullet with --robot baxter")
 
 
 def _cmd_parametrization(args: Namespace) -> int:

@@ -174,7 +174,7 @@ def _scene_robot(scene: str, given: str | None, learned_for: dict[str, Any] | No
     from a2l.robot import BUILTIN_ROBOTS
     from a2l.sim import settings_for
 
-    if not settings_for(scene, {"robot": "baxter"}):
+    if not settings_for(scene, {"robot": None}):  # a scene with a robot
         if given is not None:
             raise UsageError("--robot", f"the {scene} scene has no robot")
         return {}

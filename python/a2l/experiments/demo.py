@@ -347,7 +347,7 @@ def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
         from a2l.framework import FrameworkConfig
 
         # held-out starts in proportion to the training ones (the default 32 with 8 starts)
-        cfg = FrameworkConfig(scene="baxter", discretization={"n_effects": 4},
+        cfg = FrameworkConfig(scene="bullet", discretization={"n_effects": 4},
                               starts={"n_starts": starts}, max_iterations=iterations,
                               seed=seed, heldout={"n_starts": 4 * starts})
         result = run_push_experiment(cfg, out=run_dir, workers=workers)

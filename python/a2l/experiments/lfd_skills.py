@@ -5,9 +5,10 @@ Each skill of :data:`a2l.lfd.library.SKILLS` is demonstrated by its scripted dem
 (:func:`a2l.lfd.library.skill_config`: :data:`a2l.lfd.config.DEFAULT` for the push skills),
 and run in closed loop through the C++ step from ``trials`` trial set-ups drawn from seeds
 ``seed, seed + 1, ...`` (default 1000: no demonstration and no tuning used them), in the
-recipes' PyBullet scenes on Baxter (scene ``baxter``) or on another robot (scene ``bullet``
-with ``robot``: a built-in name or a robot file; the objects stand at its work point and the
-bundles record it), or in the C++ virtual scene (``virtual``: no robot). Output:
+recipes' PyBullet scenes on a robot (scene ``bullet`` with ``robot``, Baxter by default: a
+built-in name or a robot file; the objects stand at its work point and the bundles record
+it), or in the C++ virtual scene (``virtual``: no robot). ``baxter``, the earlier name of
+the PyBullet scenes on Baxter, is read as ``bullet`` on Baxter (:func:`resolve_scene`). Output:
 ``skills/<name>.a2lb``, ``trials.csv`` (one row per trial), ``metrics.json`` (success rate,
 mean movements, failures by stop status, learning times) and ``report.md``.
 """
@@ -30,9 +31,9 @@ from a2l.progress import print_tables, progress_bar
 __all__ = ["SCENES", "LfdTrial", "evaluate", "resolve_scene", "results_table", "scale_note",
            "run_lfd_skills", "trial_task"]
 
-#: The scenes the trials run in: Baxter's PyBullet scenes (as runs before robots were data),
-#: the PyBullet scenes of any robot, the C++ virtual scene.
-SCENES = ("baxter", "bullet", "virtual")
+#: The scenes the trials run in: the PyBullet scenes of any robot, the C++ virtual scene (an
+#: earlier name, :data:`a2l.rollout.env.LEGACY_SCENES`, is read by :func:`resolve_scene`).
+SCENES = ("bullet", "virtual")
 #: Where a trial reads the context, as reports name it.
 CONTEXT_SOURCES = {"perceived": "camera", "ground_truth": "ground truth"}
 
@@ -69,8 +70,8 @@ class LfdTrial:
         Path of its learned bundle.
     seed : int
         Trial seed: the object's and the arm's start (:func:`a2l.lfd.library.reset_for_trial`).
-    scene : {"baxter", "bullet", "virtual"}
-        The recipe's PyBullet scene on Baxter or on `robot`, or the C++ virtual scene.
+    scene : {"bullet", "virtual"}
+        The recipe's PyBullet scene on `robot`, or the C++ virtual scene.
     mode : {"table", "ds"}
         The context skill (the compiled table) or the DS alone.
     config : LfDConfig
@@ -126,7 +127,7 @@ def trial_task(task: LfdTrial) -> dict[str, Any]:
             old.close()
         _SCENES.clear()
         scene = _SCENES[key] = make_skill_scene(
-            name, 0, cfg, scene=None if scene_name in ("baxter", "bullet") else scene_name,
+            name, 0, cfg, scene=None if scene_name == "bullet" else scene_name,
             robot=robot, context_source=source)
     row = {"skill": name, "seed": task.seed, "scene": scene_name, "mode": task.mode,
            "context_source": source}
@@ -146,7 +147,7 @@ def trial_task(task: LfdTrial) -> dict[str, Any]:
             "wall": run.wall, **({"run": run} if task.keep_run else {})}
 
 
-def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxter",
+def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "bullet",
              mode: str = "table", cfg: LfDConfig | None = None, executor: Any = None,
              on_done: Callable[[int], None] | None = None,
              context_source: str = "perceived", keep_runs: bool = False,
@@ -159,8 +160,8 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "baxte
         Skill name -> bundle.
     seeds : sequence of int
         Trial seeds.
-    scene : {"baxter", "bullet", "virtual"}
-        The recipe's PyBullet scene on Baxter or on `robot`, or the C++ virtual scene.
+    scene : {"bullet", "virtual"}
+        The recipe's PyBullet scene on `robot`, or the C++ virtual scene.
     mode : {"table", "ds"}
     cfg : LfDConfig, optional
         Its ``step`` is the scenes' movement length (default: each skill's own,
@@ -221,24 +222,24 @@ def results_table(summary: dict[str, dict[str, Any]],
 
 
 def resolve_scene(scene: str | None, robot: str) -> str:
-    """The scene of a run on `robot`: `scene`, or when None ``"baxter"`` for Baxter (as runs
-    before) and ``"bullet"`` for another robot.
+    """The scene of a run on `robot`: `scene`, ``"bullet"`` when None; an earlier scene name
+    (:data:`a2l.rollout.env.LEGACY_SCENES`) is the scene it names now (``baxter``:
+    ``"bullet"``, on Baxter only).
 
     Raises
     ------
     a2l.errors.ConfigError
-        An unknown scene, another robot than Baxter in scene ``baxter`` or in the virtual
-        scene (which has none), an unknown robot or robot file.
+        An unknown scene, another robot than its own with an earlier scene name, a robot
+        other than the default in the virtual scene (which has none), an unknown robot or
+        robot file.
     """
     from a2l.robot import robot_entry
+    from a2l.rollout.env import LEGACY_SCENES, normalise_scene
 
-    if scene is None:
-        scene = "baxter" if robot == "baxter" else "bullet"
-    if scene not in SCENES:
+    scene = "bullet" if scene is None else scene
+    if scene not in (*SCENES, *LEGACY_SCENES):
         raise ConfigError("--scene", f"must be one of {list(SCENES)}, got {scene!r}")
-    if scene == "baxter" and robot != "baxter":
-        raise ConfigError("--robot", f"scene 'baxter' is Baxter's; for robot {robot!r} use "
-                          "scene 'bullet'")
+    scene, robot = normalise_scene(scene, robot, "--robot")
     if scene == "virtual" and robot != "baxter":
         raise ConfigError("--robot", f"the virtual scene has no robot (asked for {robot!r}); "
                           "use scene 'bullet'")
@@ -258,9 +259,9 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     """Learn the skills and try them; write the run directory (see the module docstring).
 
     The skills are learned for `robot` (a built-in name or a robot file; their bundles
-    record it) and tried in its PyBullet scenes (`scene` ``"bullet"``, the default for a
-    robot other than Baxter; ``"baxter"``, Baxter's default, is the same on Baxter), or
-    learned for no robot and tried in the virtual scene (``"virtual"``).
+    record it) and tried in its PyBullet scenes (`scene` ``"bullet"``, the default), or
+    learned for no robot and tried in the virtual scene (``"virtual"``); the scene
+    ``baxter`` of earlier runs is ``"bullet"`` on Baxter (:func:`resolve_scene`).
 
     The trials read the context from `context_source`: the camera (``"perceived"``, the
     default) or the simulator's truth (``"ground_truth"``); the report names it. With

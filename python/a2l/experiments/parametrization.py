@@ -81,7 +81,7 @@ class ParametrizationCell:
         The skill's configuration with the cell's values.
     seeds : tuple of int
         Trial seeds.
-    scene : {"baxter", "bullet", "virtual"}
+    scene : {"bullet", "virtual"}
         Where the trials run (:class:`a2l.experiments.lfd_skills.LfdTrial`).
     out_dir : str
         The skill's directory of learned bundles.

@@ -205,7 +205,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
         ``skill/condition/mode/seed`` with how it ended (``a2l view FILE``).
     robot : str
         The robot the skills are learned for and tried on: a built-in name (default
-        ``"baxter"``) or a robot file (:func:`a2l.robot.robot_entry`); the scenes put the
+        ``baxter``) or a robot file (:func:`a2l.robot.robot_entry`); the scenes put the
         objects at its work point. The perturbations' sizes are the thesis' (not scaled).
 
     Returns

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from a2l.framework import FrameworkConfig, FrameworkResult
+from a2l.rollout.env import LEGACY_SCENES, ROBOT_SCENES
 
 __all__ = [
     "context_label",
@@ -118,7 +119,7 @@ def headline_table(runs: list[dict[str, Any]]) -> str:
 def _robot_lines(cfg: FrameworkConfig) -> list[str]:
     """The report's lines on the robot of a PyBullet run: where its scene stands, and the
     scale when its arm reaches less than the thesis' scene needs."""
-    if cfg.scene not in ("bullet", "baxter"):
+    if cfg.scene not in ROBOT_SCENES:
         return []
     from a2l.robot import robot_entry, table_layout
 
@@ -133,9 +134,11 @@ def _robot_lines(cfg: FrameworkConfig) -> list[str]:
 
 
 def _scene(m: dict[str, Any]) -> str:
-    """The scene of a run's metrics, with its robot when the scene takes one (``bullet``)."""
-    return f"{m['scene']} ({m['robot']})" if m["scene"] == "bullet" and m.get("robot") else \
-        str(m["scene"])
+    """The scene of a run's metrics, with its robot when the scene takes one (``bullet``):
+    an earlier run's scene name (:data:`a2l.rollout.env.LEGACY_SCENES`) as the scene and
+    robot it names now, so that its row reads as a run of today's."""
+    scene, robot = LEGACY_SCENES.get(m["scene"], (m["scene"], m.get("robot")))
+    return f"{scene} ({robot})" if scene in ROBOT_SCENES and robot else str(scene)
 
 
 def _causes(causes: dict[str, int] | None) -> str:

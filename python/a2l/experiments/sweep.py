@@ -30,6 +30,7 @@ from a2l.experiments.push import final_validation, record_validations, run_push_
 from a2l.framework import FrameworkConfig
 from a2l.parallel import Executor
 from a2l.progress import print_tables
+from a2l.rollout.env import LEGACY_SCENES
 from a2l.rundir import make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -236,9 +237,14 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
               "seed_use": seed_record("sweep", seeds)}
     if (run_dir / "config.json").is_file():
         old = read_json(run_dir / "config.json")
-        # compared as JSON (what config.json holds)
+        # compared as JSON (what config.json holds); an earlier scene name is the scene
+        # and robot it names now
         framework = json.loads(json.dumps(config["framework"]))
-        if (old.get("framework"), old.get("seeds")) != (framework, seeds):
+        old_framework = old.get("framework")
+        if isinstance(old_framework, dict) and old_framework.get("scene") in LEGACY_SCENES:
+            scene, robot = LEGACY_SCENES[old_framework["scene"]]
+            old_framework = {**old_framework, "scene": scene, "robot": robot}
+        if (old_framework, old.get("seeds")) != (framework, seeds):
             raise ValueError(f"'{run_dir}' holds a sweep of another configuration or other "
                              "seeds; choose another --out")
     else:

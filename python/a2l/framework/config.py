@@ -3,12 +3,14 @@ iteration cap and the context source, composed with frozen parts (:mod:`a2l.fram
 and the package's :class:`~a2l.skills.discretization.DiscretizationConfig`), each validating
 itself.
 
-``FrameworkConfig(scene="baxter", discretization=DiscretizationConfig(n_effects=8),
+``FrameworkConfig(scene="bullet", discretization=DiscretizationConfig(n_effects=8),
 starts={"n_starts": 12})``: a part is given as its dataclass or as a mapping of its fields.
 :meth:`FrameworkConfig.with_` changes fields by their dotted names
 (``"discretization.n_orient"``); :meth:`FrameworkConfig.from_dict` reads a run's
 ``config.json``, and converts the flat form of earlier versions (``n_orient``,
-``heldout_starts``...: :data:`FLAT_NAMES`), naming each renamed field.
+``heldout_starts``...: :data:`FLAT_NAMES`), naming each renamed field. An earlier scene
+name (:data:`a2l.rollout.env.LEGACY_SCENES`) becomes the scene and robot it names now when
+the configuration is made, whether given or read from an earlier run's ``config.json``.
 """
 
 from __future__ import annotations
@@ -43,18 +45,19 @@ from a2l.framework.starts import (
     heldout_redraw,
     spread_ranks,
 )
-from a2l.rollout.env import ENV_SCENES
+from a2l.rollout.env import ENV_SCENES, normalise_scene
 from a2l.skills.discretization import DiscretizationConfig
 
 __all__ = ["DIRECTED_TRY_CAP", "FALLBACK", "FALLBACK_RULES", "FLAT_NAMES", "PARTS", "PRESETS",
            "SCENES", "TRAIN_FALLBACK", "FrameworkConfig", "flat_renames"]
 
-#: The framework's scenes: the C++ kinematic push model and the PyBullet push scene (the
-#: names of :data:`a2l.rollout.env.ENV_SCENES`).
+#: The framework's scenes: the C++ kinematic push model, the PyBullet push scene and a
+#: Gymnasium environment (the names of :data:`a2l.rollout.env.ENV_SCENES`; an earlier name,
+#: :data:`a2l.rollout.env.LEGACY_SCENES`, is read as the scene it names).
 SCENES = tuple(ENV_SCENES)
 
 #: Default ``directed.try_cap`` of each scene.
-DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "baxter": 100, "gym": 100}
+DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "gym": 100}
 
 #: Default ``skill.fallback`` of each scene (``docs/experiments/push.md``): on Baxter the
 #: held-out starts reach context cells the training never did (``unknown_context`` was half
@@ -62,7 +65,7 @@ DIRECTED_TRY_CAP = {"virtual": 2000, "bullet": 100, "baxter": 100, "gym": 100}
 #: previous movement (``approach``), ends the two-cell loops that taking its movement
 #: (``nearest``) ran into (tuning seeds 3 and 4); on the virtual scene such cells are rare
 #: and the fallback measured no gain.
-FALLBACK = {"virtual": "none", "bullet": "approach", "baxter": "approach", "gym": "approach"}
+FALLBACK = {"virtual": "none", "bullet": "approach", "gym": "approach"}
 
 #: Default ``skill.train_fallback`` of each scene: the rule of the skill the training
 #: validation runs. A fallback that carries a rollout through a cell without data also hides
@@ -70,8 +73,7 @@ FALLBACK = {"virtual": "none", "bullet": "approach", "baxter": "approach", "gym"
 #: ``approach``, Baxter tuning seeds 3 and 4 reached 75.8 / 79.7 % held-out success at
 #: iteration 1; trained with ``nearest`` and run with ``approach``, 94.5 / 92.2 %
 #: (``docs/experiments/push.md``).
-TRAIN_FALLBACK = {"virtual": "none", "bullet": "nearest", "baxter": "nearest",
-                  "gym": "nearest"}
+TRAIN_FALLBACK = {"virtual": "none", "bullet": "nearest", "gym": "nearest"}
 
 #: The parts of a :class:`FrameworkConfig`, by field name.
 PARTS: dict[str, type] = {
@@ -128,12 +130,13 @@ class FrameworkConfig:
 
     Attributes
     ----------
-    scene : {"virtual", "bullet", "baxter", "gym"}
+    scene : {"virtual", "bullet", "gym"}
         ``"virtual"`` (C++ kinematic push model), ``"bullet"`` (the PyBullet push scene
-        with `robot`), ``"baxter"`` (the PyBullet push scene with Baxter, as runs before
-        robots were data named it) or ``"gym"`` (a Gymnasium environment's own simulation,
+        with `robot`) or ``"gym"`` (a Gymnasium environment's own simulation,
         :class:`a2l.gym.GymScene`: ``scene_config`` holds its settings, ``env_id``
-        panda-gym's ``PandaPush-v3`` by default).
+        panda-gym's ``PandaPush-v3`` by default). ``baxter``, the earlier name of the
+        PyBullet scene with Baxter (:data:`a2l.rollout.env.LEGACY_SCENES`), is read as
+        ``"bullet"`` with robot Baxter.
     discretization : DiscretizationConfig
         Bins of the context variables, the movement repertoire and the effects
         (``n_effects`` 4 or 8 push effects, ``step`` the movement length...).
@@ -167,7 +170,8 @@ class FrameworkConfig:
     robot : str
         The robot of a PyBullet scene: a built-in name (:data:`a2l.robot.BUILTIN_ROBOTS`)
         or a robot file's path; its scene geometry follows from it
-        (:func:`a2l.robot.table_layout`). Scene ``"baxter"`` takes only ``"baxter"``. On a
+        (:func:`a2l.robot.table_layout`). The earlier scene name ``baxter`` takes only
+        Baxter. On a
         robot whose scene is scaled (scale < 1: a small arm), the lengths left at their
         defaults are scaled with it (:mod:`a2l.framework.robots`).
     scene_config : dict
@@ -193,6 +197,9 @@ class FrameworkConfig:
     def __post_init__(self) -> None:
         for name in PARTS:
             object.__setattr__(self, name, _part(name, getattr(self, name)))
+        scene, robot = normalise_scene(self.scene, self.robot)
+        object.__setattr__(self, "scene", scene)
+        object.__setattr__(self, "robot", robot)
         check_choice("", "scene", self.scene, SCENES)
         # the scene's defaults of the fields left None
         if self.directed.try_cap is None:
@@ -219,7 +226,7 @@ class FrameworkConfig:
         included. (Every part checked its own fields when it was made.)"""
         check_count("", "max_iterations", self.max_iterations)
         check_count("", "seed", self.seed, minimum=0)
-        check_robot(self.scene, self.robot, self.scene_config)
+        check_robot(self.robot, self.scene_config)
         check_choice("", "context_source", self.context_source, ("perceived", "ground_truth"))
         names = self.discretization.context_names()
         unknown = [v for v in self.learning.fixed_parents if v not in names]
@@ -254,7 +261,7 @@ class FrameworkConfig:
     @classmethod
     def preset(cls, name: str, **kwargs: Any) -> FrameworkConfig:
         """The named configuration `name` (:data:`PRESETS`), with the top-level fields
-        `kwargs` (``FrameworkConfig.preset("thesis", scene="baxter", seed=3)``).
+        `kwargs` (``FrameworkConfig.preset("thesis", scene="bullet", seed=3)``).
 
         Raises
         ------

@@ -24,15 +24,13 @@ LENGTHS: dict[str, tuple[str, ...]] = {
 }
 
 
-def check_robot(scene: str, robot: object, scene_config: Mapping[str, Any]) -> None:
+def check_robot(robot: object, scene_config: Mapping[str, Any]) -> None:
     """Raise :class:`a2l.errors.ConfigError` naming the field: `robot` not a non-empty string,
-    another robot than Baxter in scene ``baxter``, a robot also named by `scene_config`."""
+    a robot also named by `scene_config`. (An earlier scene name given with another robot
+    than its own is refused where it is read, :func:`a2l.rollout.env.normalise_scene`.)"""
     if not isinstance(robot, str) or not robot:
         raise ConfigError("robot", f"must be a robot's name or a robot file's path, got "
                           f"{robot!r}")
-    if scene == "baxter" and robot != "baxter":
-        raise ConfigError("robot", f"scene 'baxter' is Baxter's; for robot '{robot}' use "
-                          "scene 'bullet'")
     if "robot" in scene_config and scene_config["robot"] != robot:
         raise ConfigError("scene_config", "names a robot: give it as the robot field")
 

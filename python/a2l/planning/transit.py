@@ -101,7 +101,7 @@ def transit_robot(robot: str | os.PathLike[str] | RobotEntry, arm: str = "right"
         A built-in robot's name (:data:`a2l.robot.BUILTIN_ROBOTS`), a robot file, or an
         entry (a scene's ``robot_entry``).
     arm : str
-        Baxter's arm, ``"right"`` or ``"left"`` (``"baxter"`` with ``"left"`` is
+        Baxter's arm, ``"right"`` or ``"left"`` (``baxter`` with ``"left"`` is
         ``"baxter-left"``); ignored for an entry and for the other robots.
 
     Raises
@@ -120,7 +120,7 @@ class ArmTransit:
     Parameters
     ----------
     robot : str, PathLike or RobotEntry
-        The robot (:func:`transit_robot`): ``"baxter"``, ``"panda"``..., a robot file, or a
+        The robot (:func:`transit_robot`): ``baxter``, ``panda``..., a robot file, or a
         scene's ``robot_entry`` (:meth:`for_scene`).
     arm : str
         Baxter's arm, ``"right"`` or ``"left"``; ignored for the other robots.

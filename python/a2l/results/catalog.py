@@ -193,8 +193,10 @@ def _both(key: str, *args: str, resume: bool = False) -> list[Run]:
 
 
 def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
-    """The Baxter push run of `seed` with the camera and with the ground truth."""
-    return _both(key, "experiment", "push", "--scene", "baxter", "--discretization.n_effects",
+    """The Baxter push run of `seed` with the camera and with the ground truth (the runs of
+    scene ``baxter``, its earlier name, are the same)."""
+    return _both(key, "experiment", "push", "--scene", "bullet", "--robot", "baxter",
+                 "--discretization.n_effects",
                  str(effects), "--seed", str(seed), "--quiet", *extra, resume=True)
 
 

@@ -105,7 +105,7 @@ class RobotEntry:
     Attributes
     ----------
     name : str
-        The robot's name (``"baxter"``, ``"panda"``, a robot file's ``name`` or stem).
+        The robot's name (``baxter``, ``panda``, a robot file's ``name`` or stem).
     urdf : Path
         The robot's URDF file.
     base_link, tool_link : str

@@ -19,7 +19,15 @@ and the rooms that run rollouts (:mod:`a2l.acquisition`, :mod:`a2l.lfd`,
 from __future__ import annotations
 
 from a2l.rollout.cache import thread_scene
-from a2l.rollout.env import ENV_SCENES, EnvSpec, SceneEnv, make_env, scene_env
+from a2l.rollout.env import (
+    ENV_SCENES,
+    LEGACY_SCENES,
+    EnvSpec,
+    SceneEnv,
+    make_env,
+    normalise_scene,
+    scene_env,
+)
 from a2l.rollout.loop import (
     FATAL_MOVES,
     Decision,
@@ -37,6 +45,7 @@ from a2l.rollout.world import SceneWorld, observe
 
 __all__ = [
     "ENV_SCENES",
+    "LEGACY_SCENES",
     "FATAL_MOVES",
     "ArmSceneProtocol",
     "Decision",
@@ -54,6 +63,7 @@ __all__ = [
     "World",
     "closed_loop",
     "make_env",
+    "normalise_scene",
     "observe",
     "run_skill",
     "scene_env",

@@ -1,6 +1,6 @@
 """The push scene a framework rollout plays in: :class:`SceneEnv` wraps an :mod:`a2l.sim`
-scene (``virtual``: the C++ kinematic push model; ``baxter``: the PyBullet push scene with
-the C++ IK): start the end-effector at an offset from the object's home, execute discrete
+scene (``virtual``: the C++ kinematic push model; ``bullet``: the PyBullet push scene with
+the robot's C++ IK): start the end-effector at an offset from the object's home, execute discrete
 movements, read positions. :func:`scene_env` keeps one per thread for rollouts
 (:func:`a2l.rollout.cache.thread_scene`).
 """
@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from a2l.errors import ConfigError
 from a2l.rollout.cache import thread_scene
 from a2l.rollout.protocol import SceneProtocol
 from a2l.sim import make_scene
@@ -19,16 +20,57 @@ from a2l.sim import make_scene
 if TYPE_CHECKING:
     from a2l.skills.discretization import DiscretizationConfig
 
-__all__ = ["ENV_SCENES", "ROBOT_SCENES", "EnvSpec", "SceneEnv", "make_env", "scene_env"]
+__all__ = ["ENV_SCENES", "LEGACY_SCENES", "ROBOT_SCENES", "EnvSpec", "SceneEnv", "make_env",
+           "normalise_scene", "scene_env"]
 
 #: Framework scene name -> the a2l.sim scene it plays in (:data:`a2l.sim.SCENES` names those):
-#: ``bullet`` is the PyBullet push scene with the configuration's robot, ``baxter`` the same
-#: scene with Baxter (the name runs before robots were data used); ``gym`` is a Gymnasium
-#: environment's own simulation (:class:`a2l.gym.GymScene`, the extra ``a2l[gym]``; its
-#: ``env_id`` a setting of ``scene_config``, panda-gym's ``PandaPush-v3`` by default).
-ENV_SCENES = {"virtual": "virtual", "bullet": "push", "baxter": "push", "gym": "gym"}
+#: ``bullet`` is the PyBullet push scene with the configuration's robot; ``gym`` is a
+#: Gymnasium environment's own simulation (:class:`a2l.gym.GymScene`, the extra
+#: ``a2l[gym]``; its ``env_id`` a setting of ``scene_config``, panda-gym's ``PandaPush-v3``
+#: by default). An earlier name of a scene is in :data:`LEGACY_SCENES`.
+ENV_SCENES = {"virtual": "virtual", "bullet": "push", "gym": "gym"}
 #: The framework scenes that have a robot and a camera (PyBullet).
-ROBOT_SCENES = ("bullet", "baxter")
+ROBOT_SCENES = ("bullet",)
+#: The scene names of earlier runs -> the (scene, robot) each names now, for the framework
+#: and for the experiments on demonstrated skills (their PyBullet scene is also ``bullet``):
+#: before robots were data, the PyBullet scenes with Baxter were scene ``baxter``. Commands
+#: and ``config.json`` files of those runs still name it; :func:`normalise_scene` reads it
+#: where a scene name comes in (:class:`a2l.framework.FrameworkConfig`,
+#: :func:`a2l.experiments.lfd_skills.resolve_scene`), and this is the only place it is
+#: written.
+LEGACY_SCENES: dict[str, tuple[str, str]] = {"baxter": ("bullet", "baxter")}
+
+
+def normalise_scene(scene: str, robot: str, field: str = "robot") -> tuple[str, str]:
+    """The scene and robot of a run given `scene` and `robot`: an earlier scene name
+    (:data:`LEGACY_SCENES`) as the scene and robot it names now, any other as given.
+
+    Parameters
+    ----------
+    scene : str
+        A scene name, current or earlier (checked by the caller, not here).
+    robot : str
+        The robot given with it (its default when none was).
+    field : str
+        The field or option named by the error (``robot``, ``--robot``).
+
+    Returns
+    -------
+    tuple of str
+        ``(scene, robot)``.
+
+    Raises
+    ------
+    a2l.errors.ConfigError
+        An earlier scene name given with another robot than its own.
+    """
+    if scene not in LEGACY_SCENES:
+        return scene, robot
+    now, own = LEGACY_SCENES[scene]
+    if robot != own:
+        raise ConfigError(field, f"scene {scene!r} is {own.capitalize()}'s; for robot "
+                          f"{robot!r} use scene {now!r}")
+    return now, own
 
 
 class SceneEnv:

@@ -26,7 +26,7 @@ def node_robot(robot: str, bundle_robot: Mapping[str, Any] | None = None,
     bundle_robot : mapping, optional
         A skill bundle's robot record (``name``, ``urdf_sha256``...), or None.
     arm : {"right", "left"}
-        Baxter's arm (``robot="baxter"`` with ``arm="left"`` is ``"baxter-left"``); another
+        Baxter's arm (robot ``baxter`` with ``arm="left"`` is ``baxter-left``); another
         robot takes only ``"right"``, the default.
 
     Returns
