@@ -104,21 +104,6 @@ ROBOT_FILES = ("robot/builtin_robots.py", "robot/robot_file.py", "robot/descript
 #: ... a default value (a dataclass field or a parameter with its annotation, an argparse
 #: default)...
 DEFAULT = re.compile(r'\w+\s*:\s*[^=()]+(\[[^\]]*\][^=()]*)?=\s*"baxter"|\bdefault="baxter"')
-#: ... and a robot compared with Baxter or named as one (file, text on the line): the
-#: default robot left off a recorded command, the shortcut of Baxter's unscaled scene, the
-#: node's robot when the bundle names none, Baxter's left arm, the robots of the results'
-#: runs.
-ROBOT_USES = {
-    ("experiments/perturbations.py", 'if robot == "baxter" else ["--robot", robot]'),
-    ("experiments/tasks.py", 'if robot == "baxter" else ["--robot", robot]'),
-    ("experiments/lfd_skills.py", 'if scene == "virtual" and robot != "baxter":'),
-    ("framework/robots.py", 'if scene != "bullet" or robot == "baxter":'),
-    ("ros/robot.py", '.get("name", "")) or "baxter"'),
-    ("ros/robot.py", 'if arm == "left" and robot != "baxter":'),
-    ("results/catalog.py", '"--scene", "bullet", "--robot", "baxter",'),
-    ("results/catalog.py", '_lfd_on("baxter", 10)'),
-    ("results/catalog.py", '_lfd_on("baxter", 40)'),
-}
 #: The one place the scene name stands: the mapping of the earlier scene names.
 LEGACY_HOME = ("rollout/env.py", "LEGACY_SCENES: dict[str, tuple[str, str]] = {")
 
@@ -129,8 +114,6 @@ def _kind(rel: str, line: str) -> str | None:
         return "robot entry"
     if (rel, line.strip()[:len(LEGACY_HOME[1])]) == LEGACY_HOME:
         return "legacy scene"
-    if any(rel == f and text in line for f, text in ROBOT_USES):
-        return "robot"
     if DEFAULT.search(line):
         return "default"
     return None
@@ -138,8 +121,8 @@ def _kind(rel: str, line: str) -> str | None:
 
 def test_the_package_names_baxter_only_as_a_robot_and_once_as_an_earlier_scene() -> None:
     """``grep -rn '"baxter"' python/a2l``: every hit is a built-in robot entry, a default
-    value, a robot compared with Baxter or named as one (:data:`ROBOT_USES`), or the one
-    mapping of the earlier scene name (:data:`a2l.rollout.env.LEGACY_SCENES`)."""
+    value (:data:`a2l.robot.DEFAULT_ROBOT` where a robot is compared with Baxter), or the
+    one mapping of the earlier scene name (:data:`a2l.rollout.env.LEGACY_SCENES`)."""
     hits: dict[str, list[str]] = {}
     for path in sorted(PACKAGE.rglob("*")):
         if not path.is_file() or path.suffix in (".so", ".pyd", ".pyc"):

@@ -233,14 +233,14 @@ def resolve_scene(scene: str | None, robot: str) -> str:
         other than the default in the virtual scene (which has none), an unknown robot or
         robot file.
     """
-    from a2l.robot import robot_entry
+    from a2l.robot import DEFAULT_ROBOT, robot_entry
     from a2l.rollout.env import LEGACY_SCENES, normalise_scene
 
     scene = "bullet" if scene is None else scene
     if scene not in (*SCENES, *LEGACY_SCENES):
         raise ConfigError("--scene", f"must be one of {list(SCENES)}, got {scene!r}")
     scene, robot = normalise_scene(scene, robot, "--robot")
-    if scene == "virtual" and robot != "baxter":
+    if scene == "virtual" and robot != DEFAULT_ROBOT:
         raise ConfigError("--robot", f"the virtual scene has no robot (asked for {robot!r}); "
                           "use scene 'bullet'")
     try:

@@ -70,6 +70,7 @@ from a2l.experiments.perturbation_trials import (
 )
 from a2l.lfd.config import LfDConfig
 from a2l.progress import print_tables, progress_bar
+from a2l.robot.builtin_robots import DEFAULT_ROBOT
 from a2l.rundir import command_line
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
@@ -239,7 +240,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
          str(workers)] + (["--cluster", cluster] if cluster else [])
         + ([] if conds == list(CONDITIONS) else ["--conditions", ",".join(conds)])
         + ["--context_source", context_source]
-        + ([] if robot == "baxter" else ["--robot", robot]))
+        + ([] if robot == DEFAULT_ROBOT else ["--robot", robot]))
     if cfg is not None:  # the skills' configuration given: its every field on the command
         command = command_line(shlex.split(command), cfg, prefix="lfd.")
     config = {"experiment": "perturbations", "skills": names, "conditions": conds,

@@ -60,6 +60,7 @@ from a2l.experiments.task_trials import (
     trial_task,
 )
 from a2l.progress import print_tables, progress_bar
+from a2l.robot.builtin_robots import DEFAULT_ROBOT
 
 __all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "TaskTrial",
            "learn_task_skills", "play_task", "record_task_trials", "run_tasks", "trial_task"]
@@ -158,7 +159,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
                           ",".join(names), "--trials", str(trials), "--seed", str(seed),
                           "--workers", str(workers), "--planner", planner,
                           "--context_source", context_source]
-                         + ([] if robot == "baxter" else ["--robot", robot])
+                         + ([] if robot == DEFAULT_ROBOT else ["--robot", robot])
                          + ([] if list(faults) == [False, True] else
                             ["--faults", "with" if list(faults) == [True] else "without"]))
     config = {"experiment": "tasks", "tasks": {n: {

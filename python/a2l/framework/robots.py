@@ -10,6 +10,7 @@ from dataclasses import replace
 from typing import Any
 
 from a2l.errors import ConfigError
+from a2l.robot.builtin_robots import DEFAULT_ROBOT
 
 __all__ = ["LENGTHS", "check_robot", "scaled_parts"]
 
@@ -39,7 +40,7 @@ def scaled_parts(scene: str, robot: str, parts: Mapping[str, Any]) -> dict[str, 
     """The parts of a configuration (by name, from `parts`) whose lengths left at their
     defaults change on `robot`'s scene: each scaled, rounded to the micrometre. Empty
     outside the ``bullet`` scene, on Baxter, and on a robot of scale 1."""
-    if scene != "bullet" or robot == "baxter":
+    if scene != "bullet" or robot == DEFAULT_ROBOT:
         return {}
     from a2l.robot import robot_entry, table_layout
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from a2l.robot.builtin_robots import DEFAULT_ROBOT
 from a2l.rundir import read_json
 
 __all__ = ["CONTEXTS", "ENTRIES", "PROFILES", "Entry", "Run", "by_context", "entries"]
@@ -195,7 +196,7 @@ def _both(key: str, *args: str, resume: bool = False) -> list[Run]:
 def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
     """The Baxter push run of `seed` with the camera and with the ground truth (the runs of
     scene ``baxter``, its earlier name, are the same)."""
-    return _both(key, "experiment", "push", "--scene", "bullet", "--robot", "baxter",
+    return _both(key, "experiment", "push", "--scene", "bullet", "--robot", DEFAULT_ROBOT,
                  "--discretization.n_effects",
                  str(effects), "--seed", str(seed), "--quiet", *extra, resume=True)
 
@@ -268,8 +269,8 @@ ENTRIES: tuple[Entry, ...] = (
           details=_push_baxter_misses),
     Entry("robots-lfd", "Skills learned from demonstrations on the Panda beside Baxter "
           "(a2l experiment lfd-skills --robot; camera context)",
-          {"quick": [_lfd_on("baxter", 10), _lfd_on("panda", 10)],
-           "full": [_lfd_on("baxter", 40), _lfd_on("panda", 40)]},
+          {"quick": [_lfd_on(DEFAULT_ROBOT, 10), _lfd_on("panda", 10)],
+           "full": [_lfd_on(DEFAULT_ROBOT, 40), _lfd_on("panda", 40)]},
           _lfd_robots),
     # the PR2 (the robot of the thesis' NovEB chapter) plays an evaluation in ~1.1 s, twice
     # Baxter's: the full profile runs 1000 evaluations (Baxter's table: 2000) on 2 seeds

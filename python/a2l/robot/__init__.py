@@ -13,7 +13,7 @@ user's arm is a robot file (:func:`load_robot`; :func:`robot_entry` takes a name
 
 from __future__ import annotations
 
-from a2l.robot.builtin_robots import BUILTIN_ROBOTS, arm_spec, builtin_robot
+from a2l.robot.builtin_robots import BUILTIN_ROBOTS, DEFAULT_ROBOT, arm_spec, builtin_robot
 from a2l.robot.descriptions import (
     BAXTER_ARMS,
     ArmSpec,
@@ -31,6 +31,7 @@ from a2l.robot.layout import TableLayout, table_layout
 from a2l.robot.robot_file import arm_entry, load_robot, robot_entry
 
 __all__ = [
+    "DEFAULT_ROBOT",
     "BAXTER_ARMS",
     "BUILTIN_ROBOTS",
     "GRIPPER_DOWN",

@@ -27,7 +27,7 @@ from a2l.robot.descriptions import (
 from a2l.robot.entries import Gripper, Mount, RobotEntry
 from a2l.robot.gripper import BAXTER_FINGER_OPEN, GRIPPER_DOWN, PANDA_DOWN
 
-__all__ = ["BUILTIN_ROBOTS", "arm_spec", "builtin_robot"]
+__all__ = ["BUILTIN_ROBOTS", "DEFAULT_ROBOT", "arm_spec", "builtin_robot"]
 
 _DOWN_Y = ((-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0))  # z down, y along y
 #: Baxter's mount: the thesis' table (centre (0.75, -0.15) and top at z = -0.20 in Baxter's
@@ -117,6 +117,10 @@ _BUILDERS: dict[str, Callable[[], RobotEntry]] = {
 
 #: Names of the built-in robots.
 BUILTIN_ROBOTS: tuple[str, ...] = tuple(_BUILDERS)
+
+#: The robot of every scene, experiment and node not told another: Baxter (right arm), the
+#: thesis' robot.
+DEFAULT_ROBOT = "baxter"
 
 
 def builtin_robot(name: str) -> RobotEntry:

@@ -8,7 +8,14 @@ from collections.abc import Mapping
 from typing import Any
 
 from a2l.errors import A2LValueError
-from a2l.robot import BAXTER_ARMS, BUILTIN_ROBOTS, ArmSpec, RobotEntry, arm_entry
+from a2l.robot import (
+    BAXTER_ARMS,
+    BUILTIN_ROBOTS,
+    DEFAULT_ROBOT,
+    ArmSpec,
+    RobotEntry,
+    arm_entry,
+)
 from a2l.skills.runner import CppSkillRunner
 
 __all__ = ["check_robot", "node_robot", "skill_object"]
@@ -42,12 +49,12 @@ def node_robot(robot: str, bundle_robot: Mapping[str, Any] | None = None,
     if arm not in BAXTER_ARMS:
         raise A2LValueError(f"unknown arm {arm!r}; Baxter's are {sorted(BAXTER_ARMS)}")
     if not robot:
-        name = str((bundle_robot or {}).get("name", "")) or "baxter"
+        name = str((bundle_robot or {}).get("name", "")) or DEFAULT_ROBOT
         if name not in BUILTIN_ROBOTS:
             raise A2LValueError(f"the bundle was learned for robot {name!r}, not a built-in "
                                 "one: give its robot file (robot parameter, --robot FILE)")
         robot = name
-    if arm == "left" and robot != "baxter":
+    if arm == "left" and robot != DEFAULT_ROBOT:
         raise A2LValueError(f"arm 'left' is Baxter's (robot 'baxter-left'), not robot "
                             f"{robot!r}'s")
     return arm_entry(robot, arm)
