@@ -273,10 +273,10 @@ ENTRIES: tuple[Entry, ...] = (
            "full": [_lfd_on(DEFAULT_ROBOT, 40), _lfd_on("panda", 40)]},
           _lfd_robots),
     # the PR2 (the robot of the thesis' NovEB chapter) plays an evaluation in ~1.1 s, twice
-    # Baxter's: the full profile runs 1000 evaluations (Baxter's table: 2000) on 2 seeds
+    # Baxter's: the full profile runs 400 evaluations (Baxter's table: 2000) on 2 seeds
     Entry("robots-babbling", "Exploration on the PR2: NovEB against random motor babbling "
           "(a2l experiment babbling-compare --robot pr2)",
-          {"quick": [_babbling_on("pr2", 400, 2)], "full": [_babbling_on("pr2", 1000, 2)]},
+          {"quick": [_babbling_on("pr2", 200, 2)], "full": [_babbling_on("pr2", 400, 2)]},
           _babbling, ("progress.png", "visits.png")),
     Entry("babbling", "Exploration: NovEB against random motor and random goal babbling "
           "(a2l experiment babbling-compare)",
