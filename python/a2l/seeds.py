@@ -117,8 +117,8 @@ REGISTRY: dict[str, ExperimentSeeds] = {e.experiment: e for e in (
     ExperimentSeeds("panda-gym", "the framework's draws inside panda-gym (" + _FRAMEWORK
                     + "); --eval_seed draws the evaluation episodes' resets from a stream "
                     "of its own", (1000, 1999), "its framework settings (a2l.experiments."
-                    "panda_gym.SETTINGS) and the goal controller's keep were chosen on "
-                    "learning seeds 0-2 with evaluation seed 500 (docs/gym.md)"),
+                    "panda_gym.SETTINGS) and the goal controller's keep and transit were "
+                    "chosen on learning seeds 0-2 with evaluation seed 500 (docs/gym.md)"),
     ExperimentSeeds("tasks", "each trial's set-up and its fault", (7000, 7999),
                     "the planning and transit settings were set without trial seeds of this "
                     "block", _LFD_STREAMS),

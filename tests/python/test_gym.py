@@ -165,3 +165,57 @@ def test_the_goal_controller_descends_clear_of_the_cube_before_it_pushes() -> No
         assert np.hypot(*(scene.eef_position() - cube)[:2]) >= 0.05
     finally:
         scene.close()
+
+
+def test_the_transit_goes_over_the_cube_to_the_face_it_pushes_next() -> None:
+    from a2l.rollout.goal import Transit
+
+    scene = gym_scene("PandaPush-v3", seed=0, slow_radius=0.06, slow_scale=0.5)
+    transit = Transit()
+    far = np.array([1.0, 0.0])
+    try:
+        # the gripper pressed against the cube's far face: to push it +x it must go round
+        scene.reset(eef=np.array([0.04, 0.0, 0.02]), objects={"object": (0.0, 0.0)})
+        cube = np.asarray(scene.ground_truth()["objects"]["object"])
+        assert not transit.in_place(scene.eef_position(), cube, far)
+        over, steps = [], 0
+        while (move := transit.next(scene.eef_position(), cube, far, 0.05)) is not None:
+            assert steps < transit.max_steps
+            scene.move_by(move)
+            steps += 1
+            p = scene.eef_position()
+            if np.hypot(*(p - cube)[:2]) < 0.025:  # over the cube's top
+                over.append(p[2])
+        moved = np.asarray(scene.ground_truth()["objects"]["object"]) - cube
+        assert np.linalg.norm(moved[:2]) < 0.003  # over it, not through it
+        assert over and min(over) > 2 * cube[2] + 0.01  # above its top (4 cm)
+        assert np.linalg.norm(scene.eef_position() - transit.target(cube, far)) < 0.015
+        assert transit.in_place(scene.eef_position(), cube, far)
+        assert scene.env_steps == steps <= 10
+    finally:
+        scene.close()
+
+
+def test_move_by_keeps_its_height_and_full_speed_in_the_air() -> None:
+    scene = gym_scene("PandaPush-v3", seed=0, slow_radius=0.06, slow_scale=0.5)
+    try:
+        # over the cube in the air: not slowed (nothing to push there), z as given
+        scene.reset(eef=np.array([-0.03, 0.0, 0.1]), objects={"object": (0.0, 0.0)})
+        before = scene.eef_position()
+        scene.move_by(np.array([0.05, 0.0, 0.0]))
+        after = scene.eef_position()
+        assert abs(after[2] - before[2]) < 0.01 and after[0] - before[0] > 0.02
+        # away from it, a planar movement of the repertoire goes down to the work height;
+        # move_by does not (the arm sags a few mm in one env.step)
+        dropped = []
+        for planar in (True, False):
+            scene.reset(eef=np.array([-0.15, 0.0, 0.1]), objects={"object": (0.0, 0.0)})
+            if planar:
+                scene.execute((1, 0, 0))
+            else:
+                scene.move_by(np.array([0.05, 0.0, 0.0]))
+            dropped.append(0.1 - scene.eef_position()[2])
+        assert dropped[1] < 0.01 and dropped[0] > 2 * dropped[1]
+        assert scene.env_steps == 3
+    finally:
+        scene.close()

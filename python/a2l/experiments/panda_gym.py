@@ -40,6 +40,7 @@ from a2l.framework import FrameworkConfig, run_framework
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
 from a2l.rollout.env import scene_env
+from a2l.rollout.goal import Transit
 from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import EVALUATION_FIRST, mark_report, seed_record
 
@@ -102,6 +103,10 @@ class PandaGymConfig:
         Most iterations of the framework.
     keep : float
         The goal-reaching controller's `keep` (:class:`a2l.rollout.goal.GoalPolicy`, m).
+    transit : bool
+        The controller's transit over the cube to the face it pushes next
+        (:class:`a2l.rollout.goal.Transit`, its defaults); False: the descent and the
+        skill alone.
     placement : {"teleport", "drive"}
         How a learning rollout reaches its start (:data:`a2l.gym.PLACEMENTS`).
     """
@@ -113,7 +118,8 @@ class PandaGymConfig:
     curve_episodes: int = 100
     budget: int = 50_000
     max_iterations: int = 10
-    keep: float = 0.08
+    keep: float = 0.06
+    transit: bool = True
     placement: str = "teleport"
 
     def __post_init__(self) -> None:
@@ -132,6 +138,11 @@ class PandaGymConfig:
     def env_id(self) -> str:
         """The task's environment."""
         return TASKS[self.task]
+
+    @property
+    def controller_transit(self) -> Transit | None:
+        """The goal controller's transit (:class:`a2l.rollout.goal.Transit`), or None."""
+        return Transit() if self.transit else None
 
     @property
     def evaluation_seed(self) -> int:
@@ -200,6 +211,7 @@ def run_panda_gym(cfg: PandaGymConfig | None = None, out: str | Path | None = No
     runs: dict[int, Any] = {}
     try:
         episodes = evaluate(scene, bundle, seeds, keep=cfg.keep,
+                            transit=cfg.controller_transit,
                             on_episode=lambda e, r: runs.__setitem__(e.index, r))
     finally:
         scene.close()
@@ -243,7 +255,7 @@ def _learn(cfg: PandaGymConfig, fw: FrameworkConfig, run_dir: Path, curve_seeds:
                 name = (run_dir / "skills" / "accepted.txt").read_text().strip()
                 if name not in judged:
                     eps = evaluate(evaluator, run_dir / "skills" / name, curve_seeds,
-                                   keep=cfg.keep)
+                                   keep=cfg.keep, transit=cfg.controller_transit)
                     judged[name] = float(np.mean([e.success for e in eps]))
                 point = {"iteration": it, "env_steps": scene.env_steps,
                          "resets": scene.resets, "placements": scene.placements,
@@ -284,6 +296,7 @@ def _metrics(cfg: PandaGymConfig, fw: FrameworkConfig, curve: list[dict[str, Any
         "miss_causes": dict(misses.most_common()),
         "learning_curve": curve,
         "n_effects": fw.discretization.n_effects, "placement": cfg.placement,
+        "keep": cfg.keep, "transit": asdict(cfg.controller_transit) if cfg.transit else None,
         "wall_s": {"learning": t_learn, "evaluation": t_eval},
         "bundle": "skills/push.a2lb",
     }

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from a2l.rollout.goal import DESCENT, GoalRun, reach_goal
+from a2l.rollout.goal import GoalRun, reach_goal
 from a2l.skills.effects import EFFECT_DIRECTIONS
 
 if TYPE_CHECKING:
@@ -91,7 +91,7 @@ def _segments(run: GoalRun) -> list[tuple[str, int, int]]:
     chosen for the same effect."""
     out: list[tuple[str, int, int]] = []
     for k, e in enumerate(run.effects):
-        if e == DESCENT:
+        if e not in EFFECT_DIRECTIONS:  # the descent's or the transit's
             continue
         if out and out[-1][0] == e and out[-1][2] == k:
             out[-1] = (e, out[-1][1], k + 1)

@@ -150,6 +150,7 @@ class GymScene(Scene):
         super().__init__(config or GymSceneConfig(), seed)
         self.env = env
         self.env_steps = self.resets = self.placements = 0
+        self._exact = False
         self.terminated = self.truncated = False
         self.info: dict[str, Any] = {}
         self.access = access or env_access(env)
@@ -236,6 +237,16 @@ class GymScene(Scene):
     def _object_names(self) -> list[str]:
         return list(self.access.object_names)
 
+    def move_by(self, displacement: ArrayLike) -> MoveResult:
+        """Move the end-effector by `displacement` (3,) (m) in one ``env.step``, its z
+        component as given (a planar movement of the repertoire, :meth:`execute`, has its
+        height set by the scene); at most ``action_scale`` along each axis is carried out."""
+        self._exact = True
+        try:
+            return super().move_by(displacement)
+        finally:
+            self._exact = False
+
     def _move(self, displacement: NDArray[np.float64]) -> MoveResult:
         cfg = self.config
         here = self.eef_position()
@@ -243,9 +254,9 @@ class GymScene(Scene):
         target = here + displacement
         near = min(np.hypot(*(here - obj)[:2]), np.hypot(*(target - obj)[:2]))
         action = np.asarray(displacement, dtype=float) / cfg.action_scale
-        if near < cfg.slow_radius:
+        if near < cfg.slow_radius and here[2] <= self.work_height + AIR:
             action *= cfg.slow_scale
-        if displacement[2] == 0.0:
+        if displacement[2] == 0.0 and not self._exact:
             action[2] = self._height_action(here[2], obj, near)
         self._env_step(action)
         return MoveResult(True, "ok", "", target, self.eef_position())

@@ -26,11 +26,14 @@ from a2l.rollout.world import SceneWorld
 from a2l.skills.effects import EFFECT_DIRECTIONS
 from a2l.skills.runner import CppSkillRunner
 
-__all__ = ["DESCENT", "GoalPolicy", "GoalRun", "descent", "reach_goal"]
+__all__ = ["DESCENT", "TRANSIT", "GoalPolicy", "GoalRun", "Transit", "behind", "descent",
+           "reach_goal", "transit"]
 
 
 #: What a goal-reaching run records for a movement of its descent (no effect's).
 DESCENT = "descent"
+#: What a goal-reaching run records for a movement of its transit (no effect's).
+TRANSIT = "transit"
 
 
 class GoalPolicy:
@@ -67,7 +70,7 @@ class GoalPolicy:
 
     def __init__(self, bundle: str | os.PathLike[str], goal: ArrayLike, keep: float = 0.02,
                  effects: Sequence[str] | None = None, air: float = 0.02,
-                 clear_radius: float = 0.06) -> None:
+                 clear_radius: float = 0.06, transit: Transit | None = None) -> None:
         self.runner = CppSkillRunner(bundle)
         known = [e for e in self.runner.skill.effect_values if e in EFFECT_DIRECTIONS]
         names = list(effects) if effects is not None else known
@@ -81,8 +84,10 @@ class GoalPolicy:
         self.goal = np.asarray(goal, dtype=float).reshape(-1)[:2].copy()
         self.keep = float(keep)
         self.air, self.clear_radius = float(air), float(clear_radius)
+        self.transit = transit
         self.step = self.runner.step_length
         self.current: int | None = None
+        self.travelling = 0
         self.chosen: list[str] = []
 
     def effect_for(self, obj: NDArray[np.float64]) -> int:
@@ -93,19 +98,42 @@ class GoalPolicy:
             return self.current
         return int(np.argmax(along / max(float(np.linalg.norm(d)), 1e-12)))
 
+    def _descent(self, eef: NDArray[np.float64], obj: NDArray[np.float64]
+                 ) -> Decision | None:
+        """The descent's next movement (:func:`descent`), recorded, or None."""
+        down = descent(eef, obj, self.step, self.air, self.clear_radius)
+        if down is None:
+            return None
+        self.chosen.append(DESCENT)
+        return Decision("ok", DESCENT, down, down.copy())
+
     def __call__(self, k: int, eef: NDArray[np.float64], obj: NDArray[np.float64],
                  states: dict[str, str]) -> Decision:
         """Step k: the movement the C++ step chooses for the effect of the moment."""
         if not np.all(np.isfinite(obj)):
             return Decision("unknown_context")
-        down = descent(eef, obj, self.step, self.air, self.clear_radius)
-        if down is not None:
-            self.chosen.append(DESCENT)
-            return Decision("ok", DESCENT, down, down.copy())
+        if self.transit is None:
+            down = self._descent(eef, obj)
+            if down is not None:
+                return down
         e = self.effect_for(obj)
         if e != self.current:
             self.runner.reset()
             self.current = e
+            travel = self.transit is not None and not self.transit.in_place(
+                eef, obj, self.units[e], self.air)
+            self.travelling = self.transit.max_steps if travel and self.transit else 0
+        if self.travelling > 0:
+            assert self.transit is not None
+            move = self.transit.next(eef, obj, self.units[e], self.step)
+            self.travelling = self.travelling - 1 if move is not None else 0
+            if move is not None:
+                self.chosen.append(TRANSIT)
+                return Decision("ok", TRANSIT, move, move.copy())
+        if self.transit is not None:  # a transit cut short in the air
+            down = self._descent(eef, obj)
+            if down is not None:
+                return down
         out = self.runner.step(eef, obj, self.effects[e], states)
         if out.status == "step_cap":  # one push is capped, the chain goes on
             self.runner.reset()
@@ -152,6 +180,152 @@ def descent(eef: ArrayLike, obj: ArrayLike, step: float, air: float = 0.02,
     return np.array([unit[0], unit[1], 0.0]) * step
 
 
+def behind(obj: ArrayLike, direction: ArrayLike, distance: float) -> NDArray[np.float64]:
+    """The point `distance` behind the object's centre for a push along `direction`.
+
+    Parameters
+    ----------
+    obj : array_like, shape (3,)
+        The object's centre (m).
+    direction : array_like, shape (2,)
+        The planar unit direction the object is to move.
+    distance : float
+        From the object's centre (m).
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        At the object's height (m).
+    """
+    o = np.asarray(obj, dtype=float)
+    u = np.asarray(direction, dtype=float)
+    return np.array([o[0] - u[0] * distance, o[1] - u[1] * distance, o[2]])
+
+
+def _crosses(e: NDArray[np.float64], t: NDArray[np.float64], o: NDArray[np.float64],
+             lift: float, clear: float) -> bool:
+    """Whether the straight way from `e` to `t` (3,) passes within `clear` of the object's
+    centre `o` (3,) in the plane lower than `lift` above it."""
+    for s in np.linspace(0.0, 1.0, 21):
+        p = e + s * (t - e)
+        if p[2] < o[2] + lift and float(np.hypot(*(p[:2] - o[:2]))) < clear:
+            return True
+    return False
+
+
+def transit(eef: ArrayLike, obj: ArrayLike, target: ArrayLike, step: float,
+            lift: float = 0.07, clear: float = 0.05, gain: float = 1.5,
+            tolerance: float = 0.01) -> NDArray[np.float64] | None:
+    """The next displacement of a transit to `target` that goes over the object, or None
+    once there.
+
+    Straight towards the target where that way stays clear of the object (nowhere within
+    `clear` of its centre in the plane lower than `lift` above it); else, low and within
+    ``clear + step`` of the object in the plane, straight up to `lift` above its centre;
+    else towards the point above the target at the end-effector's height (at least `lift`
+    above the object), without descending until the way down is clear.
+
+    Parameters
+    ----------
+    eef, obj, target : array_like, shape (3,)
+        End-effector, object centre and target (m); the target clear of the object.
+    step : float
+        Most displacement along each axis (m).
+    lift : float
+        Height above the object's centre over which the transit crosses it (m).
+    clear : float
+        The way passes the object's centre at least this far in the plane, or over it (m).
+    gain : float
+        The displacement is `gain` times the way left to the point aimed at (the arm
+        carries out part of it), clipped to `step` along each axis.
+    tolerance : float
+        Arrived within this of the target in the plane and in height (m).
+
+    Returns
+    -------
+    ndarray, shape (3,), or None
+        The displacement (m).
+    """
+    e, o, t = (np.asarray(v, dtype=float).reshape(3) for v in (eef, obj, target))
+    left = t - e
+    if float(np.hypot(left[0], left[1])) <= tolerance and abs(float(left[2])) <= tolerance:
+        return None
+    aim = t.copy()
+    if _crosses(e, t, o, lift, clear):
+        aim[2] = max(float(e[2]), float(o[2]) + lift)
+        if e[2] < o[2] + lift - tolerance and float(np.hypot(*(e[:2] - o[:2]))) < clear + step:
+            aim[:2] = e[:2]
+    return np.clip(gain * (aim - e), -step, step)
+
+
+@dataclass(frozen=True)
+class Transit:
+    """How the arm gets behind the face it pushes next, outside the skill: over the object.
+
+    When the controller switches to an effect (the first one included) with the
+    end-effector not already behind the object for it (:meth:`in_place`), it moves to the
+    point `behind` the object's centre opposite the effect's direction, at the object's
+    height (:func:`behind`, recomputed as the object moves), by :func:`transit`'s
+    displacements: over the object where the way there crosses it. The C++ step of the
+    skill chooses every movement from there.
+
+    Attributes
+    ----------
+    behind : float
+        Distance of the point from the object's centre (m).
+    lift, clear, gain, tolerance : float
+        As :func:`transit`.
+    lateral : float
+        In place: the end-effector within this of the effect's line through the object's
+        centre (m), and within ``behind + tolerance`` behind the centre along it.
+    max_steps : int
+        Most movements of one transit (an unreachable point ends it there).
+    """
+
+    behind: float = 0.06
+    lift: float = 0.07
+    clear: float = 0.05
+    gain: float = 1.5
+    tolerance: float = 0.01
+    lateral: float = 0.02
+    max_steps: int = 12
+
+    def target(self, obj: ArrayLike, direction: ArrayLike) -> NDArray[np.float64]:
+        """The point the transit goes to for a push along `direction` (2,), shape (3,)."""
+        return behind(obj, direction, self.behind)
+
+    def in_place(self, eef: ArrayLike, obj: ArrayLike, direction: ArrayLike,
+                 air: float = 0.02) -> bool:
+        """The end-effector (3,) is at the object's (3,) height (within `air`) and behind
+        it for a push along `direction` (2,): no transit needed."""
+        e, o = np.asarray(eef, dtype=float), np.asarray(obj, dtype=float)
+        u = np.asarray(direction, dtype=float)
+        rel = o[:2] - e[:2]
+        along = float(rel @ u)
+        lateral = abs(float(rel[0] * u[1] - rel[1] * u[0]))
+        return bool(e[2] <= o[2] + air and 0.0 < along <= self.behind + self.tolerance
+                    and lateral <= self.lateral)
+
+    def next(self, eef: ArrayLike, obj: ArrayLike, direction: ArrayLike,
+             step: float) -> NDArray[np.float64] | None:
+        """The next displacement (3,) of the transit, or None once there (m)."""
+        return transit(eef, obj, self.target(obj, direction), step, self.lift,
+                       self.clear, self.gain, self.tolerance)
+
+
+class _GoalWorld(SceneWorld):
+    """The scene of a goal-reaching run: a transit's displacement (longer than a
+    movement along the diagonal) is carried out by ``scene.move_by``."""
+
+    def act(self, decision: Decision) -> str:
+        if decision.label != TRANSIT:
+            return super().act(decision)
+        before = self.truth()
+        res = self.scene.move_by(decision.command)
+        self.produced += self.truth() - before
+        return str(res.status)
+
+
 @dataclass
 class GoalRun:
     """What :func:`reach_goal` did.
@@ -196,7 +370,7 @@ def reach_goal(scene: SceneProtocol, bundle: str | os.PathLike[str], goal: Array
                tolerance: float | None = 0.05, budget: int = 50,
                done: Callable[[], bool] | None = None, keep: float = 0.02,
                effects: Sequence[str] | None = None, air: float = 0.02,
-               clear_radius: float = 0.06) -> GoalRun:
+               clear_radius: float = 0.06, transit: Transit | None = None) -> GoalRun:
     """Bring the scene's primary object to `goal` by chaining the push effects of `bundle`.
 
     Parameters
@@ -215,7 +389,7 @@ def reach_goal(scene: SceneProtocol, bundle: str | os.PathLike[str], goal: Array
     done : callable, optional
         ``done() -> bool`` before each movement: the episode is over (e.g. a Gymnasium
         environment terminated or truncated it).
-    keep, effects, air, clear_radius
+    keep, effects, air, clear_radius, transit
         As :class:`GoalPolicy`.
 
     Returns
@@ -223,8 +397,8 @@ def reach_goal(scene: SceneProtocol, bundle: str | os.PathLike[str], goal: Array
     GoalRun
     """
     policy = GoalPolicy(bundle, goal, keep=keep, effects=effects, air=air,
-                        clear_radius=clear_radius)
-    world = SceneWorld(scene, scene.primary_object, source="ground_truth",
+                        clear_radius=clear_radius, transit=transit)
+    world = _GoalWorld(scene, scene.primary_object, source="ground_truth",
                        displacements=True)
 
     def stop(_k: int, _eef: NDArray[np.float64], obj: NDArray[np.float64],
