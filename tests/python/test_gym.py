@@ -142,7 +142,7 @@ def test_a_short_learning_run_in_panda_push_counts_every_env_step(tmp_path: Path
 
 
 def test_the_goal_controller_descends_clear_of_the_cube_before_it_pushes() -> None:
-    from a2l.rollout.goal import descent
+    from a2l.rollout.approach import descent
 
     scene = gym_scene("PandaPush-v3", seed=0)
     try:
@@ -168,7 +168,7 @@ def test_the_goal_controller_descends_clear_of_the_cube_before_it_pushes() -> No
 
 
 def test_the_transit_goes_over_the_cube_to_the_face_it_pushes_next() -> None:
-    from a2l.rollout.goal import Transit
+    from a2l.rollout.approach import Transit
 
     scene = gym_scene("PandaPush-v3", seed=0, slow_radius=0.06, slow_scale=0.5)
     transit = Transit()

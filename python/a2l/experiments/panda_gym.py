@@ -39,8 +39,8 @@ from a2l.experiments.panda_gym_report import plot_curve, record_episodes, report
 from a2l.framework import FrameworkConfig, run_framework
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars
+from a2l.rollout.approach import Transit
 from a2l.rollout.env import scene_env
-from a2l.rollout.goal import Transit
 from a2l.rundir import command_line, make_run_dir, write_json
 from a2l.seeds import EVALUATION_FIRST, mark_report, seed_record
 
@@ -105,7 +105,7 @@ class PandaGymConfig:
         The goal-reaching controller's `keep` (:class:`a2l.rollout.goal.GoalPolicy`, m).
     transit : bool
         The controller's transit over the cube to the face it pushes next
-        (:class:`a2l.rollout.goal.Transit`, its defaults); False: the descent and the
+        (:class:`a2l.rollout.approach.Transit`, its defaults); False: the descent and the
         skill alone.
     placement : {"teleport", "drive"}
         How a learning rollout reaches its start (:data:`a2l.gym.PLACEMENTS`).
@@ -141,7 +141,7 @@ class PandaGymConfig:
 
     @property
     def controller_transit(self) -> Transit | None:
-        """The goal controller's transit (:class:`a2l.rollout.goal.Transit`), or None."""
+        """The goal controller's transit (:class:`a2l.rollout.approach.Transit`), or None."""
         return Transit() if self.transit else None
 
     @property
