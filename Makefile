@@ -1,7 +1,8 @@
 # a2l: every target does its own set-up, idempotently and without questions.
 #   make demo    set up, then run the main job (a2l demo); prints the set-up and demo wall times
-#   make results set up, then regenerate docs/results/ and the README's tables (a2l results,
-#                PROFILE=quick: about 30 min on an idle 2-core machine; PROFILE=full: hours)
+#   make results set up, then run a2l results: PROFILE=full (hours) regenerates docs/results/
+#                and the README's tables; PROFILE=quick (default, ~30 min on an idle 2-core
+#                machine) is a check that writes docs/results/quick/ only
 #   make test    set up, then run the C++ tests (ctest), the real-time tests again with Eigen's
 #                allocation guard, the Python tests (pytest) and the fuzzer; print the counts
 #   make test-fast  set up, then the Python tests not marked slow (a developer's quick loop);

@@ -182,7 +182,7 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
         "command": "a2l experiment sweep --seeds 1000-1002", "commit": "f" * 40,
         "short": "fffffff", "dirty": True, "started": "2026-12-03 08:00 UTC", "wall_s": 15.0,
         "workers": 2, "seed_use": {"use": "evaluation", "seeds": "1000-1002"}})
-    done = run_results("quick", out=out, root=root, only=["push-virtual"], run=False)
+    done = run_results("full", out=out, root=root, only=["push-virtual"], run=False)
     assert done["missing"] == []
     page = (root / "docs" / "results" / "push-virtual.md").read_text()
     body = read_blocks(page)["push-virtual"]
@@ -193,8 +193,16 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     assert read_blocks(readme)["push-virtual"] == body and "typed 100" not in readme
     assert copy_blocks(root, root / "docs" / "results") == []  # nothing left to copy
     # the entry's runs not done: no page, the entry reported missing
-    done = run_results("quick", out=out, root=root, only=["tasks"], run=False)
+    done = run_results("full", out=out, root=root, only=["tasks"], run=False)
     assert done["missing"] == ["tasks"] and done["pages"] == []
+    # the quick profile's page of the same runs goes to its own folder, and nothing copies it
+    readme = (root / "README.md").read_text()
+    quick = run_results("quick", out=out, root=root, only=["push-virtual"], run=False)
+    assert quick["pages"] == [str(root / "docs" / "results" / "quick" / "push-virtual.md")]
+    assert quick["copied"] == [] and (root / "README.md").read_text() == readme
+    assert (root / "docs" / "results" / "push-virtual.md").read_text() == page
+    quick_page = Path(quick["pages"][0]).read_text()
+    assert "--profile quick" in quick_page and "[seeds.md](../../seeds.md)" in quick_page
 
 
 def test_a_caption_names_each_seed_use_once_with_its_ranges() -> None:
@@ -242,9 +250,10 @@ def test_what_a2l_results_writes_itself_does_not_make_the_tree_dirty(tmp_path: P
         "command": "a2l experiment sweep --seeds 1000", "commit": "f" * 40, "short": "fffffff",
         "dirty": False, "started": "2026-12-03 08:00 UTC", "wall_s": 5.0, "workers": 1,
         "seed_use": None})
-    assert run_results("quick", out=out, root=root, run=False)["dirty"] is False
+    assert run_results("full", out=out, root=root, run=False)["dirty"] is False
     assert git_state(root)["dirty"]  # README's block and docs/results/ changed ...
-    again = run_results("quick", out=out, root=root, run=False)
+    again = run_results("full", out=out, root=root, run=False)
     assert again["dirty"] is False  # ... but only by a2l results
+    assert run_results("quick", out=out, root=root, run=False)["dirty"] is False
     (root / "README.md").write_text((root / "README.md").read_text() + "more\n")
-    assert run_results("quick", out=out, root=root, run=False)["dirty"] is True
+    assert run_results("full", out=out, root=root, run=False)["dirty"] is True

@@ -51,7 +51,9 @@ def add_results_parser(sub: Any, commands: dict[tuple[str, ...], Any]) -> None:
         "continues: runs already done are not made again.")
     p.add_argument("--profile", choices=("quick", "full"), default="quick",
                    help="quick: fewer seeds and trials (about 30 min on an idle 2-core "
-                   "machine); full: the experiments' pages' sizes (hours). Default quick")
+                   "machine), a check: its pages go to docs/results/quick/ and are copied "
+                   "nowhere; full: the experiments' pages' sizes (hours), the published "
+                   "pages and tables. Default quick")
     p.add_argument("--out", metavar="DIR", default=None,
                    help="where the runs go (default runs/results-<profile>)")
     p.add_argument("--only", metavar="A,B,...", default=None,
