@@ -221,6 +221,12 @@ def results_table(summary: dict[str, dict[str, Any]],
     return "\n".join(lines)
 
 
+def learned_for(scene: str, robot: str) -> str | None:
+    """The robot a skill tried in `scene` (:func:`resolve_scene`'s) is learned for: `robot`,
+    or None in the virtual scene, which has none."""
+    return None if scene == "virtual" else robot
+
+
 def resolve_scene(scene: str | None, robot: str) -> str:
     """The scene of a run on `robot`: `scene`, ``"bullet"`` when None; an earlier scene name
     (:data:`a2l.rollout.env.LEGACY_SCENES`) is the scene it names now (``baxter``:
@@ -298,10 +304,10 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
              "--trials", trials, "--seed", seed, "--scene", scene, "--mode", mode,
              "--context_source", context_source, "--workers", workers,
              *(["--robot", robot] if scene == "bullet" else [])]
-    learned_for = None if scene == "virtual" else robot
+    learned_robot = learned_for(scene, robot)
     write_json(run_dir / "config.json", {
         "experiment": "lfd-skills", "skills": names, "trials": trials, "seed": seed,
-        "scene": scene, "robot": learned_for, "mode": mode, "context_source": context_source,
+        "scene": scene, "robot": learned_robot, "mode": mode, "context_source": context_source,
         "workers": workers,
         "configs": {n: skill_config(n, cfg).to_json() for n in names},
         "command": command_line(words, cfg, prefix="lfd."),
@@ -309,7 +315,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     bundles, learning = {}, {}
     for name in names:
         t0 = time.perf_counter()
-        learned = learn_recipe(name, run_dir / "skills", cfg, robot=learned_for)
+        learned = learn_recipe(name, run_dir / "skills", cfg, robot=learned_robot)
         bundles[name] = learned.bundle
         learning[name] = {"rows": learned.rows, "seconds": time.perf_counter() - t0,
                           **{f"{k}_s": v for k, v in learned.timings.items()}}
@@ -322,7 +328,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
     frame = pd.DataFrame(results)
     atomic_write_text(run_dir / "trials.csv", frame.to_csv(index=False))
     summary = summarise(frame)
-    metrics = {"scene": scene, "robot": learned_for, "mode": mode,
+    metrics = {"scene": scene, "robot": learned_robot, "mode": mode,
                "context_source": context_source,
                "seeds": [seeds[0], seeds[-1]],
                "config": skill_config(names[0], cfg).to_json(),

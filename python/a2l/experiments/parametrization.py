@@ -33,6 +33,7 @@ from a2l.errors import ConfigError
 from a2l.experiments.lfd_skills import (
     LfdTrial,
     check_package,
+    learned_for,
     package_dir,
     resolve_scene,
     trial_task,
@@ -122,7 +123,7 @@ def cell_task(task: ParametrizationCell) -> dict[str, Any]:
     cfg = task.config
     t0 = time.perf_counter()
     learned = learn_recipe(task.skill, Path(task.out_dir) / f"cell{task.cell:03d}", cfg,
-                           robot=None if task.scene == "virtual" else task.robot)
+                           robot=learned_for(task.scene, task.robot))
     learn_s = time.perf_counter() - t0
     runs = [trial_task(LfdTrial(task.skill, str(learned.bundle), s, task.scene, "table", cfg,
                                 task.package, keep_run=task.keep_runs, robot=task.robot))
@@ -240,7 +241,7 @@ def _write_config(run_dir: Path, names: list[str], trials: int, seed: int, scene
                                    for v in values[key])]
     write_json(run_dir / "config.json", {
         "experiment": "parametrization", "skills": names, "trials": trials, "seed": seed,
-        "scene": scene, "robot": None if scene == "virtual" else robot, "workers": workers,
+        "scene": scene, "robot": learned_for(scene, robot), "workers": workers,
         "grid": {k: list(v) for k, v in values.items()},
         "base": None if base is None else base.to_json(),
         "command": command_line(words, base, prefix="lfd."),
@@ -325,7 +326,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
            for n in names}
     agrees = all(all(c[k] == chosen[k] for k in DEFAULT_GRID) for c in own.values())
     metrics = {"skills": names, "scene": scene,
-               "robot": None if scene == "virtual" else robot, "trial_seeds": [seeds[0], seeds[-1]],
+               "robot": learned_for(scene, robot), "trial_seeds": [seeds[0], seeds[-1]],
                "grid": {k: list(v) for k, v in values.items()}, "cells": len(combos),
                "selected": chosen, "skill_configs": own,
                "default_is_selected": agrees, "wall_s": time.perf_counter() - t0}
