@@ -210,7 +210,7 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         # union, where the best single view's clipped rectangle was off by up to 1 cm)
         tops: dict[str, list[NDArray[np.float64]]] = {}
         points: dict[str, list[NDArray[np.float64]]] = {}
-        best: dict[str, Sighting] = {}
+        best: dict[str, tuple[tuple[float, float, float], float, NDArray[np.float64]]] = {}
         lit: bool | None = None
         for perception in self.perceptions:
             seen, lamp = perception.segment(*perception.camera.render())
@@ -218,15 +218,15 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
                 tops.setdefault(name, []).append(perception.top_face(pts))
                 points.setdefault(name, []).append(pts)
                 top = tops[name][0] if len(tops[name]) == 1 else np.vstack(tops[name])
-                pos, share = perception.estimate(name, top)
-                best[name] = Sighting(pos, share, top, np.vstack(points[name]),
-                                      perception.is_flat(top))
+                best[name] = (*perception.estimate(name, top), top)
             if "light_on" in lamp:
                 lit = bool(lit) or lamp["light_on"]
             if len(best) == len(perception.targets) and all(
-                    v.visible >= self.config.min_visible for v in best.values()):
+                    share >= self.config.min_visible for _, share, _ in best.values()):
                 break  # every object well seen: no need for another view
-        return best, lit
+        return {name: Sighting(pos, share, top, np.vstack(points[name]),
+                               self.perception.is_flat(top))
+                for name, (pos, share, top) in best.items()}, lit
 
     def _follow(self, sightings: dict[str, Sighting]) -> dict[str, tuple[float, float, float]]:
         """Each object's position from what the cameras saw of it (``sightings``): its
