@@ -105,7 +105,7 @@ class WorldConfig:
             raise ValueError(f"scene: unknown {self.scene!r}; choose one of "
                              f"{list(BABBLING_SCENES)}")
         if None in (self.start, self.low, self.high):
-            start, low, high = _placed(self.robot)
+            start, low, high = _placed(self.layout())
             for name, v in (("start", start), ("low", low), ("high", high)):
                 if getattr(self, name) is None:
                     object.__setattr__(self, name, v)
@@ -139,11 +139,9 @@ class WorldConfig:
                                 tuple(np.asarray(self.high) + up), self.n_waypoints)
 
 
-def _placed(robot: str) -> tuple[tuple[float, float, float], ...]:
-    """:data:`START`, :data:`LOW` and :data:`HIGH` placed at `robot`'s work point."""
-    from a2l.robot import robot_entry, table_layout
-
-    layout = table_layout(robot_entry(robot))
+def _placed(layout: Any) -> tuple[tuple[float, float, float], ...]:
+    """:data:`START`, :data:`LOW` and :data:`HIGH` placed at the work point of `layout` (a
+    :class:`a2l.robot.TableLayout`)."""
     k = layout.scale
 
     def z(v: float) -> float:
