@@ -171,9 +171,8 @@ class FrameworkConfig:
         The robot of a PyBullet scene: a built-in name (:data:`a2l.robot.BUILTIN_ROBOTS`)
         or a robot file's path; its scene geometry follows from it
         (:func:`a2l.robot.table_layout`). The earlier scene name ``baxter`` takes only
-        Baxter. On a
-        robot whose scene is scaled (scale < 1: a small arm), the lengths left at their
-        defaults are scaled with it (:mod:`a2l.framework.robots`).
+        Baxter. On a robot whose scene is scaled (scale < 1: a small arm), the lengths left
+        at their defaults are scaled with it (:mod:`a2l.framework.robots`).
     scene_config : dict
         Extra keyword arguments for :func:`a2l.sim.make_scene`.
     """
