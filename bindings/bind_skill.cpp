@@ -176,6 +176,8 @@ effect_produced : bool
       .def_readonly("action", &StepOutput::action)
       .def_readonly("record", &StepOutput::record);
 
+  m.attr("CLEARANCE_RATIO") = kClearanceRatio;
+
   py::class_<SkillState>(m, "SkillState", R"doc(
 The mutable state of one run of a skill (step counter, scratch buffers, trace ring buffer),
 allocated once here.

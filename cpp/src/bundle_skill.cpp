@@ -202,6 +202,17 @@ bool bundle_detail::parse_execution(const json& m, SkillSettings& s, Errors& e) 
     if (!get_number(*x, "execution.", "clearance", s.clearance, e)) return false;
     if (s.clearance < 0.0) return e.parse("execution.clearance: must be >= 0 (m)");
   }
+  s.clearance_ratio = kClearanceRatio;  // optional key: bundles written before it have 0.5
+  if (x->contains("clearance_ratio")) {
+    if (!get_number(*x, "execution.", "clearance_ratio", s.clearance_ratio, e)) return false;
+    if (!(s.clearance_ratio > 0.0 && s.clearance_ratio <= 1.0)) {
+      return e.parse("execution.clearance_ratio: must be in (0, 1]");
+    }
+  }
+  s.avoid_revisits = false;  // optional key: bundles written before it have no revisit rule
+  if (x->contains("avoid_revisits")) {
+    if (!get_bool(*x, "execution.", "avoid_revisits", s.avoid_revisits, e)) return false;
+  }
   s.fallback = Fallback::none;  // optional key: bundles written before it have none
   if (x->contains("fallback")) {
     std::string name;

@@ -83,6 +83,10 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
     return Result::failure(Status::invalid_argument,
                            "execution.clearance: must be finite and >= 0");
   }
+  if (!(settings.clearance_ratio > 0.0 && settings.clearance_ratio <= 1.0)) {
+    return Result::failure(Status::invalid_argument,
+                           "execution.clearance_ratio: must be in (0, 1]");
+  }
   if (Result r = check_ds_phases(ds_phases); !r.ok()) return r;
   std::vector<Eigen::Vector2d> push_directions;
   if (discretizer.effect_axis() >= 0) {
@@ -127,6 +131,9 @@ SkillState::SkillState(const Skill& skill, std::size_t trace_capacity)
       n_moves_(skill.n_moves()),
       average_(static_cast<size_t>(std::max(skill.n_moves(), 1)), 0.0),
       votes_(static_cast<size_t>(std::max(skill.n_moves(), 1)), 0),
+      spent_(static_cast<size_t>(std::max(skill.n_moves(), 1)), 0),
+      path_(std::min(static_cast<std::size_t>(std::max(skill.settings().step_cap, 1)), kMaxPath)),
+      path_moves_(path_.size(), -1),
       trace_(std::max<std::size_t>(trace_capacity, 1)) {}
 
 void SkillState::push(const TraceRecord& r) noexcept {

@@ -1,5 +1,6 @@
 // step(): one step of a skill's policy table (skill.hpp): the context's row (or its fallback
-// row), the reach of a fallback step, the approach fallback, smoothing and no undo.
+// row), the reach of a fallback step, the approach fallback, smoothing, no undo, the revisit
+// rule and the clearance rule.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -114,6 +115,45 @@ int previous_movement(const Skill& skill, const SkillState& state) noexcept {
              : -1;
 }
 
+// The revisit rule (SkillSettings::avoid_revisits): into `spent` (n_moves) the movements this
+// run chose at the points of its path (SkillState's, eef - object) within half a movement of
+// `r` that it has left since (a step that did not move, e.g. a held arm, is no return);
+// whether there is one.
+bool mark_spent(const Skill& skill, const SkillState& state, const Eigen::Vector3d& r,
+                char* spent) noexcept {
+  const int nm = skill.n_moves();
+  for (int m = 0; m < nm; ++m) spent[m] = 0;
+  if (!skill.settings().avoid_revisits) return false;
+  const double radius = 0.5 * skill.movements().step();
+  auto near = [&](std::size_t j) noexcept { return (state.path_point(j) - r).norm() < radius; };
+  std::size_t left = 0;  // the points before the last one away from r
+  for (std::size_t j = state.path_size(); j-- > 0;) {
+    if (!near(j)) {
+      left = j;
+      break;
+    }
+  }
+  bool any = false;
+  for (std::size_t j = 0; j < left; ++j) {
+    const int m = state.path_movement(j);
+    if (m < 0 || m >= nm || !near(j)) continue;
+    spent[m] = 1;
+    any = true;
+  }
+  return any;
+}
+
+// The movements a step may not take when another is allowed: the one undoing the previous
+// movement (`last`) and those the revisit rule spent (`spent`, n_moves, or null).
+struct Excluded {
+  int last;
+  const char* spent;
+
+  bool operator()(const Skill& skill, int m) const noexcept {
+    return undoes(skill, m, last) || (spent != nullptr && spent[m] != 0);
+  }
+};
+
 // Row `row`'s argmax `am` if the reach allows it, else the most probable movement it allows
 // (`am` if it allows none).
 int best_within_reach(const Skill& skill, const Reach& reach, std::size_t row, int am) noexcept {
@@ -128,15 +168,16 @@ int best_within_reach(const Skill& skill, const Reach& reach, std::size_t row, i
 }
 
 // The `approach` fallback: the allowed movement ending nearest the fallback cell's centre
-// (tx, ty) relative to the object; pass 0 excludes undoing `last`, pass 1 allows it, pass 2
-// any movement.
-int approach_move(const Skill& skill, const Reach& reach, int last, double tx, double ty) noexcept {
+// (tx, ty) relative to the object; pass 0 leaves out the `excluded` movements, pass 1 allows
+// them, pass 2 any movement.
+int approach_move(const Skill& skill, const Reach& reach, const Excluded& excluded, double tx,
+                  double ty) noexcept {
   int best = -1;
   double best_d = 0.0;
   for (int pass = 0; pass < 3 && best < 0; ++pass) {
     for (int m = 0; m < skill.n_moves(); ++m) {
       if (pass < 2 && !reach.allows(skill, m)) continue;
-      if (pass == 0 && undoes(skill, m, last)) continue;
+      if (pass == 0 && excluded(skill, m)) continue;
       const Eigen::Vector3d e = reach.r + skill.movements().displacement(m);
       const double d2 = (e.x() - tx) * (e.x() - tx) + (e.y() - ty) * (e.y() - ty);
       if (best < 0 || d2 < best_d) {
@@ -212,14 +253,14 @@ int smoothed_move(const Skill& skill, const Context& context, const Reach& reach
   return chosen;
 }
 
-// No undo: if `chosen` undoes `last`, the best-scored allowed movement that does not (by
-// `score`, into `chosen` and `prob`); unchanged if there is none.
-void avoid_undo(const Skill& skill, const Reach& reach, int last, const double* score, int& chosen,
-                double& prob) noexcept {
-  if (!undoes(skill, chosen, last)) return;
+// No undo and the revisit rule: if `chosen` is excluded, the best-scored allowed movement
+// that is not (by `score`, into `chosen` and `prob`); unchanged if there is none.
+void avoid_excluded(const Skill& skill, const Reach& reach, const Excluded& excluded,
+                    const double* score, int& chosen, double& prob) noexcept {
+  if (!excluded(skill, chosen)) return;
   int alt = -1;
   for (int m = 0; m < skill.n_moves(); ++m) {
-    if (m == chosen || undoes(skill, m, last)) continue;
+    if (m == chosen || excluded(skill, m)) continue;
     if (!reach.allows(skill, m)) continue;
     if (alt < 0 || score[m] > score[alt]) alt = m;
   }
@@ -243,10 +284,12 @@ bool on_pushing_side(const Skill& skill, const Eigen::Vector3d& r, int effect) n
 
 // The clearance rule (SkillSettings::clearance): away from the pushing side, a `chosen`
 // movement ending nearer the object than the clearance gives way to the best-scored allowed
-// one that does not (by `score`, at least kClearanceRatio of the chosen's; not undoing
-// `last`), into `chosen` and `prob`; unchanged if there is none.
-void keep_clearance(const Skill& skill, const Context& context, const Reach& reach, int last,
-                    const double* score, int& chosen, double& prob) noexcept {
+// one that does not (by `score`, at least SkillSettings::clearance_ratio of the chosen's; not
+// `excluded`),
+// into `chosen` and `prob`; unchanged if there is none.
+void keep_clearance(const Skill& skill, const Context& context, const Reach& reach,
+                    const Excluded& excluded, const double* score, int& chosen,
+                    double& prob) noexcept {
   const double c = skill.settings().clearance;
   if (c <= 0.0 || on_pushing_side(skill, reach.r, context.effect)) return;
   auto end_distance = [&](int m) noexcept {
@@ -254,10 +297,10 @@ void keep_clearance(const Skill& skill, const Context& context, const Reach& rea
     return std::hypot(e.x(), e.y());
   };
   if (end_distance(chosen) >= c) return;
-  const double bar = kClearanceRatio * score[chosen];
+  const double bar = skill.settings().clearance_ratio * score[chosen];
   int alt = -1;
   for (int m = 0; m < skill.n_moves(); ++m) {
-    if (m == chosen || score[m] < bar || score[m] <= 0.0 || undoes(skill, m, last)) continue;
+    if (m == chosen || score[m] < bar || score[m] <= 0.0 || excluded(skill, m)) continue;
     if (!reach.allows(skill, m) || end_distance(m) < c) continue;
     if (alt < 0 || score[m] > score[alt]) alt = m;
   }
@@ -299,8 +342,10 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   int chosen = best_within_reach(skill, reach, row, am);
   double tx = 0.0, ty = 0.0;
   const bool approach = out.record.fallback && skill.fallback_target(cell, tx, ty);
-  const int last = previous_movement(skill, state);
-  if (approach) chosen = approach_move(skill, reach, last, tx, ty);
+  const bool any_spent = mark_spent(skill, state, reach.r, state.spent_.data());
+  const Excluded excluded{previous_movement(skill, state),
+                          any_spent ? state.spent_.data() : nullptr};
+  if (approach) chosen = approach_move(skill, reach, excluded, tx, ty);
   double prob = skill.table().posterior_row(row)[chosen];
   const bool smooth = smoothing_on(skill, state) && !approach;
   if (smooth) {
@@ -309,10 +354,11 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   }
   if (!approach) {
     const double* score = smooth ? state.average_.data() : skill.table().posterior_row(row);
-    avoid_undo(skill, reach, last, score, chosen, prob);
-    keep_clearance(skill, context, reach, last, score, chosen, prob);
+    avoid_excluded(skill, reach, excluded, score, chosen, prob);
+    keep_clearance(skill, context, reach, excluded, score, chosen, prob);
   }
   ++state.steps_;
+  state.remember(reach.r, chosen);
   emit(skill, chosen, prob, out);
   return finish(Status::ok);
 }

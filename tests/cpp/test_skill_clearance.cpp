@@ -1,6 +1,7 @@
 // The clearance rule (execution.clearance): away from the side the wanted push effect pushes
 // from, a movement that would end nearer the object than the clearance gives way to the
-// best-scored one that does not, if that one scores at least kClearanceRatio of it.
+// best-scored one that does not, if that one scores at least the bundle's clearance_ratio of
+// it (kClearanceRatio when the bundle sets none).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,14 +40,19 @@ bool pushing_side(const Eigen::Vector3d& r, int effect) {
   return -p.dot(u) >= std::cos(0.25 * 3.14159265358979323846) * p.norm();
 }
 
-TEST(Clearance, ANearEqualMovementThatKeepsClearGoesFirstAwayFromThePushingSide) {
-  // Without smoothing or fallback the step without the rule takes the row's argmax; with it,
-  // the answer changes exactly where the rule says, to the movement it says.
+// Without smoothing or fallback the step without the rule takes the row's argmax; with it,
+// the answer changes exactly where the rule says, to the movement it says; `ratio` the
+// bundle's clearance_ratio (<= 0: none written).
+void check_rule(double ratio) {
   const BundleParts p = sample_parts(5, 0.0);
   const a2l::Skill plain = load(p);
-  const a2l::Skill skill = load(with_clearance(p, kClearance));
+  BundleParts ruled = with_clearance(p, kClearance);
+  if (ratio > 0.0) ruled.manifest["execution"]["clearance_ratio"] = ratio;
+  const a2l::Skill skill = load(ruled);
+  const double bar = ratio > 0.0 ? ratio : a2l::kClearanceRatio;
   EXPECT_EQ(plain.settings().clearance, 0.0);
   EXPECT_EQ(skill.settings().clearance, kClearance);
+  EXPECT_EQ(skill.settings().clearance_ratio, bar);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> coord(-0.25, 0.25), z(-0.02, 0.06);
   std::uniform_int_distribution<int> effect(0, 3), light(0, 1);
@@ -73,7 +79,7 @@ TEST(Clearance, ANearEqualMovementThatKeepsClearGoesFirstAwayFromThePushingSide)
       int alt = -1;
       for (int m = 0; m < skill.n_moves(); ++m) {
         if (m == o0.movement || post[m] <= 0.0) continue;
-        if (post[m] < a2l::kClearanceRatio * post[o0.movement]) continue;
+        if (post[m] < bar * post[o0.movement]) continue;
         if (end_distance(skill, r, m) < kClearance) continue;
         if (alt < 0 || post[m] > post[alt]) alt = m;
       }
@@ -94,6 +100,37 @@ TEST(Clearance, ANearEqualMovementThatKeepsClearGoesFirstAwayFromThePushingSide)
   EXPECT_GT(changed, 200);
   EXPECT_GT(kept_near, 200);
   EXPECT_GT(pushing, 200);
+}
+
+TEST(Clearance, ANearEqualMovementThatKeepsClearGoesFirstAwayFromThePushingSide) {
+  check_rule(0.0);   // the default bar
+  check_rule(0.25);  // a lower one
+}
+
+TEST(Clearance, ALowerBarYieldsMoreOften) {
+  // the same contexts: every answer the 0.5 bar changes, 0.25 changes too, and more
+  const BundleParts p = sample_parts(5, 0.0);
+  BundleParts half = with_clearance(p, kClearance), quarter = half;
+  quarter.manifest["execution"]["clearance_ratio"] = 0.25;
+  const a2l::Skill plain = load(p), a = load(half), b = load(quarter);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> coord(-0.25, 0.25);
+  int changed_a = 0, changed_b = 0;
+  for (int i = 0; i < 5000; ++i) {
+    a2l::Context c;
+    c.object = {0.7, 0.0, 0.04};
+    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), 0.0);
+    c.effect = i % 4;
+    a2l::SkillState s0(plain), sa(a), sb(b);
+    a2l::StepOutput o0, oa, ob;
+    if (a2l::step(plain, s0, c, o0) != Status::ok) continue;
+    ASSERT_EQ(a2l::step(a, sa, c, oa), Status::ok);
+    ASSERT_EQ(a2l::step(b, sb, c, ob), Status::ok);
+    changed_a += oa.movement != o0.movement ? 1 : 0;
+    changed_b += ob.movement != o0.movement ? 1 : 0;
+    if (oa.movement != o0.movement) EXPECT_NE(ob.movement, o0.movement) << "context " << i;
+  }
+  EXPECT_GT(changed_b, changed_a);
 }
 
 TEST(Clearance, OffByDefaultAndTheSameAnswersAtZero) {
@@ -124,6 +161,19 @@ TEST(Clearance, PushDirectionsComeFromTheEffectNames) {
   EXPECT_TRUE(skill.push_direction(3).isApprox(Eigen::Vector2d(1, 0)));
   EXPECT_EQ(skill.push_direction(4), Eigen::Vector2d::Zero());
   EXPECT_EQ(skill.push_direction(-1), Eigen::Vector2d::Zero());
+}
+
+TEST(Clearance, ARatioOutsideZeroToOneIsAParseError) {
+  for (const auto& bad :
+       {nlohmann::json(0.0), nlohmann::json(1.5), nlohmann::json(-0.2), nlohmann::json("0.5")}) {
+    BundleParts p = sample_parts();
+    p.manifest["execution"]["clearance_ratio"] = bad;
+    const auto bytes = build(p);
+    a2l::Skill s;
+    const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+    EXPECT_EQ(r.status, Status::parse_error) << bad;
+    EXPECT_NE(r.message.find("execution.clearance_ratio"), std::string::npos) << r.message;
+  }
 }
 
 TEST(Clearance, ANegativeOrNonNumericClearanceIsAParseError) {

@@ -134,10 +134,12 @@ INSTANTIATE_TEST_SUITE_P(SmoothingFallbackEdges, StepNoAlloc,
 
 // The `approach` fallback on a planar table (effect, distance, orientation, light: the push
 // skills' kind of variables, where it heads for a cell's centre), with and without smoothing,
-// the distance in equal bins or between explicit edges.
+// the distance in equal bins or between explicit edges; variants 4 and 5 with the revisit rule
+// over runs that come back to the cells of a few points.
 TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
-  for (const int variant : {0, 1, 2, 3}) {
-    const bool smoothing = variant % 2 == 1, edges = variant >= 2;
+  for (const int variant : {0, 1, 2, 3, 4, 5}) {
+    const bool smoothing = variant % 2 == 1, edges = variant == 2 || variant == 3;
+    const bool revisits = variant >= 4;
     auto parts = a2l::testing::sample_parts(11, 0.3, smoothing);
     parts.manifest["variables"].erase(3);  // no inclination
     if (edges) parts.manifest["variables"][1]["edges"] = {0.07, 0.10};
@@ -145,7 +147,8 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
     parts.argmax.resize(4 * 3 * 8 * 2);
     parts.posterior.resize(parts.argmax.size() * 8);
     parts.manifest["execution"]["fallback"] = "approach";
-    if (variant == 0 || variant == 3) parts.manifest["execution"]["clearance"] = 0.10;
+    if (variant == 0 || variant >= 3) parts.manifest["execution"]["clearance"] = 0.10;
+    if (revisits) parts.manifest["execution"]["avoid_revisits"] = true;
     const auto bytes = a2l::testing::build(parts);
     a2l::Skill skill;
     ASSERT_TRUE(a2l::load_bundle_from_memory(bytes.data(), bytes.size(), skill).ok());
@@ -153,11 +156,20 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
     std::mt19937_64 rng(43);
     const int n = 50000;
     std::vector<a2l::Context> contexts(static_cast<size_t>(n));
-    for (auto& c : contexts) {
+    std::array<Eigen::Vector3d, 12> points;  // the revisit variants' points (valid ones)
+    std::uniform_real_distribution<double> around(-0.25, 0.25);
+    std::uniform_int_distribution<int> which(0, 11);
+    for (auto& q : points) q = {around(rng), around(rng), 0.0};
+    std::vector<int> point_of(static_cast<size_t>(n), -1), moves(static_cast<size_t>(n), -1);
+    for (std::size_t i = 0; i < contexts.size(); ++i) {
+      a2l::Context& c = contexts[i];
+      point_of[i] = which(rng);
       c.object = {0.7, 0.0, 0.04};
-      c.eef = c.object + Eigen::Vector3d(random_coordinate(rng), random_coordinate(rng), 0.0);
-      c.effect = random_index(rng, 4);
-      c.high_level[3] = random_index(rng, 2);
+      c.eef = c.object +
+              (revisits ? points[static_cast<size_t>(point_of[i])]
+                        : Eigen::Vector3d(random_coordinate(rng), random_coordinate(rng), 0.0));
+      c.effect = revisits ? 1 : random_index(rng, 4);
+      c.high_level[3] = revisits ? 0 : random_index(rng, 2);
     }
     int fallbacks = 0, wrong = 0;
     bool threw = false;
@@ -166,11 +178,12 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
     {
       a2l::test::AllocationGuard guard;
       try {
-        for (const a2l::Context& c : contexts) {
+        for (std::size_t i = 0; i < contexts.size(); ++i) {
           if (state.steps() >= 10) state.reset();
-          const Status s = a2l::step(skill, state, c, out);
+          const Status s = a2l::step(skill, state, contexts[i], out);
           if (s == Status::ok && (out.movement < 0 || out.movement >= 8)) ++wrong;
           if (out.record.fallback) ++fallbacks;
+          moves[i] = out.movement;
         }
       } catch (...) {
         threw = true;
@@ -182,6 +195,20 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
                                << ")";
     EXPECT_EQ(wrong, 0);
     EXPECT_GT(fallbacks, 1000);
+    if (revisits) {  // the rule did change answers: a point answered differently in a run
+      int differs = 0;
+      for (std::size_t i = 1; i < contexts.size(); ++i) {
+        const std::size_t run = i / 10 * 10;  // runs of 10 steps (every step is ok here)
+        for (std::size_t j = run; j < i; ++j) {
+          if (point_of[j] == point_of[i] && moves[j] >= 0 && moves[i] >= 0 &&
+              moves[j] != moves[i]) {
+            ++differs;
+            break;
+          }
+        }
+      }
+      EXPECT_GT(differs, 1000);
+    }
   }
 }
 

@@ -215,19 +215,36 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     net = learn_network(disc.discretize(push_dataset(300, seed=1)), "hand-coded")
     spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
     path = tmp_path / "iter_000.a2lb"
-    save_bundle(replace(spec, fallback="approach", clearance=0.10), path)
+    save_bundle(replace(spec, fallback="approach", clearance=0.10, clearance_ratio=0.25,
+                        avoid_revisits=True), path)
     train = training_bundle(base, path)
     assert train == tmp_path / "iter_000.train.a2lb"
     got, run = load_bundle(train), load_bundle(path)
     assert (got.fallback, run.fallback) == ("nearest", "approach")
-    # the exported skill keeps the clearance rule; the training validation runs without it
+    # the exported skill keeps the clearance and revisit rules; the training validation runs
+    # without them
     assert (got.clearance, run.clearance) == (0.0, 0.10)
+    assert (got.avoid_revisits, run.avoid_revisits) == (False, True)
+    assert run.clearance_ratio == 0.25
     assert np.array_equal(got.posterior, run.posterior) and got.extra == run.extra
-    same = base.with_({"skill.train_fallback": "approach", "skill.clearance": 0.0})
+    same = base.with_({"skill.train_fallback": "approach", "skill.clearance": 0.0,
+                       "skill.avoid_revisits": False})
     assert training_bundle(same, path) == path
+    # the revisit rule alone still trains on a copy without it
+    alone = training_bundle(same.with_({"skill.avoid_revisits": True}), path)
+    assert alone != path and not load_bundle(alone).avoid_revisits
     # a rule of the same fallback but a clearance still trains on a copy without it
     copy = training_bundle(base.with_({"skill.train_fallback": "approach"}), path)
     assert copy != path and load_bundle(copy).clearance == 0.0
+
+
+@pytest.mark.parametrize("value", [0.0, 1.5, float("nan"), "0.5", True])
+def test_clearance_ratio_must_be_a_share(value: object) -> None:
+    with pytest.raises(ValueError, match="^skill.clearance_ratio:"):
+        FrameworkConfig().with_({"skill.clearance_ratio": value})
+    assert FrameworkConfig().skill.clearance_ratio == 0.5
+    assert not FrameworkConfig().skill.avoid_revisits
+    assert not FrameworkConfig.preset("thesis").skill.avoid_revisits
 
 
 @pytest.mark.parametrize("value", [-0.01, float("nan"), "0.1", True])

@@ -52,6 +52,9 @@ const char* fallback_name(Fallback f) noexcept;
 //! Parse a manifest fallback name; false if `name` is not one.
 bool parse_fallback(const std::string& name, Fallback& out) noexcept;
 
+//! The clearance rule's bar of a bundle that does not set one (SkillSettings::clearance_ratio).
+constexpr double kClearanceRatio = 0.5;
+
 //! How step() chooses among the movements of a known context.
 struct SkillSettings {
   int step_cap = 12;                   //!< most movements a run may take
@@ -61,13 +64,21 @@ struct SkillSettings {
   //! The clearance rule (m; 0 = off): away from the side the wanted push effect pushes from
   //! (more than 45 degrees off it, seen from the object), a movement that would end nearer
   //! the object than this gives way to the best-scored one that does not, if that one scores
-  //! at least kClearanceRatio of it (a near-equal choice, never a rare one).
+  //! at least `clearance_ratio` of it (a near-equal choice, never a rare one).
   double clearance = 0.0;
+  //! The clearance rule's bar, in (0, 1]: an alternative keeps clearance only if its
+  //! (smoothed) probability is at least this share of the chosen movement's.
+  double clearance_ratio = kClearanceRatio;
+  //! The revisit rule: when a run comes back to a context cell it has left, the movements
+  //! it chose in that cell before are spent there: the step takes the best-scored allowed
+  //! movement not spent (nor undoing the previous one), if there is one. A table step is a
+  //! function of the cell, so without it a run that returns to a cell repeats what brought
+  //! it back, to the step cap (a "two-cell loop").
+  bool avoid_revisits = false;
 };
 
-//! The clearance rule's bar: an alternative keeps clearance only if its (smoothed)
-//! probability is at least this share of the chosen movement's.
-constexpr double kClearanceRatio = 0.5;
+//! Most points of a run's path a SkillState remembers for the revisit rule.
+constexpr std::size_t kMaxPath = 256;
 
 //! Most row-pair comparisons Skill::create may spend on the nearest-cell fallback
 //! (uniform rows x cells sharing their effect and high-level values); a larger table is
@@ -214,6 +225,7 @@ class SkillState {
   //! clear_trace()). No allocation.
   void reset() noexcept {
     steps_ = 0;
+    path_size_ = 0;
     calls_ = 0;
     ds_emitted_ = 0;
   }
@@ -232,6 +244,13 @@ class SkillState {
   const TraceRecord& trace(std::size_t i) const noexcept {
     return trace_[(trace_head_ + i) % trace_.size()];
   }
+  //! Points of this run's path the revisit rule remembers (SkillSettings::avoid_revisits):
+  //! one per movement taken, at most min(step cap, kMaxPath).
+  std::size_t path_size() const noexcept { return path_size_; }
+  //! Point i of the path (eef - object when movement i was chosen, m), i < path_size().
+  const Eigen::Vector3d& path_point(std::size_t i) const noexcept { return path_[i]; }
+  //! The movement chosen at point i, i < path_size().
+  int path_movement(std::size_t i) const noexcept { return path_moves_[i]; }
   //! Empty the trace. No allocation.
   void clear_trace() noexcept {
     trace_head_ = trace_size_ = 0;
@@ -243,6 +262,14 @@ class SkillState {
   friend Status step_ds(const Skill&, SkillState&, const Eigen::Vector3d&, const Eigen::Vector3d&,
                         const DSStateValues&, StepOutput&) noexcept;
   void push(const TraceRecord& r) noexcept;
+  // The revisit rule's path: point `r` (eef - object) where the run took movement `m`;
+  // nothing once the path is full.
+  void remember(const Eigen::Vector3d& r, int m) noexcept {
+    if (path_size_ >= path_.size()) return;
+    path_[path_size_] = r;
+    path_moves_[path_size_] = m;
+    ++path_size_;
+  }
   // The opening of step() and step_ds(): `out` cleared (no movement), its record numbered
   // with this call and emptied.
   void begin_step(StepOutput& out) const noexcept;
@@ -259,8 +286,12 @@ class SkillState {
   std::int64_t calls_ = 0;
   std::uint64_t ds_emitted_ = 0;  // bit p: phase p emitted its end action in this run
   std::array<int, kMaxVariables> bins_{};
-  std::vector<double> average_;  // n_moves: smoothing's averaged posterior
-  std::vector<int> votes_;       // n_moves: smoothing's argmax counts
+  std::vector<double> average_;        // n_moves: smoothing's averaged posterior
+  std::vector<int> votes_;             // n_moves: smoothing's argmax counts
+  std::vector<char> spent_;            // n_moves: the revisit rule's spent movements
+  std::vector<Eigen::Vector3d> path_;  // the run's points (eef - object), kMaxPath at most
+  std::vector<int> path_moves_;        // the movement taken at each
+  std::size_t path_size_ = 0;
   std::vector<TraceRecord> trace_;
   std::size_t trace_head_ = 0, trace_size_ = 0;
   std::uint64_t dropped_ = 0;

@@ -224,11 +224,14 @@ def _cmd_heldout(ns: Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise UsageError("--out", f"'{out}' exists and is not a directory")
     m = rerun_heldout(run, out, iteration=ns.iteration, fallback=ns.fallback,
-                      workers=ns.workers, record=ns.record, clearance=ns.clearance)
+                      workers=ns.workers, record=ns.record, clearance=ns.clearance,
+                      avoid_revisits=ns.avoid_revisits, clearance_ratio=ns.clearance_ratio)
     if not ns.quiet:
         print(f"held-out success {m['heldout_success']:.1%} ("
               + ", ".join(f"{e} {v:.0%}" for e, v in m["heldout_success_rate"].items())
-              + f"); fallback {m['fallback']}, clearance {m['clearance']:g} m; misses "
+              + f"); fallback {m['fallback']}, clearance {m['clearance']:g} m (bar "
+              + f"{m['clearance_ratio']:g}), revisit rule "
+              + ("on" if m["avoid_revisits"] else "off") + "; misses "
               f"explained in {out / 'report.md'}")
     return 0
 
@@ -249,6 +252,10 @@ def _heldout_parser() -> Parser:
                    help="the step's answer in a cell without data (default the bundle's)")
     p.add_argument("--clearance", type=float, default=None, metavar="M",
                    help="the step's clearance rule in m, 0 off (default the bundle's)")
+    p.add_argument("--clearance_ratio", type=float, default=None, metavar="R",
+                   help="the clearance rule's bar in (0, 1] (default the bundle's)")
+    p.add_argument("--avoid_revisits", type=bool | None, default=None,
+                   help="the step's revisit rule, true or false (default the bundle's)")
     p.add_argument("--workers", type=PositiveInt, default=1, metavar="N",
                    help="local worker processes for the rollouts (default 1)")
     p.add_argument("--record", metavar="FILE.rrd", default=None,

@@ -71,6 +71,9 @@ SETTINGS: dict[str, Any] = {
     "directed.growth": 2,
     "heldout.n_starts": 0,
     "skill.clearance": 0.05,
+    # the step's rules as panda-gym's figures measured them (the later defaults, a lower
+    # clearance bar and the revisit rule, were chosen on a2l's own scenes, not tried here)
+    "skill.clearance_ratio": 0.5, "skill.avoid_revisits": False,
 }
 
 #: The scene's settings in panda-gym (:class:`a2l.gym.GymSceneConfig`), for learning and

@@ -1,10 +1,12 @@
 """A push run's skill from its held-out starts again, with the run's execution settings or
-another fallback or clearance rule (``a2l experiment heldout``): the paired comparison of
-the step's answers on one skill, and its misses explained (:mod:`a2l.experiments.push_misses`).
+another fallback, clearance rule (or its bar) or revisit rule (``a2l experiment heldout``):
+the paired comparison of the step's answers on one skill, and its misses explained
+(:mod:`a2l.experiments.push_misses`).
 
 The rollouts are the framework's held-out validation
 (:func:`a2l.framework.validation.validate_heldout`) on a copy of the run's bundle whose
-``skill.fallback`` (or ``skill.clearance``) is replaced; the run directory itself is not
+``skill.fallback`` (or ``skill.clearance``, ``skill.clearance_ratio``,
+``skill.avoid_revisits``) is replaced; the run directory itself is not
 written to.
 """
 
@@ -34,7 +36,9 @@ __all__ = ["rerun_heldout"]
 def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = None,
                   fallback: str | None = None, workers: int = 1,
                   record: str | Path | None = None,
-                  clearance: float | None = None) -> dict[str, Any]:
+                  clearance: float | None = None,
+                  avoid_revisits: bool | None = None,
+                  clearance_ratio: float | None = None) -> dict[str, Any]:
     """Run the skill of push run `run_dir` from the run's held-out starts again and write
     `out`: ``metrics.json`` (:func:`~a2l.framework.scoring.heldout_metrics`),
     ``heldout.parquet``, ``heldout_misses.csv``, ``heldout_misses.png`` and ``report.md``.
@@ -57,11 +61,16 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         experiment push --record`` writes a validation's.
     clearance : float, optional
         The step's clearance rule (m; 0: off); default the bundle's own.
+    avoid_revisits : bool, optional
+        The step's revisit rule on or off; default the bundle's own.
+    clearance_ratio : float, optional
+        The clearance rule's bar in (0, 1]; default the bundle's own.
 
     Returns
     -------
     dict
-        The metrics written, with ``"fallback"``, ``"clearance"``, ``"bundle"`` and
+        The metrics written, with ``"fallback"``, ``"clearance"``, ``"avoid_revisits"``,
+        ``"bundle"`` and
         ``"wall_s"``.
     """
     run_dir, out = Path(run_dir), Path(out)
@@ -78,7 +87,12 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         cfg = cfg.with_({"skill.clearance": clearance})  # names a bad value
     out.mkdir(parents=True, exist_ok=True)
     bundle = out / "skill.a2lb"
-    spec = bundle_with_fallback(src, bundle, fallback, clearance)
+    if avoid_revisits is not None:
+        cfg = cfg.with_({"skill.avoid_revisits": avoid_revisits})
+    if clearance_ratio is not None:
+        cfg = cfg.with_({"skill.clearance_ratio": clearance_ratio})  # names a bad value
+    spec = bundle_with_fallback(src, bundle, fallback, clearance, avoid_revisits,
+                                clearance_ratio)
     t0 = time.perf_counter()
     with Executor(workers=workers) as ex:
         held = validate_heldout(cfg, ex, bundle)
@@ -91,7 +105,9 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     table = miss_table(cfg, frame, bundle)
     metrics = {**heldout_metrics(cfg, it, held), "heldout_miss_causes": miss_causes(table),
                "run": str(run_dir), "bundle": str(src), "fallback": spec.fallback,
-               "clearance": spec.clearance, "wall_s": wall}
+               "clearance": spec.clearance, "clearance_ratio": spec.clearance_ratio,
+               "avoid_revisits": spec.avoid_revisits,
+               "wall_s": wall}
     write_json(out / "metrics.json", metrics)
     atomic_write_text(out / "heldout_misses.csv", table.to_csv(index=False))
     if not table.empty:
@@ -99,7 +115,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     rates = ", ".join(f"{e} {v:.1%}" for e, v in metrics["heldout_success_rate"].items())
     text = "\n".join([
         f"# Held-out starts again: {src} (fallback `{spec.fallback}`, clearance "
-        f"{spec.clearance:g} m)", "",
+        f"{spec.clearance:g} m at a bar of {spec.clearance_ratio:g}, revisit rule "
+        f"{'on' if spec.avoid_revisits else 'off'})", "",
         f"Run `{run_dir}` ({cfg.scene} scene, {cfg.discretization.n_effects} effects, "
         f"seed {cfg.seed}); "
         f"{cfg.heldout.n_starts} held-out starts x {cfg.discretization.n_effects} effects.", "",

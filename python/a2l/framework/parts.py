@@ -162,6 +162,15 @@ class SkillConfig:
         (``docs/runtime.md``). The training validation runs without it, like its own
         fallback: what it would rescue stays a failure the extension learns from. Default
         0.10 m, chosen on tuning seeds (``docs/experiments/push.md``).
+    clearance_ratio : float
+        The clearance rule's bar in (0, 1]: an alternative that keeps clearance is taken if
+        it scores at least this share of the chosen movement (default 0.5, the bar of
+        bundles that write none).
+    avoid_revisits : bool
+        The step's revisit rule in the exported skill and from the held-out starts: a run
+        that comes back within half a movement of where it was (having left) takes there
+        the best-scored movement it has not taken there (``docs/runtime.md``). The training
+        validation runs without it, as without the clearance rule (default off).
     """
 
     step_cap: int = 12
@@ -169,6 +178,8 @@ class SkillConfig:
     fallback: str | None = None
     train_fallback: str | None = None
     clearance: float = 0.10
+    clearance_ratio: float = 0.5
+    avoid_revisits: bool = False
 
     def __post_init__(self) -> None:
         check_count("skill", "step_cap", self.step_cap)
@@ -176,6 +187,7 @@ class SkillConfig:
             if getattr(self, name) is not None:
                 check_choice("skill", name, getattr(self, name), FALLBACK_RULES)
         check_length("skill", "clearance", self.clearance, allow_zero=True)
+        check_fraction("skill", "clearance_ratio", self.clearance_ratio)
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,6 @@
 """The step's rules a skill bundle of a run carries: the exported skill's (``skill.fallback``,
-``skill.clearance``) and the training validation's (``skill.train_fallback``, no clearance),
+``skill.clearance``, ``skill.avoid_revisits``) and the training validation's
+(``skill.train_fallback``, neither the clearance nor the revisit rule),
 written as copies of one learned table (:func:`bundle_with_fallback`,
 :func:`training_bundle`)."""
 
@@ -18,9 +19,12 @@ __all__ = ["bundle_with_fallback", "training_bundle"]
 
 
 def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
-                         clearance: float | None = None) -> SkillSpec:
-    """Write the push skill bundle `src` to `dst` with the fallback `rule` and the clearance
-    rule `clearance` (m; None: its own), the same table otherwise; returns the skill
+                         clearance: float | None = None,
+                         avoid_revisits: bool | None = None,
+                         clearance_ratio: float | None = None) -> SkillSpec:
+    """Write the push skill bundle `src` to `dst` with the fallback `rule`, the clearance
+    rule `clearance` (m) and its bar `clearance_ratio`, and the revisit rule
+    `avoid_revisits` (each None: its own), the same table otherwise; returns the skill
     written."""
     from a2l.skills.bundle import load_bundle, save_bundle
 
@@ -29,6 +33,10 @@ def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
         spec = replace(spec, fallback=rule)
     if clearance is not None:
         spec = replace(spec, clearance=float(clearance))
+    if clearance_ratio is not None:
+        spec = replace(spec, clearance_ratio=float(clearance_ratio))
+    if avoid_revisits is not None:
+        spec = replace(spec, avoid_revisits=bool(avoid_revisits))
     save_bundle(spec, dst)
     return spec
 
@@ -36,10 +44,13 @@ def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
 def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     """The skill the training validation runs: `bundle` itself, or, when
     ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback`` or the skill keeps
-    a clearance (``cfg.skill.clearance``), a copy beside it (``<name>.train.a2lb``) with the
-    training rule and no clearance rule (the same table otherwise)."""
-    if cfg.skill.train_fallback == cfg.skill.fallback and not cfg.skill.clearance:
+    a clearance (``cfg.skill.clearance``) or the revisit rule (``cfg.skill.avoid_revisits``),
+    a copy beside it (``<name>.train.a2lb``) with the training rule and neither of the two
+    (the same table otherwise)."""
+    skill = cfg.skill
+    if (skill.train_fallback == skill.fallback and not skill.clearance
+            and not skill.avoid_revisits):
         return bundle
     out = bundle.with_suffix(".train.a2lb")
-    bundle_with_fallback(bundle, out, cfg.skill.train_fallback, clearance=0.0)
+    bundle_with_fallback(bundle, out, skill.train_fallback, clearance=0.0, avoid_revisits=False)
     return out

@@ -126,6 +126,9 @@ def bundle_bytes(
             "fallback": str(spec.fallback),
             # written when the rule is on: a bundle without it is the same bytes as before
             **({"clearance": float(spec.clearance)} if spec.clearance else {}),
+            **({"clearance_ratio": float(spec.clearance_ratio)}
+               if spec.clearance_ratio != _core.CLEARANCE_RATIO else {}),
+            **({"avoid_revisits": True} if spec.avoid_revisits else {}),
         },
         "extra": spec.extra,
     }
@@ -233,6 +236,8 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
         uniform_tolerance=float(ex["uniform_tolerance"]),
         fallback=str(ex.get("fallback", "none")),
         clearance=float(ex.get("clearance", 0.0)),
+        clearance_ratio=float(ex.get("clearance_ratio", _core.CLEARANCE_RATIO)),
+        avoid_revisits=bool(ex.get("avoid_revisits", False)),
         robot=None if manifest["robot"] is None else dict(manifest["robot"]),
         extra=view.extra,
         actions=[str(x) for x in mv["actions"]],

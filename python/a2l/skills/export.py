@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from a2l import _core
 from a2l.skills.compile import PolicyTable
 from a2l.skills.discretizer import Discretizer
 from a2l.skills.spec import SkillSpec, VariableSpec
@@ -24,6 +25,8 @@ def make_skill_spec(
     smoothing: bool = False,
     fallback: str = "none",
     clearance: float = 0.0,
+    clearance_ratio: float = _core.CLEARANCE_RATIO,
+    avoid_revisits: bool = False,
     extra: dict[str, Any] | None = None,
 ) -> SkillSpec:
     """Build the bundle content of a skill from its compiled table.
@@ -51,6 +54,10 @@ def make_skill_spec(
         The runtime's answer in a cell with no data (:class:`SkillSpec`).
     clearance : float
         The step's clearance rule (m; 0: off, :class:`SkillSpec`).
+    clearance_ratio : float
+        The clearance rule's bar (:class:`SkillSpec`).
+    avoid_revisits : bool
+        The step's revisit rule (:class:`SkillSpec`).
     extra : dict, optional
         Free-form metadata; the discretizer's description is added under ``"discretizer"``.
 
@@ -117,6 +124,8 @@ def make_skill_spec(
         smoothing=smoothing,
         fallback=fallback,
         clearance=clearance,
+        clearance_ratio=clearance_ratio,
+        avoid_revisits=avoid_revisits,
         uniform_tolerance=table.uniform_tolerance,
         robot=robot,
         extra=meta,

@@ -23,6 +23,7 @@ from typing import Any
 
 import pandas as pd
 
+from a2l import _core
 from a2l.skills.bundle import save_bundle
 from a2l.skills.compile import PolicyTable, compile_policy
 from a2l.skills.discretizer import Discretizer
@@ -77,6 +78,8 @@ def learn_bundle(
     smoothing: bool = False,
     fallback: str = "none",
     clearance: float = 0.0,
+    clearance_ratio: float = _core.CLEARANCE_RATIO,
+    avoid_revisits: bool = False,
     extra: Extra | None = None,
     ds: DSArrays | None = None,
     ds_phases: Sequence[DSPhase] | None = None,
@@ -110,6 +113,10 @@ def learn_bundle(
         The runtime's answer in a context cell with no data (:class:`SkillSpec`).
     clearance : float
         The step's clearance rule (m; 0: off, :class:`SkillSpec`).
+    clearance_ratio : float
+        The clearance rule's bar (:class:`SkillSpec`).
+    avoid_revisits : bool
+        The step's revisit rule (:class:`SkillSpec`).
     extra : mapping or callable, optional
         The bundle's ``extra`` metadata, or ``extra(rows)`` giving it from the number of
         usable rows (the discretizer's description is added).
@@ -144,6 +151,7 @@ def learn_bundle(
     meta = extra(len(discrete)) if callable(extra) else extra
     spec = make_skill_spec(table, discretizer, name=name, robot=robot, step_cap=step_cap,
                            smoothing=smoothing, fallback=fallback, clearance=clearance,
+                           clearance_ratio=clearance_ratio, avoid_revisits=avoid_revisits,
                            extra=dict(meta) if meta is not None else None)
     out = save_bundle(spec, path, ds_phases=ds_phases or None, ds=ds)
     timings = {"discretize": t1 - t0, "learn": t2 - t1, "compile": t3 - t2,

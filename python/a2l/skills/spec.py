@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from a2l import _core
+
 __all__ = ["ACTIONS", "BUNDLE_SCHEMA_VERSION", "RANGED_KINDS", "VARIABLE_KINDS", "SkillSpec",
            "VariableSpec"]
 
@@ -110,6 +112,13 @@ class SkillSpec:
         The step's clearance rule (m; 0: off): away from the side the wanted push effect
         pushes from, a movement that would end nearer the object than this gives way to a
         near-equal one that does not (``docs/runtime.md``).
+    clearance_ratio : float
+        The clearance rule's bar in (0, 1]: the share of the chosen movement's probability
+        an alternative that keeps clearance needs (default ``_core.CLEARANCE_RATIO``, 0.5,
+        the bar of bundles that write none).
+    avoid_revisits : bool
+        The step's revisit rule: a run that comes back to a context cell it has left does
+        not repeat there a movement it chose there before (``docs/runtime.md``).
     robot : dict or None
         ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
     extra : dict
@@ -131,6 +140,8 @@ class SkillSpec:
     uniform_tolerance: float = 1e-9
     fallback: str = "none"
     clearance: float = 0.0
+    clearance_ratio: float = _core.CLEARANCE_RATIO
+    avoid_revisits: bool = False
     robot: dict[str, str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     actions: list[str] = field(default_factory=list)
