@@ -69,11 +69,12 @@ struct SkillSettings {
   //! The clearance rule's bar, in (0, 1]: an alternative keeps clearance only if its
   //! (smoothed) probability is at least this share of the chosen movement's.
   double clearance_ratio = kClearanceRatio;
-  //! The revisit rule: when a run comes back to a context cell it has left, the movements
-  //! it chose in that cell before are spent there: the step takes the best-scored allowed
-  //! movement not spent (nor undoing the previous one), if there is one. A table step is a
-  //! function of the cell, so without it a run that returns to a cell repeats what brought
-  //! it back, to the step cap (a "two-cell loop").
+  //! The revisit rule: when a run comes back within half a movement of points of its path
+  //! (eef - object) that it has left since (staying put, e.g. held, is no return), the
+  //! movements it chose there are spent: the step takes the best-scored allowed movement not
+  //! spent (nor undoing the previous one), if there is one. A table step is a function of the
+  //! context's cell, so without it a run that comes back repeats the loop that brought it
+  //! back, to the step cap.
   bool avoid_revisits = false;
 };
 
