@@ -242,8 +242,8 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
 def test_clearance_ratio_must_be_a_share(value: object) -> None:
     with pytest.raises(ValueError, match="^skill.clearance_ratio:"):
         FrameworkConfig().with_({"skill.clearance_ratio": value})
-    assert FrameworkConfig().skill.clearance_ratio == 0.5
-    assert not FrameworkConfig().skill.avoid_revisits
+    assert FrameworkConfig().skill.clearance_ratio == 0.25
+    assert FrameworkConfig().skill.avoid_revisits
     assert not FrameworkConfig.preset("thesis").skill.avoid_revisits
 
 

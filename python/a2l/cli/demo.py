@@ -85,8 +85,8 @@ def _demo_parser() -> Parser:
     demo.add_argument("--gui", action="store_true", help="open the PyBullet GUI (part 1)")
     demo.add_argument("--out", metavar="DIR", default=None,
                       help="run directory of the experiment (default runs/demo-<timestamp>)")
-    demo.add_argument("--iterations", type=PositiveInt, default=2, metavar="N",
-                      help="iterations of the push experiment (default 2)")
+    demo.add_argument("--iterations", type=PositiveInt, default=3, metavar="N",
+                      help="iterations of the push experiment (default 3)")
     demo.add_argument("--starts", type=PositiveInt, default=8, metavar="N",
                       help="start positions of the push experiment (default 8)")
     demo.add_argument("--workers", type=PositiveInt | None, default=None, metavar="N",

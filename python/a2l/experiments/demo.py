@@ -296,7 +296,7 @@ def _a2l_run(bundle: Path, seed: int, summary_path: Path | None = None) -> int:
 
 
 def run_demo(seed: int = 0, gui: bool = False, out: str | Path | None = None,
-             iterations: int = 2, starts: int = 8, workers: int | None = None) -> int:
+             iterations: int = 3, starts: int = 8, workers: int | None = None) -> int:
     """The whole demo (see the module's docstring); returns the exit code.
 
     Parameters

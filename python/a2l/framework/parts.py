@@ -164,13 +164,14 @@ class SkillConfig:
         0.10 m, chosen on tuning seeds (``docs/experiments/push.md``).
     clearance_ratio : float
         The clearance rule's bar in (0, 1]: an alternative that keeps clearance is taken if
-        it scores at least this share of the chosen movement (default 0.5, the bar of
-        bundles that write none).
+        it scores at least this share of the chosen movement. Default 0.25, chosen on tuning
+        seeds (``docs/experiments/push.md``; 0.5 before, the bar of bundles that write none).
     avoid_revisits : bool
         The step's revisit rule in the exported skill and from the held-out starts: a run
         that comes back within half a movement of where it was (having left) takes there
         the best-scored movement it has not taken there (``docs/runtime.md``). The training
-        validation runs without it, as without the clearance rule (default off).
+        validation runs without it, as without the clearance rule. Default on, chosen on
+        tuning seeds (``docs/experiments/push.md``).
     """
 
     step_cap: int = 12
@@ -178,8 +179,8 @@ class SkillConfig:
     fallback: str | None = None
     train_fallback: str | None = None
     clearance: float = 0.10
-    clearance_ratio: float = 0.5
-    avoid_revisits: bool = False
+    clearance_ratio: float = 0.25
+    avoid_revisits: bool = True
 
     def __post_init__(self) -> None:
         check_count("skill", "step_cap", self.step_cap)
