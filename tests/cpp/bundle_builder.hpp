@@ -200,4 +200,18 @@ inline a2l::Skill load_skill(const BundleParts& p) {
   return s;
 }
 
+//! Each of `bad` as the value of `execution.<key>` in sample_parts(): loading is a
+//! parse_error whose message names the key.
+inline void expect_execution_refused(const std::string& key, const std::vector<json>& bad) {
+  for (const json& value : bad) {
+    BundleParts p = sample_parts();
+    p.manifest["execution"][key] = value;
+    const auto bytes = build(p);
+    a2l::Skill s;
+    const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
+    EXPECT_EQ(r.status, a2l::Status::parse_error) << key << " = " << value;
+    EXPECT_NE(r.message.find("execution." + key), std::string::npos) << r.message;
+  }
+}
+
 }  // namespace a2l::testing

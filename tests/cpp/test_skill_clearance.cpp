@@ -15,7 +15,6 @@
 namespace {
 
 using a2l::Status;
-using a2l::testing::build;
 using a2l::testing::BundleParts;
 using a2l::testing::sample_parts;
 
@@ -164,28 +163,11 @@ TEST(Clearance, PushDirectionsComeFromTheEffectNames) {
 }
 
 TEST(Clearance, ARatioOutsideZeroToOneIsAParseError) {
-  for (const auto& bad :
-       {nlohmann::json(0.0), nlohmann::json(1.5), nlohmann::json(-0.2), nlohmann::json("0.5")}) {
-    BundleParts p = sample_parts();
-    p.manifest["execution"]["clearance_ratio"] = bad;
-    const auto bytes = build(p);
-    a2l::Skill s;
-    const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
-    EXPECT_EQ(r.status, Status::parse_error) << bad;
-    EXPECT_NE(r.message.find("execution.clearance_ratio"), std::string::npos) << r.message;
-  }
+  a2l::testing::expect_execution_refused("clearance_ratio", {0.0, 1.5, -0.2, "0.5"});
 }
 
 TEST(Clearance, ANegativeOrNonNumericClearanceIsAParseError) {
-  for (const auto& bad : {nlohmann::json(-0.01), nlohmann::json("0.1"), nlohmann::json(nullptr)}) {
-    BundleParts p = sample_parts();
-    p.manifest["execution"]["clearance"] = bad;
-    const auto bytes = build(p);
-    a2l::Skill s;
-    const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
-    EXPECT_EQ(r.status, Status::parse_error) << bad;
-    EXPECT_NE(r.message.find("execution.clearance"), std::string::npos) << r.message;
-  }
+  a2l::testing::expect_execution_refused("clearance", {-0.01, "0.1", nullptr});
 }
 
 }  // namespace

@@ -14,7 +14,6 @@
 namespace {
 
 using a2l::Status;
-using a2l::testing::build;
 using a2l::testing::BundleParts;
 using a2l::testing::sample_parts;
 
@@ -134,15 +133,7 @@ TEST(Revisit, StayingPutOrANewRunSpendsNothing) {
 }
 
 TEST(Revisit, ANonBooleanSettingIsAParseError) {
-  for (const auto& bad : {nlohmann::json(1), nlohmann::json("true"), nlohmann::json(nullptr)}) {
-    BundleParts p = sample_parts();
-    p.manifest["execution"]["avoid_revisits"] = bad;
-    const auto bytes = build(p);
-    a2l::Skill s;
-    const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
-    EXPECT_EQ(r.status, Status::parse_error) << bad;
-    EXPECT_NE(r.message.find("execution.avoid_revisits"), std::string::npos) << r.message;
-  }
+  a2l::testing::expect_execution_refused("avoid_revisits", {1, "true", nullptr});
 }
 
 }  // namespace
