@@ -310,6 +310,15 @@ def test_heldout_command_reruns_the_final_skill_and_explains_its_misses(
     got = json.loads((ruled / "metrics.json").read_text())
     assert got["clearance"] == 0.10 and again["clearance"] == 0.0
     assert got["heldout_success"] > again["heldout_success"]
+    # a step cap of 4 and the revisit rule off, written into the bundle it ran: runs that
+    # needed more movements stop at the cap
+    capped = tmp_path / "capped"
+    assert main(["experiment", "heldout", str(run), "--out", str(capped), "--step_cap", "4",
+                 "--avoid_revisits", "false", "--quiet"]) == 0
+    got = json.loads((capped / "metrics.json").read_text())
+    assert (got["step_cap"], got["avoid_revisits"]) == (4, False)
+    assert got["heldout_success"] < again["heldout_success"]
+    assert "step cap 4" in (capped / "report.md").read_text()
     assert sorted(p.name for p in run.iterdir()) == before
     with pytest.raises(SystemExit) as exc:  # not a run directory: a usage error
         main(["experiment", "heldout", str(tmp_path), "--out", str(other)])

@@ -1,12 +1,12 @@
 """A push run's skill from its held-out starts again, with the run's execution settings or
-another fallback, clearance rule (or its bar) or revisit rule (``a2l experiment heldout``):
-the paired comparison of the step's answers on one skill, and its misses explained
-(:mod:`a2l.experiments.push_misses`).
+another fallback, clearance rule (or its bar), revisit rule or step cap (``a2l experiment
+heldout``): the paired comparison of the step's answers on one skill, and its misses
+explained (:mod:`a2l.experiments.push_misses`).
 
 The rollouts are the framework's held-out validation
 (:func:`a2l.framework.validation.validate_heldout`) on a copy of the run's bundle whose
 ``skill.fallback`` (or ``skill.clearance``, ``skill.clearance_ratio``,
-``skill.avoid_revisits``) is replaced; the run directory itself is not
+``skill.avoid_revisits``, ``skill.step_cap``) is replaced; the run directory itself is not
 written to.
 """
 
@@ -38,7 +38,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
                   record: str | Path | None = None,
                   clearance: float | None = None,
                   avoid_revisits: bool | None = None,
-                  clearance_ratio: float | None = None) -> dict[str, Any]:
+                  clearance_ratio: float | None = None,
+                  step_cap: int | None = None) -> dict[str, Any]:
     """Run the skill of push run `run_dir` from the run's held-out starts again and write
     `out`: ``metrics.json`` (:func:`~a2l.framework.scoring.heldout_metrics`),
     ``heldout.parquet``, ``heldout_misses.csv``, ``heldout_misses.png`` and ``report.md``.
@@ -65,6 +66,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         The step's revisit rule on or off; default the bundle's own.
     clearance_ratio : float, optional
         The clearance rule's bar in (0, 1]; default the bundle's own.
+    step_cap : int, optional
+        Most movements a run may take; default the bundle's own.
 
     Returns
     -------
@@ -91,8 +94,10 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         cfg = cfg.with_({"skill.avoid_revisits": avoid_revisits})
     if clearance_ratio is not None:
         cfg = cfg.with_({"skill.clearance_ratio": clearance_ratio})  # names a bad value
+    if step_cap is not None:
+        cfg = cfg.with_({"skill.step_cap": step_cap})  # names a bad value
     spec = bundle_with_fallback(src, bundle, fallback, clearance, avoid_revisits,
-                                clearance_ratio)
+                                clearance_ratio, step_cap)
     t0 = time.perf_counter()
     with Executor(workers=workers) as ex:
         held = validate_heldout(cfg, ex, bundle)
@@ -106,7 +111,7 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     metrics = {**heldout_metrics(cfg, it, held), "heldout_miss_causes": miss_causes(table),
                "run": str(run_dir), "bundle": str(src), "fallback": spec.fallback,
                "clearance": spec.clearance, "clearance_ratio": spec.clearance_ratio,
-               "avoid_revisits": spec.avoid_revisits,
+               "avoid_revisits": spec.avoid_revisits, "step_cap": spec.step_cap,
                "wall_s": wall}
     write_json(out / "metrics.json", metrics)
     atomic_write_text(out / "heldout_misses.csv", table.to_csv(index=False))
@@ -116,7 +121,7 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     text = "\n".join([
         f"# Held-out starts again: {src} (fallback `{spec.fallback}`, clearance "
         f"{spec.clearance:g} m at a bar of {spec.clearance_ratio:g}, revisit rule "
-        f"{'on' if spec.avoid_revisits else 'off'})", "",
+        f"{'on' if spec.avoid_revisits else 'off'}, step cap {spec.step_cap})", "",
         f"Run `{run_dir}` ({cfg.scene} scene, {cfg.discretization.n_effects} effects, "
         f"seed {cfg.seed}); "
         f"{cfg.heldout.n_starts} held-out starts x {cfg.discretization.n_effects} effects.", "",

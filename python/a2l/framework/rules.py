@@ -21,10 +21,11 @@ __all__ = ["bundle_with_fallback", "training_bundle"]
 def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
                          clearance: float | None = None,
                          avoid_revisits: bool | None = None,
-                         clearance_ratio: float | None = None) -> SkillSpec:
+                         clearance_ratio: float | None = None,
+                         step_cap: int | None = None) -> SkillSpec:
     """Write the push skill bundle `src` to `dst` with the fallback `rule`, the clearance
-    rule `clearance` (m) and its bar `clearance_ratio`, and the revisit rule
-    `avoid_revisits` (each None: its own), the same table otherwise; returns the skill
+    rule `clearance` (m) and its bar `clearance_ratio`, the revisit rule `avoid_revisits` and
+    the step cap `step_cap` (each None: its own), the same table otherwise; returns the skill
     written."""
     from a2l.skills.bundle import load_bundle, save_bundle
 
@@ -37,6 +38,8 @@ def bundle_with_fallback(src: Path, dst: Path, rule: str | None = None,
         spec = replace(spec, clearance_ratio=float(clearance_ratio))
     if avoid_revisits is not None:
         spec = replace(spec, avoid_revisits=bool(avoid_revisits))
+    if step_cap is not None:
+        spec = replace(spec, step_cap=int(step_cap))
     save_bundle(spec, dst)
     return spec
 
