@@ -118,12 +118,12 @@ int previous_movement(const Skill& skill, const SkillState& state) noexcept {
 // The revisit rule (SkillSettings::avoid_revisits): into `spent` (n_moves) the movements this
 // run chose at the points of its path (SkillState's, eef - object) within half a movement of
 // `r` that it has left since (a step that did not move, e.g. a held arm, is no return);
-// whether there is one.
+// whether there is one (`spent` untouched when the rule is off).
 bool mark_spent(const Skill& skill, const SkillState& state, const Eigen::Vector3d& r,
                 char* spent) noexcept {
+  if (!skill.settings().avoid_revisits) return false;
   const int nm = skill.n_moves();
   for (int m = 0; m < nm; ++m) spent[m] = 0;
-  if (!skill.settings().avoid_revisits) return false;
   const double radius = 0.5 * skill.movements().step();
   auto near = [&](std::size_t j) noexcept { return (state.path_point(j) - r).norm() < radius; };
   std::size_t left = 0;  // the points before the last one away from r
@@ -285,8 +285,7 @@ bool on_pushing_side(const Skill& skill, const Eigen::Vector3d& r, int effect) n
 // The clearance rule (SkillSettings::clearance): away from the pushing side, a `chosen`
 // movement ending nearer the object than the clearance gives way to the best-scored allowed
 // one that does not (by `score`, at least SkillSettings::clearance_ratio of the chosen's; not
-// `excluded`),
-// into `chosen` and `prob`; unchanged if there is none.
+// `excluded`), into `chosen` and `prob`; unchanged if there is none.
 void keep_clearance(const Skill& skill, const Context& context, const Reach& reach,
                     const Excluded& excluded, const double* score, int& chosen,
                     double& prob) noexcept {

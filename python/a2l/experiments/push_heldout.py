@@ -23,7 +23,7 @@ from a2l.errors import ConfigError
 from a2l.experiments.push import record_validations
 from a2l.experiments.push_misses import miss_causes, miss_table, misses_markdown, plot_misses
 from a2l.framework.config import FrameworkConfig
-from a2l.framework.rules import bundle_with_fallback
+from a2l.framework.rules import bundle_with_rules
 from a2l.framework.scoring import heldout_metrics
 from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor
@@ -72,9 +72,9 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     Returns
     -------
     dict
-        The metrics written, with ``"fallback"``, ``"clearance"``, ``"avoid_revisits"``,
-        ``"bundle"`` and
-        ``"wall_s"``.
+        The metrics written, with the step's settings it ran (``"fallback"``,
+        ``"clearance"``, ``"clearance_ratio"``, ``"avoid_revisits"``, ``"step_cap"``),
+        ``"bundle"`` and ``"wall_s"``.
     """
     run_dir, out = Path(run_dir), Path(out)
     cfg_path = run_dir / "config.json"
@@ -84,20 +84,13 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     src = run_dir / "skills" / ("push.a2lb" if iteration is None else f"iter_{iteration:03d}.a2lb")
     if not src.is_file():
         raise ConfigError("iteration", f"'{src}' does not exist")
-    if fallback is not None:
-        cfg = cfg.with_({"skill.fallback": fallback})  # names an unknown rule
-    if clearance is not None:
-        cfg = cfg.with_({"skill.clearance": clearance})  # names a bad value
+    changes = {"fallback": fallback, "clearance": clearance, "clearance_ratio": clearance_ratio,
+               "avoid_revisits": avoid_revisits, "step_cap": step_cap}
+    changes = {k: v for k, v in changes.items() if v is not None}
+    cfg = cfg.with_({f"skill.{k}": v for k, v in changes.items()})  # names a bad value
     out.mkdir(parents=True, exist_ok=True)
     bundle = out / "skill.a2lb"
-    if avoid_revisits is not None:
-        cfg = cfg.with_({"skill.avoid_revisits": avoid_revisits})
-    if clearance_ratio is not None:
-        cfg = cfg.with_({"skill.clearance_ratio": clearance_ratio})  # names a bad value
-    if step_cap is not None:
-        cfg = cfg.with_({"skill.step_cap": step_cap})  # names a bad value
-    spec = bundle_with_fallback(src, bundle, fallback, clearance, avoid_revisits,
-                                clearance_ratio, step_cap)
+    spec = bundle_with_rules(src, bundle, **changes)
     t0 = time.perf_counter()
     with Executor(workers=workers) as ex:
         held = validate_heldout(cfg, ex, bundle)

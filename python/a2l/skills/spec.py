@@ -117,8 +117,9 @@ class SkillSpec:
         an alternative that keeps clearance needs (default ``_core.CLEARANCE_RATIO``, 0.5,
         the bar of bundles that write none).
     avoid_revisits : bool
-        The step's revisit rule: a run that comes back to a context cell it has left does
-        not repeat there a movement it chose there before (``docs/runtime.md``).
+        The step's revisit rule: a run that comes back within half a movement of where it
+        was, having left, does not repeat there a movement it chose there
+        (``docs/runtime.md``).
     robot : dict or None
         ``{"name", "urdf_sha256", "base_link", "tip_link"}``, or None.
     extra : dict
