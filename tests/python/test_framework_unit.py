@@ -216,7 +216,7 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
     path = tmp_path / "iter_000.a2lb"
     save_bundle(replace(spec, fallback="approach", clearance=0.10, clearance_ratio=0.25,
-                        avoid_revisits=True), path)
+                        avoid_revisits=True, step_cap=16), path)
     train = training_bundle(base, path)
     assert train == tmp_path / "iter_000.train.a2lb"
     got, run = load_bundle(train), load_bundle(path)
@@ -226,16 +226,45 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     assert (got.clearance, run.clearance) == (0.0, 0.10)
     assert (got.avoid_revisits, run.avoid_revisits) == (False, True)
     assert run.clearance_ratio == 0.25
+    # the exported skill runs longer than the training validation's
+    assert (base.skill.step_cap, base.skill.train_step_cap) == (16, 12)
+    assert (got.step_cap, run.step_cap) == (12, 16)
     assert np.array_equal(got.posterior, run.posterior) and got.extra == run.extra
     same = base.with_({"skill.train_fallback": "approach", "skill.clearance": 0.0,
-                       "skill.avoid_revisits": False})
+                       "skill.avoid_revisits": False, "skill.train_step_cap": 16})
     assert training_bundle(same, path) == path
+    # a shorter training cap alone still trains on a copy with it
+    capped = training_bundle(same.with_({"skill.train_step_cap": 12}), path)
+    assert capped != path and load_bundle(capped).step_cap == 12
     # the revisit rule alone still trains on a copy without it
     alone = training_bundle(same.with_({"skill.avoid_revisits": True}), path)
     assert alone != path and not load_bundle(alone).avoid_revisits
     # a rule of the same fallback but a clearance still trains on a copy without it
     copy = training_bundle(base.with_({"skill.train_fallback": "approach"}), path)
     assert copy != path and load_bundle(copy).clearance == 0.0
+
+
+def test_validation_runs_to_the_bundles_step_cap(tmp_path: Path) -> None:
+    """A validation rollout ends at the cap of the bundle it runs (the training copy's, the
+    exported skill's), not at the configuration's ``skill.step_cap``: from 0.15 m on the
+    side `right` pushes toward, the skill needs 4 movements."""
+    from a2l.framework.validation import _closed_loop
+    from a2l.skills.bundle import save_bundle
+    from a2l.skills.pipeline import compile_policy, learn_network, make_skill_spec
+    from a2l.skills.synthetic import push_dataset
+
+    cfg = FrameworkConfig(scene="virtual").with_({"skill.step_cap": 2})
+    disc = cfg.discretization.discretizer()
+    net = learn_network(disc.discretize(push_dataset(300, seed=1)), "hand-coded")
+    spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
+    got = {}
+    for cap in (2, 12):
+        path = tmp_path / f"cap{cap}.a2lb"
+        save_bundle(replace(spec, step_cap=cap), path)
+        r = _closed_loop(cfg, str(path), 0, np.array([0.15, 0.0, 0.0]), 1)
+        got[cap] = (r.executed, r.stop, r.outcome)
+    assert got[2] == (2, "step_cap", "fail")
+    assert got[12] == (4, "moved", "success")
 
 
 @pytest.mark.parametrize("value", [0.0, 1.5, float("nan"), "0.5", True])

@@ -106,7 +106,7 @@ def test_every_run_is_a_command_on_evaluation_seeds(profile: str) -> None:
                 seeds += [int(s) for s in re.split(r"[-,]", ns.seeds)]
             assert seeds, f"{entry.name}/{run.key}: no seed given (defaults may be tuning " \
                 "seeds)"
-            assert not any(is_tuning(s) for s in seeds), (entry.name, run.key, seeds)
+            assert not any(is_tuning(s, path[1]) for s in seeds), (entry.name, run.key, seeds)
     with pytest.raises(KeyError, match="unknown results table"):
         entries(["push-virtual", "nonsense"])
 

@@ -29,6 +29,15 @@ def test_the_split_and_its_edges() -> None:
     assert seed_use([999, 1000]) == "mixed"
     with pytest.raises(ValueError, match="seed: must be >= 0"):
         seeds.is_tuning(-1)
+    # seeds looked at before a choice are tuning seeds of their experiment only
+    assert seeds.is_tuning(1001, "push") and not seeds.is_tuning(1001, "lfd-skills")
+    assert not seeds.is_tuning(1003, "push") and not seeds.is_tuning(1001)
+    assert seed_use([1001, 1003], "push") == "mixed"
+    record = seed_record("sweep", [1000, 1005])
+    assert (record["use"], record["tuning"], record["evaluation"]) == ("mixed", "1000", "1005")
+    assert "1000-1002, looked at before a choice" in mark_report("# T\n", record)
+    with pytest.raises(ValueError, match="below its block"):
+        seeds.ExperimentSeeds("x", "y", (1003, 1100), "z", looked_at=(1003,))
     with pytest.raises(ValueError, match="none given"):
         seed_use([])
 

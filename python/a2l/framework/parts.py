@@ -135,7 +135,13 @@ class SkillConfig:
     Attributes
     ----------
     step_cap : int
-        Most movements a skill may take in validation.
+        Most movements the exported skill takes, and a run from the held-out starts
+        (default 16, chosen on tuning seeds, ``docs/experiments/push.md``: a start on the
+        side the box is pushed toward needs most of 12 movements to go round it).
+    train_step_cap : int
+        Most movements a run of the training validation takes (the training starts and the
+        fresh starts; default 12, the thesis' cap): a run that needs more is a failure the
+        extension learns from, as without the fallback and the clearance rule.
     smoothing : bool
         Neighbour smoothing (``docs/method.md``) in the C++ step (default on: with
         hill-climbing + K2, 27 of virtual seeds 0-29 reach 100 within 3 iterations, 21
@@ -174,7 +180,8 @@ class SkillConfig:
         tuning seeds (``docs/experiments/push.md``).
     """
 
-    step_cap: int = 12
+    step_cap: int = 16
+    train_step_cap: int = 12
     smoothing: bool = True
     fallback: str | None = None
     train_fallback: str | None = None
@@ -184,6 +191,7 @@ class SkillConfig:
 
     def __post_init__(self) -> None:
         check_count("skill", "step_cap", self.step_cap)
+        check_count("skill", "train_step_cap", self.train_step_cap)
         for name in ("fallback", "train_fallback"):
             if getattr(self, name) is not None:
                 check_choice("skill", name, getattr(self, name), FALLBACK_RULES)

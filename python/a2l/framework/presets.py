@@ -22,7 +22,7 @@ PRESETS: dict[str, dict[str, Any]] = {
         "discretization.n_orient": 16, "discretization.n_dist": 3,
         "discretization.dist_low": 0.05, "discretization.dist_high": 0.20,
         "discretization.dist_edges": (), "discretization.n_incl": 0,
-        "discretization.n_offset": 0, "skill.step_cap": 12, "skill.clearance": 0.0,
-        "skill.avoid_revisits": False,
+        "discretization.n_offset": 0, "skill.step_cap": 12, "skill.train_step_cap": 12,
+        "skill.clearance": 0.0, "skill.avoid_revisits": False,
     },
 }

@@ -1,6 +1,7 @@
 """The step's rules a skill bundle of a run carries: the exported skill's (``skill.fallback``,
-``skill.clearance``, ``skill.avoid_revisits``) and the training validation's
-(``skill.train_fallback``, neither the clearance nor the revisit rule),
+``skill.clearance``, ``skill.avoid_revisits``, ``skill.step_cap``) and the training
+validation's (``skill.train_fallback``, ``skill.train_step_cap``, neither the clearance nor
+the revisit rule),
 written as copies of one learned table (:func:`bundle_with_rules`, :func:`training_bundle`)."""
 
 from __future__ import annotations
@@ -31,15 +32,15 @@ def bundle_with_rules(src: Path, dst: Path, **settings: Any) -> SkillSpec:
 
 def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     """The skill the training validation runs: `bundle` itself, or, when
-    ``cfg.skill.train_fallback`` differs from its ``cfg.skill.fallback`` or the skill keeps
-    a clearance (``cfg.skill.clearance``) or the revisit rule (``cfg.skill.avoid_revisits``),
-    a copy beside it (``<name>.train.a2lb``) with the training rule and neither of the two
-    (the same table otherwise)."""
+    ``cfg.skill.train_fallback`` or ``cfg.skill.train_step_cap`` differs from its exported
+    counterpart or the skill keeps a clearance (``cfg.skill.clearance``) or the revisit rule
+    (``cfg.skill.avoid_revisits``), a copy beside it (``<name>.train.a2lb``) with the
+    training rule and step cap and neither of the two rules (the same table otherwise)."""
     skill = cfg.skill
-    if (skill.train_fallback == skill.fallback and not skill.clearance
-            and not skill.avoid_revisits):
+    if (skill.train_fallback == skill.fallback and skill.train_step_cap == skill.step_cap
+            and not skill.clearance and not skill.avoid_revisits):
         return bundle
     out = bundle.with_suffix(".train.a2lb")
     bundle_with_rules(bundle, out, fallback=skill.train_fallback, clearance=0.0,
-                      avoid_revisits=False)
+                      avoid_revisits=False, step_cap=skill.train_step_cap)
     return out

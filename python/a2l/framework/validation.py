@@ -154,7 +154,7 @@ def _closed_loop(cfg: FrameworkConfig, bundle: str, start: int, offset: np.ndarr
         fallbacks[0] += out.fallback
         return out.movement
 
-    r = play(scene_env(cfg), disc, start, offset, [], choose, cfg.skill.step_cap + 1)
+    r = play(scene_env(cfg), disc, start, offset, [], choose, runner.step_cap + 1)
     r.wanted = wanted
     r.fallbacks = fallbacks[0]
     # Judged by what happened (the object's true displacement), not by what the robot saw:
