@@ -99,12 +99,9 @@ def test_help_names_bullet_and_baxter_as_its_earlier_name(
 
 
 #: Where ``"baxter"`` may stand in the package, as a robot: the built-in robot entries and
-#: the lookups of Baxter's URDF...
+#: the lookups of Baxter's URDF (every default names :data:`a2l.robot.DEFAULT_ROBOT`)...
 ROBOT_FILES = ("robot/builtin_robots.py", "robot/robot_file.py", "robot/descriptions.py")
-#: ... a default value (a dataclass field or a parameter with its annotation, an argparse
-#: default)...
-DEFAULT = re.compile(r'\w+\s*:\s*[^=()]+(\[[^\]]*\][^=()]*)?=\s*"baxter"|\bdefault="baxter"')
-#: The one place the scene name stands: the mapping of the earlier scene names.
+#: ... and the one place the scene name stands: the mapping of the earlier scene names.
 LEGACY_HOME = ("rollout/env.py", "LEGACY_SCENES: dict[str, tuple[str, str]] = {")
 
 
@@ -114,15 +111,15 @@ def _kind(rel: str, line: str) -> str | None:
         return "robot entry"
     if (rel, line.strip()[:len(LEGACY_HOME[1])]) == LEGACY_HOME:
         return "legacy scene"
-    if DEFAULT.search(line):
-        return "default"
     return None
 
 
 def test_the_package_names_baxter_only_as_a_robot_and_once_as_an_earlier_scene() -> None:
-    """``grep -rn '"baxter"' python/a2l``: every hit is a built-in robot entry, a default
-    value (:data:`a2l.robot.DEFAULT_ROBOT` where a robot is compared with Baxter), or the
-    one mapping of the earlier scene name (:data:`a2l.rollout.env.LEGACY_SCENES`)."""
+    """``grep -rn '"baxter"' python/a2l``: every hit is a built-in robot entry or the one
+    mapping of the earlier scene name (:data:`a2l.rollout.env.LEGACY_SCENES`); a default
+    robot is :data:`a2l.robot.DEFAULT_ROBOT`, the one home of the name."""
+    from a2l.robot import DEFAULT_ROBOT
+
     hits: dict[str, list[str]] = {}
     for path in sorted(PACKAGE.rglob("*")):
         if not path.is_file() or path.suffix in (".so", ".pyd", ".pyc"):
@@ -132,8 +129,8 @@ def test_the_package_names_baxter_only_as_a_robot_and_once_as_an_earlier_scene()
             if '"baxter"' in line:
                 hits.setdefault(str(_kind(rel, line)), []).append(f"{rel}:{n}: {line.strip()}")
     assert "None" not in hits, "\n".join(hits["None"])
-    assert len(hits["legacy scene"]) == 1
-    assert hits["default"] and hits["robot entry"]
+    assert len(hits["legacy scene"]) == 1 and hits["robot entry"]
+    assert DEFAULT_ROBOT == "baxter"
 
 
 def test_a_sweep_of_scene_baxter_continues_with_the_same_command(

@@ -13,6 +13,7 @@ from a2l.cli.args import UsageError, check_cluster, check_out, check_record, com
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.experiments.lasa import LasaConfig
+from a2l.robot import DEFAULT_ROBOT
 
 
 def _cmd_experiment_lasa(args: Namespace) -> int:
@@ -138,7 +139,7 @@ def _babbling_parsers() -> tuple[Parser, Parser]:
     bab.add_argument("--record", metavar="FILE.rrd", default=None,
                      help="write every evaluation to a Rerun recording: the end-effector "
                      "path, the objects before and after (a2l view FILE.rrd)")
-    cmp_.add_argument("--robot", default="baxter", metavar="NAME|FILE",
+    cmp_.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE",
                       help="the robot: a built-in name (baxter, pr2, ...) or a robot file "
                       "(default baxter); the world is placed at its work point")
     cmp_.add_argument("--record", metavar="FILE.rrd", default=None,

@@ -15,6 +15,7 @@ from a2l.errors import ConfigError
 from a2l.experiments.lfd_skills import SCENES
 from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
 from a2l.lfd.config import DEFAULT, LfDConfig
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rollout.env import LEGACY_SCENES
 
 
@@ -121,7 +122,7 @@ def grid_of(args: Namespace) -> dict[str, Sequence[Any]]:
 def add_robot_options(p: Parser, scene: bool = True) -> None:
     """``--robot`` (and with `scene`, ``--scene``) of the experiments on demonstrated
     skills."""
-    p.add_argument("--robot", default="baxter", metavar="NAME|FILE",
+    p.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE",
                    help="the robot the skills are learned for and tried on: a built-in name "
                    "(baxter, panda, ...) or a robot file (default baxter)")
     if scene:

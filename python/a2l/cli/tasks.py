@@ -11,6 +11,7 @@ from jsonargparse.typing import NonNegativeInt, PositiveInt
 from a2l.cli.args import check_record, comma_list
 from a2l.cli.parser import Parser, add_config_option
 from a2l.experiments.tasks import DEFAULT_SEED, TASKS
+from a2l.robot import DEFAULT_ROBOT
 
 
 def _cmd_tasks(args: Namespace) -> int:
@@ -54,7 +55,7 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),
                    default="perceived", help="where the skills and the planner read the "
                    "scene: the camera (perceived, default) or the simulator's ground truth")
-    p.add_argument("--robot", metavar="ROBOT", default="baxter",
+    p.add_argument("--robot", metavar="ROBOT", default=DEFAULT_ROBOT,
                    help="the robot of the task scenes: a built-in robot (baxter, panda...) "
                    "or a robot file; the transits are planned for its arm (default baxter)")
     p.add_argument("--record", metavar="FILE.rrd", default=None,

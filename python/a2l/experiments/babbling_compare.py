@@ -14,6 +14,7 @@ from a2l.experiments.babbling import record_babbling, run_babbling
 from a2l.experiments.babbling_plots import plot_progress, plot_visits, summary_table
 from a2l.experiments.babbling_world import WorldConfig
 from a2l.progress import print_tables
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rundir import make_run_dir, read_json, write_json
 from a2l.seeds import mark_report, seed_record
 
@@ -25,7 +26,7 @@ def run_babbling_compare(scene: str, evaluations: int, seeds: list[int],
                              "noveb", "random", "goal"), workers: int = 1,
                          cluster: str | None = None, generation_size: int = 20,
                          quiet: bool = False, record: str | Path | None = None,
-                         robot: str = "baxter") -> dict[str, Any]:
+                         robot: str = DEFAULT_ROBOT) -> dict[str, Any]:
     """Every method with every seed (``<out>/<method>-s<seed>``; a finished run is reused),
     then the side-by-side plots and the table of means and spreads; with `record`, every
     run's evaluations in one Rerun recording (``.rrd``), group ``<method>-s<seed>``

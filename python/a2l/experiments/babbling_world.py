@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from a2l.acquisition.trajectory import WaypointEncoding, play_and_look
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rollout.cache import thread_scene
 from a2l.rollout.protocol import ArmSceneProtocol
 
@@ -87,7 +88,7 @@ class WorldConfig:
     """
 
     scene: str = "push"
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
     start: tuple[float, float, float] | None = None
     low: tuple[float, float, float] | None = None
     high: tuple[float, float, float] | None = None

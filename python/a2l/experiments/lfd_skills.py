@@ -27,6 +27,7 @@ import pandas as pd
 from a2l.errors import A2LError, ConfigError
 from a2l.lfd.config import LfDConfig
 from a2l.progress import print_tables, progress_bar
+from a2l.robot import DEFAULT_ROBOT
 
 __all__ = ["SCENES", "LfdTrial", "evaluate", "resolve_scene", "results_table", "scale_note",
            "run_lfd_skills", "trial_task"]
@@ -96,7 +97,7 @@ class LfdTrial:
     package: str = field(default_factory=package_dir)
     context_source: str = "perceived"
     keep_run: bool = False
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
 
 
 def trial_task(task: LfdTrial) -> dict[str, Any]:
@@ -151,7 +152,7 @@ def evaluate(bundles: dict[str, Path], seeds: Sequence[int], scene: str = "bulle
              mode: str = "table", cfg: LfDConfig | None = None, executor: Any = None,
              on_done: Callable[[int], None] | None = None,
              context_source: str = "perceived", keep_runs: bool = False,
-             robot: str = "baxter") -> list[dict[str, Any]]:
+             robot: str = DEFAULT_ROBOT) -> list[dict[str, Any]]:
     """Run every skill of `bundles` from every trial seed; one result dict per trial.
 
     Parameters
@@ -239,7 +240,7 @@ def resolve_scene(scene: str | None, robot: str) -> str:
         other than the default in the virtual scene (which has none), an unknown robot or
         robot file.
     """
-    from a2l.robot import DEFAULT_ROBOT, robot_entry
+    from a2l.robot import robot_entry
     from a2l.rollout.env import LEGACY_SCENES, normalise_scene
 
     scene = "bullet" if scene is None else scene
@@ -261,7 +262,7 @@ def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = N
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
                    quiet: bool = False, context_source: str = "perceived",
                    record: str | os.PathLike[str] | None = None,
-                   robot: str = "baxter") -> dict[str, Any]:
+                   robot: str = DEFAULT_ROBOT) -> dict[str, Any]:
     """Learn the skills and try them; write the run directory (see the module docstring).
 
     The skills are learned for `robot` (a built-in name or a robot file; their bundles

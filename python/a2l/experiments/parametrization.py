@@ -40,6 +40,7 @@ from a2l.experiments.lfd_skills import (
 )
 from a2l.lfd.config import LfDConfig
 from a2l.progress import progress_bar
+from a2l.robot import DEFAULT_ROBOT
 
 __all__ = ["DEFAULT_GRID", "GRID_FIELDS", "ParametrizationCell", "cell_fields", "cell_task",
            "run_parametrization", "select_default"]
@@ -105,7 +106,7 @@ class ParametrizationCell:
     out_dir: str
     package: str = field(default_factory=package_dir)
     keep_runs: bool = False
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
 
 
 def cell_task(task: ParametrizationCell) -> dict[str, Any]:
@@ -228,7 +229,7 @@ def _plot(cells: pd.DataFrame, chosen: dict[str, Any], path: Path) -> None:
 
 def _write_config(run_dir: Path, names: list[str], trials: int, seed: int, scene: str,
                   workers: int, values: dict[str, Sequence[Any]], base: LfDConfig | None,
-                  seeds: list[int], robot: str = "baxter") -> None:
+                  seeds: list[int], robot: str = DEFAULT_ROBOT) -> None:
     """Write the study's ``config.json``, with the command that reruns it."""
     from a2l.rundir import command_line, write_json
     from a2l.seeds import seed_record
@@ -277,7 +278,7 @@ def run_parametrization(out: str | os.PathLike[str], skills: Sequence[str] | Non
                         seed: int = 500, scene: str | None = None, workers: int = 1,
                         base: LfDConfig | None = None, quiet: bool = False,
                         record: str | os.PathLike[str] | None = None,
-                        robot: str = "baxter") -> dict[str, Any]:
+                        robot: str = DEFAULT_ROBOT) -> dict[str, Any]:
     """The study (see the module docstring); returns the metrics written to
     ``metrics.json``. A cell's configuration is the skill's own
     (:func:`a2l.lfd.library.skill_config`, or `base`) with the cell's five values. With

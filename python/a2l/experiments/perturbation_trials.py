@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from a2l.lfd.config import LfDConfig
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rollout.protocol import SceneProtocol
 
 __all__ = ["CONDITIONS", "EFFECT_BY_LIGHT", "HOLD_RANGE", "LIT_SCENES", "MODES", "MOVE_RANGE",
@@ -108,7 +109,7 @@ class PerturbationTrial:
     conditions: tuple[str, ...]
     config: LfDConfig
     context_source: str = "perceived"
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
 
 
 def draw_perturbation(condition: str, seed: int, movements: int,
@@ -202,7 +203,7 @@ def skill_test(recipe: Any, by_light: dict[str, str] | None
 
 
 def _scene(skill: str, scene_name: str, cfg: LfDConfig, source: str = "perceived",
-           robot: str = "baxter") -> Any:
+           robot: str = DEFAULT_ROBOT) -> Any:
     """A new scene for one trial task (closed by the caller). Not one scene per worker: a
     rollout's physics was not bitwise the same after different earlier trials in the same
     scene (1 and 2 workers once differed by 0.2 mm on one DS run, docs/experiments/

@@ -70,7 +70,7 @@ from a2l.experiments.perturbation_trials import (
 )
 from a2l.lfd.config import LfDConfig
 from a2l.progress import print_tables, progress_bar
-from a2l.robot.builtin_robots import DEFAULT_ROBOT
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rundir import command_line
 
 __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "Perturbation",
@@ -101,7 +101,7 @@ class _LearnTask:
     skill: str
     out_dir: str
     config: LfDConfig
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
 
 
 def _learn(task: _LearnTask) -> dict[str, Any]:
@@ -173,7 +173,7 @@ def run_perturbations(out: str | os.PathLike[str], skills: Sequence[str] | None 
                       command: str | None = None,
                       context_source: str = "perceived",
                       record: str | os.PathLike[str] | None = None,
-                      robot: str = "baxter") -> dict[str, Any]:
+                      robot: str = DEFAULT_ROBOT) -> dict[str, Any]:
     """Learn the skills, run every trial under every condition and write the run directory.
 
     Parameters

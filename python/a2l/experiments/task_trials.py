@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rollout.protocol import SceneProtocol
 
 __all__ = ["JITTER", "TASKS", "Played", "TaskSpec", "TaskTrial", "fault_hook",
@@ -183,7 +184,7 @@ def play_task(name: str, seed: int, fault: bool, bundles: dict[str, str],
               out: str | os.PathLike[str], planner: str = "pyperplan",
               time_limit: float = 10.0, max_replans: int = 3, gui: bool = False,
               context_source: str = "perceived", trace: bool = False,
-              robot: str = "baxter") -> Played:
+              robot: str = DEFAULT_ROBOT) -> Played:
     """Play task `name` once from trial `seed`, in a scene of its own.
 
     Parameters
@@ -300,7 +301,7 @@ class TaskTrial:
     max_replans: int = 3
     context_source: str = "perceived"
     trace: bool = False
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
 
 
 def trial_task(job: TaskTrial) -> dict[str, Any]:

@@ -60,7 +60,7 @@ from a2l.experiments.task_trials import (
     trial_task,
 )
 from a2l.progress import print_tables, progress_bar
-from a2l.robot.builtin_robots import DEFAULT_ROBOT
+from a2l.robot import DEFAULT_ROBOT
 
 __all__ = ["DEFAULT_SEED", "JITTER", "TASKS", "Played", "TaskSpec", "TaskTrial",
            "learn_task_skills", "play_task", "record_task_trials", "run_tasks", "trial_task"]
@@ -103,7 +103,7 @@ def run_tasks(out: str | os.PathLike[str], tasks: Sequence[str] | None = None,
               quiet: bool = False, plots: bool = True,
               context_source: str = "perceived",
               record: str | os.PathLike[str] | None = None,
-              robot: str = "baxter") -> dict[str, Any]:
+              robot: str = DEFAULT_ROBOT) -> dict[str, Any]:
     """Learn the skills, run every trial and write the run directory.
 
     Parameters

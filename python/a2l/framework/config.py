@@ -45,6 +45,7 @@ from a2l.framework.starts import (
     heldout_redraw,
     spread_ranks,
 )
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rollout.env import ENV_SCENES, normalise_scene
 from a2l.skills.discretization import DiscretizationConfig
 
@@ -191,7 +192,7 @@ class FrameworkConfig:
     seed: int = 0
     context_source: str = "perceived"
     scene_config: dict[str, Any] = field(default_factory=dict)
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
 
     def __post_init__(self) -> None:
         for name in PARTS:

@@ -10,7 +10,7 @@ from dataclasses import replace
 from typing import Any
 
 from a2l.errors import ConfigError
-from a2l.robot.builtin_robots import DEFAULT_ROBOT
+from a2l.robot import DEFAULT_ROBOT
 
 __all__ = ["LENGTHS", "check_robot", "scaled_parts"]
 

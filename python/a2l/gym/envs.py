@@ -26,6 +26,7 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from a2l.errors import A2LValueError, UnreachableError
+from a2l.robot import DEFAULT_ROBOT
 from a2l.sim import make_scene
 from a2l.skills.repertoire import default_directions, direction_label
 
@@ -72,7 +73,7 @@ class PushEnv(gymnasium.Env):  # type: ignore[misc]
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 5}
 
-    def __init__(self, scene: str = "push", robot: str = "baxter",
+    def __init__(self, scene: str = "push", robot: str = DEFAULT_ROBOT,
                  action_type: str = "discrete", object_range: float = 0.10,
                  goal_range: float = 0.20, start_r_low: float = 0.10,
                  start_r_high: float = 0.25, distance_threshold: float = 0.05,

@@ -33,6 +33,7 @@ from a2l.lfd.config import DEFAULT, LfDConfig
 from a2l.lfd.demonstrators import PushDemonstrator
 from a2l.lfd.recipes import SKILLS, SkillRecipe, get_recipe, register_skill
 from a2l.lfd.skill import Behaviour, LearnedSkill, learn_skill
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rollout.protocol import SceneProtocol
 from a2l.sim import make_scene, settings_for
 
@@ -206,7 +207,7 @@ def check_robot_for(name: str, robot: str) -> None:
 
 
 def learn_recipe(name: str, out_dir: str | os.PathLike[str], cfg: LfDConfig | None = None,
-                 seed: int = 0, robot: str | None = "baxter") -> LearnedSkill:
+                 seed: int = 0, robot: str | None = DEFAULT_ROBOT) -> LearnedSkill:
     """Demonstrate (seeds ``seed ...``), learn and save skill `name` as
     ``out_dir/<name>.a2lb`` (with :func:`skill_config`).
 

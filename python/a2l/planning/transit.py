@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from a2l import Kinematics, _core
 from a2l.errors import A2LError, A2LValueError, URDFError
-from a2l.robot import RobotEntry, arm_entry, pybullet_urdf
+from a2l.robot import DEFAULT_ROBOT, RobotEntry, arm_entry, pybullet_urdf
 from a2l.rollout.protocol import ArmSceneProtocol
 from a2l.sim.assets import mesh_vertices
 
@@ -134,9 +134,10 @@ class ArmTransit:
         s per planning call.
     """
 
-    def __init__(self, robot: str | os.PathLike[str] | RobotEntry = "baxter", arm: str = "right",
-                 padding: float = 0.02, velocity_scale: float = 0.5, acceleration: float = 1.5,
-                 time_limit: float = 2.0, resolution: float = 0.01) -> None:
+    def __init__(self, robot: str | os.PathLike[str] | RobotEntry = DEFAULT_ROBOT,
+                 arm: str = "right", padding: float = 0.02, velocity_scale: float = 0.5,
+                 acceleration: float = 1.5, time_limit: float = 2.0,
+                 resolution: float = 0.01) -> None:
         if not _core.transit_available():
             raise A2LError("this build of a2l has no transit planner (needs Bullet and OMPL)")
         self.robot = transit_robot(robot, arm)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from a2l.robot.builtin_robots import DEFAULT_ROBOT
+from a2l.robot import DEFAULT_ROBOT
 from a2l.rundir import read_json
 
 __all__ = ["CONTEXTS", "ENTRIES", "PROFILES", "Entry", "Run", "by_context", "entries"]

@@ -139,7 +139,7 @@ def builtin_robot(name: str) -> RobotEntry:
     return _BUILDERS[name]()
 
 
-def arm_spec(robot: str | os.PathLike[str] = "baxter", arm: str = "right") -> ArmSpec:
+def arm_spec(robot: str | os.PathLike[str] = DEFAULT_ROBOT, arm: str = "right") -> ArmSpec:
     """The arm chain of a built-in robot: the :class:`ArmSpec` view of its entry.
 
     Parameters

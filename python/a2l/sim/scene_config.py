@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
+from a2l.robot import DEFAULT_ROBOT
 from a2l.sim.config_fields import choice_field, field_error, positive_field, vector_field
 
 __all__ = ["PLACE_MARGIN", "SceneConfig"]
@@ -124,7 +125,7 @@ class SceneConfig:
         have are an error.
     """
 
-    robot: str = "baxter"
+    robot: str = DEFAULT_ROBOT
     gui: bool = False
     time_step: float = 1.0 / 240.0
     arm: str = "right"
