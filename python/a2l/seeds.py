@@ -80,17 +80,20 @@ class ExperimentSeeds:
 
 _FRAMEWORK = ("babbling around the object, the validation starts and the held-out starts of "
               "every iteration")
-_FRAMEWORK_TUNED = ("the push defaults (FrameworkConfig: bins, structure, smoothing, "
-                    "effect-directed babbling) were chosen on virtual seeds 0-29 and Baxter "
-                    "seeds 0-2 (docs/framework.md), Baxter's fallback on seeds 3 and 4 "
-                    "(docs/experiments/push.md)")
-#: The push experiments' evaluation seeds looked at before a choice: the exported skill's
-#: step cap of 16 was tried after seed 1001's misses (docs/experiments/push.md), whose
-#: analysis covered the runs of seeds 1000-1002.
-_PUSH_LOOKED_AT = (1000, 1001, 1002)
-_FRAMEWORK_TUNED += ("; the exported skill's step cap on Baxter seeds 0, 5 and 6 and virtual "
-                     "seeds 0-9, after looking at seeds 1000-1002 (tuning seeds of these "
-                     "experiments since)")
+#: What the push experiments (push, sweep, discretization, heldout) share: their block of
+#: evaluation seeds, the tuning seeds their defaults were chosen on, and the evaluation seeds
+#: looked at before a choice (the exported skill's step cap of 16 was tried after seed
+#: 1001's misses, docs/experiments/push.md, whose analysis covered seeds 1000-1002).
+_PUSH_SEEDS: dict[str, Any] = {
+    "evaluation": (1003, 1999),
+    "tuned_on": ("the push defaults (FrameworkConfig: bins, structure, smoothing, "
+                 "effect-directed babbling) were chosen on virtual seeds 0-29 and Baxter "
+                 "seeds 0-2 (docs/framework.md), Baxter's fallback on seeds 3 and 4 "
+                 "(docs/experiments/push.md); the exported skill's step cap on Baxter seeds "
+                 "0, 5 and 6 and virtual seeds 0-9, after looking at seeds 1000-1002 (tuning "
+                 "seeds of these experiments since)"),
+    "looked_at": (1000, 1001, 1002),
+}
 _LFD_STREAMS = ("demonstrations: seeds 0 .. 2 n_demos - 1 of each skill (training data drawn "
                 "by the scripted demonstrator; never a trial seed)")
 
@@ -99,15 +102,12 @@ _LFD_STREAMS = ("demonstrations: seeds 0 .. 2 n_demos - 1 of each skill (trainin
 #: draw the same things (push, sweep, discretization; babbling and its comparison; the
 #: demonstrated skills and their parametrization) share a block.
 REGISTRY: dict[str, ExperimentSeeds] = {e.experiment: e for e in (
-    ExperimentSeeds("push", _FRAMEWORK, (1003, 1999), _FRAMEWORK_TUNED,
-                    looked_at=_PUSH_LOOKED_AT),
-    ExperimentSeeds("sweep", "one push run per seed (" + _FRAMEWORK + ")", (1003, 1999),
-                    _FRAMEWORK_TUNED, looked_at=_PUSH_LOOKED_AT),
+    ExperimentSeeds("push", _FRAMEWORK, **_PUSH_SEEDS),
+    ExperimentSeeds("sweep", "one push run per seed (" + _FRAMEWORK + ")", **_PUSH_SEEDS),
     ExperimentSeeds("discretization", "one push run per grid cell (" + _FRAMEWORK + ")",
-                    (1003, 1999), _FRAMEWORK_TUNED, looked_at=_PUSH_LOOKED_AT),
+                    **_PUSH_SEEDS),
     ExperimentSeeds("heldout", "none of its own: a push run's held-out starts again, from "
-                    "that run's seed", (1003, 1999), _FRAMEWORK_TUNED,
-                    looked_at=_PUSH_LOOKED_AT),
+                    "that run's seed", **_PUSH_SEEDS),
     ExperimentSeeds("babbling", "the exploration strategy and the scene", (1000, 1999),
                     "NovEB's and goal babbling's settings were tried on seeds 0-4, the seeds "
                     "of the first published comparison"),
