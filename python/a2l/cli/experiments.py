@@ -140,8 +140,8 @@ def _babbling_parsers() -> tuple[Parser, Parser]:
                      help="write every evaluation to a Rerun recording: the end-effector "
                      "path, the objects before and after (a2l view FILE.rrd)")
     cmp_.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE",
-                      help="the robot: a built-in name (baxter, pr2, ...) or a robot file "
-                      "(default baxter); the world is placed at its work point")
+                      help="the robot: a built-in name (baxter, pr2, ...) or a robot file; the "
+                      "world is placed at its work point")
     cmp_.add_argument("--record", metavar="FILE.rrd", default=None,
                       help="write every run's evaluations to one Rerun recording, "
                       "<method>-s<seed>/rollout/<i>/ (a2l view FILE.rrd)")

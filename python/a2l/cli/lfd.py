@@ -124,7 +124,7 @@ def add_robot_options(p: Parser, scene: bool = True) -> None:
     skills."""
     p.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE",
                    help="the robot the skills are learned for and tried on: a built-in name "
-                   "(baxter, panda, ...) or a robot file (default baxter)")
+                   "(baxter, panda, ...) or a robot file")
     if scene:
         p.add_argument("--scene", choices=(*SCENES, *LEGACY_SCENES), default=None,
                        help="the recipes' PyBullet scenes on --robot (bullet, the default), "

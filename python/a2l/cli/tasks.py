@@ -57,7 +57,7 @@ def add_tasks_parser(exps: Any, commands: dict[tuple[str, ...], Any]) -> None:
                    "scene: the camera (perceived, default) or the simulator's ground truth")
     p.add_argument("--robot", metavar="ROBOT", default=DEFAULT_ROBOT,
                    help="the robot of the task scenes: a built-in robot (baxter, panda...) "
-                   "or a robot file; the transits are planned for its arm (default baxter)")
+                   "or a robot file; the transits are planned for its arm")
     p.add_argument("--record", metavar="FILE.rrd", default=None,
                    help="write every trial's executed plan steps to a Rerun recording, "
                    "<task>/<fault|no_fault>/rollout/<i>/ (a2l view FILE.rrd)")
