@@ -209,6 +209,11 @@ bool bundle_detail::parse_execution(const json& m, SkillSettings& s, Errors& e) 
       return e.parse("execution.clearance_ratio: must be in (0, 1]");
     }
   }
+  s.align = 0.0;  // optional key: bundles written before it have no alignment rule
+  if (x->contains("align")) {
+    if (!get_number(*x, "execution.", "align", s.align, e)) return false;
+    if (s.align < 0.0) return e.parse("execution.align: must be >= 0 (m)");
+  }
   s.avoid_revisits = false;  // optional key: bundles written before it have no revisit rule
   if (x->contains("avoid_revisits")) {
     if (!get_bool(*x, "execution.", "avoid_revisits", s.avoid_revisits, e)) return false;

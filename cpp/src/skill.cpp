@@ -87,6 +87,9 @@ Result Skill::create(std::string name, Discretizer discretizer, PolicyTable tabl
     return Result::failure(Status::invalid_argument,
                            "execution.clearance_ratio: must be in (0, 1]");
   }
+  if (!std::isfinite(settings.align) || settings.align < 0.0) {
+    return Result::failure(Status::invalid_argument, "execution.align: must be finite and >= 0");
+  }
   if (Result r = check_ds_phases(ds_phases); !r.ok()) return r;
   std::vector<Eigen::Vector2d> push_directions;
   if (discretizer.effect_axis() >= 0) {

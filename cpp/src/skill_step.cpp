@@ -1,6 +1,6 @@
 // step(): one step of a skill's policy table (skill.hpp): the context's row (or its fallback
 // row), the reach of a fallback step, the approach fallback, smoothing, no undo, the revisit
-// rule and the clearance rule.
+// rule, the clearance rule and the alignment rule.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -309,6 +309,48 @@ void keep_clearance(const Skill& skill, const Context& context, const Reach& rea
   }
 }
 
+// The alignment rule (SkillSettings::align): on the pushing side, a `chosen` movement towards
+// the object along the push direction that would end nearer it than the clearance, started
+// more than the alignment off the push line through the object's centre, gives way to the
+// allowed movement (not `excluded`) that does not approach along the push direction and ends
+// nearest that line, if nearer than the start (into `chosen` and `prob`, by `score`);
+// unchanged if there is none.
+void align_push(const Skill& skill, const Context& context, const Reach& reach,
+                const Excluded& excluded, const double* score, int& chosen, double& prob) noexcept {
+  const double a = skill.settings().align;
+  const double c = skill.settings().clearance;
+  if (a <= 0.0 || c <= 0.0 || !on_pushing_side(skill, reach.r, context.effect)) return;
+  const Eigen::Vector2d u = skill.push_direction(context.effect);
+  if (u.norm() <= 0.0) return;
+  const Eigen::Vector2d v(-u.y(), u.x());  // across the push line
+  const Eigen::Vector2d r(reach.r.x(), reach.r.y());
+  const double lateral = std::abs(r.dot(v));
+  auto planar = [&](int m) noexcept {
+    const Eigen::Vector3d& d = skill.movements().displacement(m);
+    return Eigen::Vector2d(d.x(), d.y());
+  };
+  constexpr double kEps = 1e-9;
+  if (lateral <= a || planar(chosen).dot(u) <= kEps || (r + planar(chosen)).norm() >= c) return;
+  int alt = -1;
+  double alt_lateral = lateral;
+  for (int m = 0; m < skill.n_moves(); ++m) {
+    const Eigen::Vector2d d = planar(m);
+    if (d.dot(u) > kEps || d.norm() <= kEps || excluded(skill, m) || !reach.allows(skill, m)) {
+      continue;
+    }
+    const double l = std::abs((r + d).dot(v));
+    if (l < alt_lateral - kEps ||
+        (alt >= 0 && l < alt_lateral + kEps && d.dot(u) > planar(alt).dot(u))) {
+      alt = m;
+      alt_lateral = l;
+    }
+  }
+  if (alt >= 0) {
+    chosen = alt;
+    prob = score[alt];
+  }
+}
+
 // The chosen movement into the step's output and record.
 void emit(const Skill& skill, int chosen, double prob, StepOutput& out) noexcept {
   out.movement = chosen;
@@ -355,6 +397,7 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
     const double* score = smooth ? state.average_.data() : skill.table().posterior_row(row);
     avoid_excluded(skill, reach, excluded, score, chosen, prob);
     keep_clearance(skill, context, reach, excluded, score, chosen, prob);
+    align_push(skill, context, reach, excluded, score, chosen, prob);
   }
   ++state.steps_;
   state.remember(reach.r, chosen);

@@ -135,7 +135,7 @@ INSTANTIATE_TEST_SUITE_P(SmoothingFallbackEdges, StepNoAlloc,
 // The `approach` fallback on a planar table (effect, distance, orientation, light: the push
 // skills' kind of variables, where it heads for a cell's centre), with and without smoothing,
 // the distance in equal bins or between explicit edges; variants 4 and 5 with the revisit rule
-// over runs that come back to the cells of a few points.
+// over runs that come back to the cells of a few points; 0 and 5 with the alignment rule.
 TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
   for (const int variant : {0, 1, 2, 3, 4, 5}) {
     const bool smoothing = variant % 2 == 1, edges = variant == 2 || variant == 3;
@@ -148,6 +148,7 @@ TEST(StepNoAlloc, ApproachFallbackAllocatesNothingAndThrowsNothing) {
     parts.posterior.resize(parts.argmax.size() * 8);
     parts.manifest["execution"]["fallback"] = "approach";
     if (variant == 0 || variant >= 3) parts.manifest["execution"]["clearance"] = 0.10;
+    if (variant == 0 || variant == 5) parts.manifest["execution"]["align"] = 0.05;
     if (revisits) parts.manifest["execution"]["avoid_revisits"] = true;
     const auto bytes = a2l::testing::build(parts);
     a2l::Skill skill;

@@ -37,7 +37,7 @@ def test_push_help_lists_every_framework_config_field(
     assert info.value.code == 0
     text = capsys.readouterr().out
     missing = [p for p in field_paths(FrameworkConfig) if f"--{p} " not in text]
-    assert missing == [] and len(field_paths(FrameworkConfig)) == 57
+    assert missing == [] and len(field_paths(FrameworkConfig)) == 58
     # each with its description from its part's docstring
     assert "Push effects of the effect variable." in text
     assert "context variables also fixed as" in text

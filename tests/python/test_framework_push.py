@@ -28,6 +28,7 @@ from a2l.data.schema import EEF_COLUMNS, MOVE_COLUMNS, OBJECT_COLUMNS
 from a2l.framework import FrameworkConfig, score_of, validate
 from a2l.framework.validation import validate_heldout
 from a2l.parallel import Executor
+from a2l.skills.bundle import load_bundle
 
 #: Most iterations (iteration 0 included) to reach score 100 with the defaults (the target).
 ITERATIONS_TO_100 = 3
@@ -310,13 +311,14 @@ def test_heldout_command_reruns_the_final_skill_and_explains_its_misses(
     got = json.loads((ruled / "metrics.json").read_text())
     assert got["clearance"] == 0.10 and again["clearance"] == 0.0
     assert got["heldout_success"] > again["heldout_success"]
-    # a step cap of 4 and the revisit rule off, written into the bundle it ran: runs that
-    # needed more movements stop at the cap
+    # a step cap of 4, the revisit rule off and an alignment, written into the bundle it ran:
+    # runs that needed more movements stop at the cap
     capped = tmp_path / "capped"
     assert main(["experiment", "heldout", str(run), "--out", str(capped), "--step_cap", "4",
-                 "--avoid_revisits", "false", "--quiet"]) == 0
+                 "--avoid_revisits", "false", "--align", "0.05", "--quiet"]) == 0
     got = json.loads((capped / "metrics.json").read_text())
-    assert (got["step_cap"], got["avoid_revisits"]) == (4, False)
+    assert (got["step_cap"], got["avoid_revisits"], got["align"]) == (4, False, 0.05)
+    assert load_bundle(capped / "skill.a2lb").align == 0.05
     assert got["heldout_success"] < again["heldout_success"]
     assert "step cap 4" in (capped / "report.md").read_text()
     assert sorted(p.name for p in run.iterdir()) == before

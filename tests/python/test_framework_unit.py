@@ -216,14 +216,15 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
     path = tmp_path / "iter_000.a2lb"
     save_bundle(replace(spec, fallback="approach", clearance=0.10, clearance_ratio=0.25,
-                        avoid_revisits=True, step_cap=16), path)
+                        align=0.05, avoid_revisits=True, step_cap=16), path)
     train = training_bundle(base, path)
     assert train == tmp_path / "iter_000.train.a2lb"
     got, run = load_bundle(train), load_bundle(path)
     assert (got.fallback, run.fallback) == ("nearest", "approach")
-    # the exported skill keeps the clearance and revisit rules; the training validation runs
-    # without them
+    # the exported skill keeps the clearance, alignment and revisit rules; the training
+    # validation runs without them
     assert (got.clearance, run.clearance) == (0.0, 0.10)
+    assert (got.align, run.align) == (0.0, 0.05)
     assert (got.avoid_revisits, run.avoid_revisits) == (False, True)
     assert run.clearance_ratio == 0.25
     # the exported skill runs longer than the training validation's
@@ -231,7 +232,8 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     assert (got.step_cap, run.step_cap) == (12, 16)
     assert np.array_equal(got.posterior, run.posterior) and got.extra == run.extra
     same = base.with_({"skill.train_fallback": "approach", "skill.clearance": 0.0,
-                       "skill.avoid_revisits": False, "skill.train_step_cap": 16})
+                       "skill.align": 0.0, "skill.avoid_revisits": False,
+                       "skill.train_step_cap": 16})
     assert training_bundle(same, path) == path
     # a shorter training cap alone still trains on a copy with it
     capped = training_bundle(same.with_({"skill.train_step_cap": 12}), path)
@@ -239,6 +241,9 @@ def test_training_validation_runs_the_training_rule(tmp_path: Path) -> None:
     # the revisit rule alone still trains on a copy without it
     alone = training_bundle(same.with_({"skill.avoid_revisits": True}), path)
     assert alone != path and not load_bundle(alone).avoid_revisits
+    # the alignment rule alone still trains on a copy without it
+    aligned = training_bundle(same.with_({"skill.align": 0.05}), path)
+    assert aligned != path and load_bundle(aligned).align == 0.0
     # a rule of the same fallback but a clearance still trains on a copy without it
     copy = training_bundle(base.with_({"skill.train_fallback": "approach"}), path)
     assert copy != path and load_bundle(copy).clearance == 0.0
@@ -274,6 +279,14 @@ def test_clearance_ratio_must_be_a_share(value: object) -> None:
     assert FrameworkConfig().skill.clearance_ratio == 0.25
     assert FrameworkConfig().skill.avoid_revisits
     assert not FrameworkConfig.preset("thesis").skill.avoid_revisits
+    assert (FrameworkConfig().skill.align, FrameworkConfig.preset("thesis").skill.align) == (
+        0.05, 0.0)
+
+
+@pytest.mark.parametrize("value", [-0.01, float("nan"), "0.05", True])
+def test_align_must_be_a_length(value: object) -> None:
+    with pytest.raises(ValueError, match="^skill.align:"):
+        FrameworkConfig().with_({"skill.align": value})
 
 
 @pytest.mark.parametrize("value", [-0.01, float("nan"), "0.1", True])

@@ -184,6 +184,7 @@ def test_a_small_arms_run_scales_the_lengths_left_at_their_defaults() -> None:
     assert cfg.discretization.step == pytest.approx(0.05 * scale, abs=1e-6)
     assert cfg.heldout.r_high == pytest.approx(0.25 * scale, abs=1e-6)
     assert cfg.skill.clearance == pytest.approx(0.10 * scale, abs=1e-6)
+    assert cfg.skill.align == pytest.approx(0.05 * scale, abs=1e-6)
     assert cfg.starts.r_high == 0.2  # given: kept
     assert FrameworkConfig.from_dict(cfg.to_dict()) == cfg  # a saved run reloads unchanged
     panda = FrameworkConfig(scene="bullet", robot="panda")

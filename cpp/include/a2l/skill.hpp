@@ -69,6 +69,14 @@ struct SkillSettings {
   //! The clearance rule's bar, in (0, 1]: an alternative keeps clearance only if its
   //! (smoothed) probability is at least this share of the chosen movement's.
   double clearance_ratio = kClearanceRatio;
+  //! The alignment rule (m; 0 = off), the clearance rule's counterpart on the pushing side:
+  //! there, a movement towards the object (along the push direction) that would end nearer
+  //! it than `clearance`, started more than `align` off the push line through the object's
+  //! centre, gives way to the allowed movement that does not approach the object along the
+  //! push direction and ends nearest that line (if nearer than the start). A push started
+  //! at the object's corner turns it into the neighbouring effect; a push along the line
+  //! does not. Needs `clearance` > 0.
+  double align = 0.0;
   //! The revisit rule: when a run comes back within half a movement of points of its path
   //! (eef - object) that it has left since (staying put, e.g. held, is no return), the
   //! movements it chose there are spent: the step takes the best-scored allowed movement not

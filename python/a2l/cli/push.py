@@ -226,7 +226,7 @@ def _cmd_heldout(ns: Namespace) -> int:
     m = rerun_heldout(run, out, iteration=ns.iteration, fallback=ns.fallback,
                       workers=ns.workers, record=ns.record, clearance=ns.clearance,
                       avoid_revisits=ns.avoid_revisits, clearance_ratio=ns.clearance_ratio,
-                      step_cap=ns.step_cap)
+                      step_cap=ns.step_cap, align=ns.align)
     if not ns.quiet:
         print(f"held-out success {m['heldout_success']:.1%} ("
               + ", ".join(f"{e} {v:.0%}" for e, v in m["heldout_success_rate"].items())
@@ -255,6 +255,8 @@ def _heldout_parser() -> Parser:
                    help="the step's clearance rule in m, 0 off (default the bundle's)")
     p.add_argument("--clearance_ratio", type=float, default=None, metavar="R",
                    help="the clearance rule's bar in (0, 1] (default the bundle's)")
+    p.add_argument("--align", type=float, default=None, metavar="M",
+                   help="the step's alignment rule in m, 0 off (default the bundle's)")
     p.add_argument("--step_cap", type=PositiveInt | None, default=None, metavar="N",
                    help="most movements a run may take (default the bundle's)")
     p.add_argument("--avoid_revisits", type=bool | None, default=None,

@@ -72,9 +72,10 @@ SETTINGS: dict[str, Any] = {
     "heldout.n_starts": 0,
     "skill.clearance": 0.05,
     # the step's rules as panda-gym's figures measured them (the later defaults, a lower
-    # clearance bar, the revisit rule and a longer exported run, were chosen on a2l's own
-    # scenes, not tried here)
-    "skill.clearance_ratio": 0.5, "skill.avoid_revisits": False, "skill.step_cap": 12,
+    # clearance bar, the alignment and revisit rules and a longer exported run, were chosen
+    # on a2l's own scenes, not tried here)
+    "skill.clearance_ratio": 0.5, "skill.align": 0.0, "skill.avoid_revisits": False,
+    "skill.step_cap": 12,
 }
 
 #: The scene's settings in panda-gym (:class:`a2l.gym.GymSceneConfig`), for learning and

@@ -39,7 +39,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
                   clearance: float | None = None,
                   avoid_revisits: bool | None = None,
                   clearance_ratio: float | None = None,
-                  step_cap: int | None = None) -> dict[str, Any]:
+                  step_cap: int | None = None,
+                  align: float | None = None) -> dict[str, Any]:
     """Run the skill of push run `run_dir` from the run's held-out starts again and write
     `out`: ``metrics.json`` (:func:`~a2l.framework.scoring.heldout_metrics`),
     ``heldout.parquet``, ``heldout_misses.csv``, ``heldout_misses.png`` and ``report.md``.
@@ -68,6 +69,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
         The clearance rule's bar in (0, 1]; default the bundle's own.
     step_cap : int, optional
         Most movements a run may take; default the bundle's own.
+    align : float, optional
+        The step's alignment rule (m; 0: off); default the bundle's own.
 
     Returns
     -------
@@ -85,7 +88,7 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     if not src.is_file():
         raise ConfigError("iteration", f"'{src}' does not exist")
     changes = {"fallback": fallback, "clearance": clearance, "clearance_ratio": clearance_ratio,
-               "avoid_revisits": avoid_revisits, "step_cap": step_cap}
+               "avoid_revisits": avoid_revisits, "step_cap": step_cap, "align": align}
     changes = {k: v for k, v in changes.items() if v is not None}
     cfg = cfg.with_({f"skill.{k}": v for k, v in changes.items()})  # names a bad value
     out.mkdir(parents=True, exist_ok=True)
@@ -105,7 +108,7 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
                "run": str(run_dir), "bundle": str(src), "fallback": spec.fallback,
                "clearance": spec.clearance, "clearance_ratio": spec.clearance_ratio,
                "avoid_revisits": spec.avoid_revisits, "step_cap": spec.step_cap,
-               "wall_s": wall}
+               "align": spec.align, "wall_s": wall}
     write_json(out / "metrics.json", metrics)
     atomic_write_text(out / "heldout_misses.csv", table.to_csv(index=False))
     if not table.empty:
@@ -113,7 +116,8 @@ def rerun_heldout(run_dir: str | Path, out: str | Path, iteration: int | None = 
     rates = ", ".join(f"{e} {v:.1%}" for e, v in metrics["heldout_success_rate"].items())
     text = "\n".join([
         f"# Held-out starts again: {src} (fallback `{spec.fallback}`, clearance "
-        f"{spec.clearance:g} m at a bar of {spec.clearance_ratio:g}, revisit rule "
+        f"{spec.clearance:g} m at a bar of {spec.clearance_ratio:g}, alignment "
+        f"{spec.align:g} m, revisit rule "
         f"{'on' if spec.avoid_revisits else 'off'}, step cap {spec.step_cap})", "",
         f"Run `{run_dir}` ({cfg.scene} scene, {cfg.discretization.n_effects} effects, "
         f"seed {cfg.seed}); "

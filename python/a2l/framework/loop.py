@@ -208,7 +208,7 @@ def generate_skill(cfg: FrameworkConfig, dataset: pd.DataFrame, bundle_path: Pat
                            structure=learning.structure, constraints=constraints, robot=robot,
                            step_cap=skill.step_cap, smoothing=skill.smoothing,
                            fallback=skill.fallback, clearance=skill.clearance,
-                           clearance_ratio=skill.clearance_ratio,
+                           clearance_ratio=skill.clearance_ratio, align=skill.align,
                            avoid_revisits=skill.avoid_revisits,
                            extra={"framework": cfg.to_dict()})
     return learned.table

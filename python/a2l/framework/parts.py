@@ -172,6 +172,15 @@ class SkillConfig:
         The clearance rule's bar in (0, 1]: an alternative that keeps clearance is taken if
         it scores at least this share of the chosen movement. Default 0.25, chosen on tuning
         seeds (``docs/experiments/push.md``; 0.5 before, the bar of bundles that write none).
+    align : float
+        The step's alignment rule (m; 0: off) in the exported skill and from the held-out
+        starts, the clearance rule's counterpart on the pushing side: there, a movement
+        towards the object that would end nearer it than `clearance`, started more than
+        this off the push line through the object's centre, gives way to the movement that
+        does not approach and ends nearest that line (``docs/runtime.md``). The training
+        validation runs without it, as without the clearance rule. Default 0.05 m (the
+        8 cm box's half width and a centimetre), chosen on tuning seeds
+        (``docs/experiments/push.md``).
     avoid_revisits : bool
         The step's revisit rule in the exported skill and from the held-out starts: a run
         that comes back within half a movement of where it was (having left) takes there
@@ -187,6 +196,7 @@ class SkillConfig:
     train_fallback: str | None = None
     clearance: float = 0.10
     clearance_ratio: float = 0.25
+    align: float = 0.05
     avoid_revisits: bool = True
 
     def __post_init__(self) -> None:
@@ -197,6 +207,7 @@ class SkillConfig:
                 check_choice("skill", name, getattr(self, name), FALLBACK_RULES)
         check_length("skill", "clearance", self.clearance, allow_zero=True)
         check_fraction("skill", "clearance_ratio", self.clearance_ratio)
+        check_length("skill", "align", self.align, allow_zero=True)
 
 
 @dataclass(frozen=True)

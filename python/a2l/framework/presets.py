@@ -23,6 +23,6 @@ PRESETS: dict[str, dict[str, Any]] = {
         "discretization.dist_low": 0.05, "discretization.dist_high": 0.20,
         "discretization.dist_edges": (), "discretization.n_incl": 0,
         "discretization.n_offset": 0, "skill.step_cap": 12, "skill.train_step_cap": 12,
-        "skill.clearance": 0.0, "skill.avoid_revisits": False,
+        "skill.clearance": 0.0, "skill.align": 0.0, "skill.avoid_revisits": False,
     },
 }

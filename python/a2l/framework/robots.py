@@ -19,7 +19,7 @@ __all__ = ["LENGTHS", "check_robot", "scaled_parts"]
 LENGTHS: dict[str, tuple[str, ...]] = {
     "discretization": ("effect_threshold", "step", "dist_low", "dist_high", "offset_half_x",
                        "offset_half_y"),
-    "starts": ("radius", "r_low", "r_high"), "skill": ("clearance",),
+    "starts": ("radius", "r_low", "r_high"), "skill": ("clearance", "align"),
     "validation": ("r_low", "r_high"), "directed": ("waypoint_aim",),
     "heldout": ("r_low", "r_high"),
 }

@@ -37,8 +37,8 @@ def training_bundle(cfg: FrameworkConfig, bundle: Path) -> Path:
     (``cfg.skill.avoid_revisits``), a copy beside it (``<name>.train.a2lb``) with the
     training rule and step cap and neither of the two rules (the same table otherwise)."""
     skill = cfg.skill
-    training = {"fallback": skill.train_fallback, "clearance": 0.0, "avoid_revisits": False,
-                "step_cap": skill.train_step_cap}
+    training = {"fallback": skill.train_fallback, "clearance": 0.0, "align": 0.0,
+                "avoid_revisits": False, "step_cap": skill.train_step_cap}
     if all(getattr(skill, name) == value for name, value in training.items()):
         return bundle
     out = bundle.with_suffix(".train.a2lb")

@@ -128,6 +128,7 @@ def bundle_bytes(
             **({"clearance": float(spec.clearance)} if spec.clearance else {}),
             **({"clearance_ratio": float(spec.clearance_ratio)}
                if spec.clearance_ratio != _core.CLEARANCE_RATIO else {}),
+            **({"align": float(spec.align)} if spec.align else {}),
             **({"avoid_revisits": True} if spec.avoid_revisits else {}),
         },
         "extra": spec.extra,
@@ -237,6 +238,7 @@ def load_bundle(path: str | os.PathLike[str]) -> SkillSpec:
         fallback=str(ex.get("fallback", "none")),
         clearance=float(ex.get("clearance", 0.0)),
         clearance_ratio=float(ex.get("clearance_ratio", _core.CLEARANCE_RATIO)),
+        align=float(ex.get("align", 0.0)),
         avoid_revisits=bool(ex.get("avoid_revisits", False)),
         robot=None if manifest["robot"] is None else dict(manifest["robot"]),
         extra=view.extra,

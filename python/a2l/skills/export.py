@@ -26,6 +26,7 @@ def make_skill_spec(
     fallback: str = "none",
     clearance: float = 0.0,
     clearance_ratio: float = _core.CLEARANCE_RATIO,
+    align: float = 0.0,
     avoid_revisits: bool = False,
     extra: dict[str, Any] | None = None,
 ) -> SkillSpec:
@@ -56,6 +57,8 @@ def make_skill_spec(
         The step's clearance rule (m; 0: off, :class:`SkillSpec`).
     clearance_ratio : float
         The clearance rule's bar (:class:`SkillSpec`).
+    align : float
+        The step's alignment rule (m; 0: off, :class:`SkillSpec`).
     avoid_revisits : bool
         The step's revisit rule (:class:`SkillSpec`).
     extra : dict, optional
@@ -125,6 +128,7 @@ def make_skill_spec(
         fallback=fallback,
         clearance=clearance,
         clearance_ratio=clearance_ratio,
+        align=align,
         avoid_revisits=avoid_revisits,
         uniform_tolerance=table.uniform_tolerance,
         robot=robot,

@@ -79,6 +79,7 @@ def learn_bundle(
     fallback: str = "none",
     clearance: float = 0.0,
     clearance_ratio: float = _core.CLEARANCE_RATIO,
+    align: float = 0.0,
     avoid_revisits: bool = False,
     extra: Extra | None = None,
     ds: DSArrays | None = None,
@@ -115,6 +116,8 @@ def learn_bundle(
         The step's clearance rule (m; 0: off, :class:`SkillSpec`).
     clearance_ratio : float
         The clearance rule's bar (:class:`SkillSpec`).
+    align : float
+        The step's alignment rule (m; 0: off, :class:`SkillSpec`).
     avoid_revisits : bool
         The step's revisit rule (:class:`SkillSpec`).
     extra : mapping or callable, optional
@@ -151,7 +154,8 @@ def learn_bundle(
     meta = extra(len(discrete)) if callable(extra) else extra
     spec = make_skill_spec(table, discretizer, name=name, robot=robot, step_cap=step_cap,
                            smoothing=smoothing, fallback=fallback, clearance=clearance,
-                           clearance_ratio=clearance_ratio, avoid_revisits=avoid_revisits,
+                           clearance_ratio=clearance_ratio, align=align,
+                           avoid_revisits=avoid_revisits,
                            extra=dict(meta) if meta is not None else None)
     out = save_bundle(spec, path, ds_phases=ds_phases or None, ds=ds)
     timings = {"discretize": t1 - t0, "learn": t2 - t1, "compile": t3 - t2,

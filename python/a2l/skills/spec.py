@@ -116,6 +116,12 @@ class SkillSpec:
         The clearance rule's bar in (0, 1]: the share of the chosen movement's probability
         an alternative that keeps clearance needs (default ``_core.CLEARANCE_RATIO``, 0.5,
         the bar of bundles that write none).
+    align : float
+        The step's alignment rule (m; 0: off), the clearance rule's counterpart on the
+        pushing side: there, a movement towards the object that would end nearer it than
+        `clearance`, started more than this off the push line through the object's centre,
+        gives way to the movement that does not approach and ends nearest that line
+        (``docs/runtime.md``).
     avoid_revisits : bool
         The step's revisit rule: a run that comes back within half a movement of where it
         was, having left, does not repeat there a movement it chose there
@@ -142,6 +148,7 @@ class SkillSpec:
     fallback: str = "none"
     clearance: float = 0.0
     clearance_ratio: float = _core.CLEARANCE_RATIO
+    align: float = 0.0
     avoid_revisits: bool = False
     robot: dict[str, str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
