@@ -4,10 +4,12 @@ command on evaluation seeds, and a results page records its commit, clean or dir
 
 from __future__ import annotations
 
+import json
 import re
 import shlex
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -123,9 +125,11 @@ def test_tables_per_context_are_joined_side_by_side() -> None:
     with pytest.raises(ValueError, match="one per context"):
         by_context([cam])
     # every side-by-side entry runs each of its commands once per context: the camera run,
-    # then the same command with the truth
+    # then the same command with the truth (a preset's baseline runs, with the camera only,
+    # come after them)
     for entry in ENTRIES:
-        for runs in entry.runs.values():
+        for every in entry.runs.values():
+            runs = [r for r in every if "--preset" not in r.args]
             if any("ground_truth" in r.args for r in runs):
                 assert len(runs) % 2 == 0, entry.name
                 for cam_run, gt_run in zip(runs[::2], runs[1::2], strict=True):
@@ -148,19 +152,51 @@ def test_the_push_table_puts_camera_and_truth_runs_side_by_side() -> None:
     body = rows.splitlines()[2:]
     assert [r.split(" | ")[0] for r in body] == [f"| {CONTEXTS[0]}"] * 2 + [f"| {CONTEXTS[1]}"]
     assert [r.split(" | ")[3] for r in body] == ["1001", "1002", "1000"]
+    # the thesis preset's runs (their metrics name it) come last, labelled
+    rows = entry.table([{**run(1003, "perceived"), "preset": "thesis"}, run(1003, "perceived"),
+                        run(1003, "ground_truth")])
+    assert [r.split(" | ")[0] for r in rows.splitlines()[2:]] == [
+        f"| {CONTEXTS[0]}", f"| {CONTEXTS[1]}", f"| {CONTEXTS[0]}, `--preset thesis`"]
+    # every full-profile push table has the thesis preset's runs beside the defaults'
+    for name in ("push-baxter", "push-virtual"):
+        (entry,) = entries([name])
+        assert any(r.args[2:4] == ("--preset", "thesis") for r in entry.runs["full"]), name
+
+
+def test_a_run_is_told_a_presets_by_its_configuration() -> None:
+    from a2l.framework import FrameworkConfig
+    from a2l.framework.presets import preset_of
+
+    thesis = FrameworkConfig.preset("thesis", scene="bullet", seed=1003)
+    assert preset_of(json.loads(json.dumps(thesis.to_dict()))) == "thesis"
+    assert preset_of(FrameworkConfig(scene="bullet").to_dict()) is None
+    # a field the preset pins changed: no longer the preset
+    assert preset_of(thesis.with_({"skill.align": 0.05}).to_dict()) is None
 
 
 def _git(root: Path, *args: str) -> None:
     subprocess.run(["git", "-C", str(root), *args], check=True, capture_output=True)
 
 
+def _done_sweeps(out: Path, rows: list[dict[str, Any]], seed_use: Any,
+                 **done: Any) -> None:
+    """The full profile's two push-virtual runs done in `out` (the defaults' sweep and the
+    thesis preset's, the same `rows`), their done records `done`."""
+    from a2l.experiments.sweep import summarize_sweep
+    from a2l.rundir import write_json
+
+    for key, extra in (("sweep", {}), ("sweep-thesis", {"preset": "thesis"})):
+        run_dir = out / "push-virtual" / key
+        write_json(run_dir / "metrics.json",
+                   {"rows": rows, "summary": summarize_sweep(rows), **extra})
+        write_json(run_dir / "config.json", {"seed_use": seed_use})
+        write_json(out / "push-virtual" / f"{key}.done.json", {**done, "seed_use": seed_use})
+
+
 def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: Path) -> None:
     """A fake repository with a README block and a finished sweep run: ``--no-run`` writes
     ``docs/results/push-virtual.md`` with the table, the commit (dirty: the README was
     edited after the commit) and the command, and copies the table into the README."""
-    from a2l.experiments.sweep import summarize_sweep
-    from a2l.rundir import write_json
-
     root = tmp_path / "repo"
     (root / "docs").mkdir(parents=True)
     (root / "README.md").write_text("# r\n\n" + block("push-virtual", "typed 100\n") + "\n")
@@ -174,19 +210,16 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
              "iterations_run": n or 3, "wall_s": 5.0, "heldout_success": h}
             for i, (n, h) in enumerate([(2, 1.0), (3, 0.875), (None, 0.75)])]
     out = tmp_path / "runs"
-    run_dir = out / "push-virtual" / "sweep"
-    write_json(run_dir / "metrics.json", {"rows": rows, "summary": summarize_sweep(rows)})
-    write_json(run_dir / "config.json", {"seed_use": {"use": "evaluation",
-                                                      "seeds": "1000-1002"}})
-    write_json(out / "push-virtual" / "sweep.done.json", {
-        "command": "a2l experiment sweep --seeds 1000-1002", "commit": "f" * 40,
-        "short": "fffffff", "dirty": True, "started": "2026-12-03 08:00 UTC", "wall_s": 15.0,
-        "workers": 2, "seed_use": {"use": "evaluation", "seeds": "1000-1002"}})
+    _done_sweeps(out, rows, {"use": "evaluation", "seeds": "1000-1002"},
+                 command="a2l experiment sweep --seeds 1000-1002", commit="f" * 40,
+                 short="fffffff", dirty=True, started="2026-12-03 08:00 UTC", wall_s=15.0,
+                 workers=2)
     done = run_results("full", out=out, root=root, only=["push-virtual"], run=False)
     assert done["missing"] == []
     page = (root / "docs" / "results" / "push-virtual.md").read_text()
     body = read_blocks(page)["push-virtual"]
-    assert "| 1000–1002 (3) | 87.5 % (lowest 75.0 %) | 2 of 3 | 2 of 3 | 2.5 (2–3) |" in body
+    row = "| 1000–1002 (3) | 87.5 % (lowest 75.0 %) | 2 of 3 | 2 of 3 | 2.5 (2–3) |"
+    assert f"| defaults {row}" in body and f"| `--preset thesis` {row}" in body
     assert "fffffff (dirty tree)" in body and "evaluation seeds 1000-1002" in body
     assert "`a2l experiment sweep --seeds 1000-1002`" in page
     readme = (root / "README.md").read_text()
@@ -231,9 +264,6 @@ def test_what_a2l_results_writes_itself_does_not_make_the_tree_dirty(tmp_path: P
     """docs/results/ and the blocks' contents are the command's own output: a committed
     tree stays clean after they are written (a rerun continues as clean); any other change
     makes it dirty."""
-    from a2l.experiments.sweep import summarize_sweep
-    from a2l.rundir import write_json
-
     root = tmp_path / "repo"
     (root / "docs").mkdir(parents=True)
     (root / "README.md").write_text("# r\n\n" + block("push-virtual", "typed\n") + "\nend\n")
@@ -244,12 +274,9 @@ def test_what_a2l_results_writes_itself_does_not_make_the_tree_dirty(tmp_path: P
     rows = [{"seed": 1000, "iterations_to_100": 2, "final_score": 100.0, "iterations_run": 2,
              "wall_s": 5.0}]
     out = tmp_path / "runs"
-    write_json(out / "push-virtual" / "sweep" / "metrics.json",
-               {"rows": rows, "summary": summarize_sweep(rows)})
-    write_json(out / "push-virtual" / "sweep.done.json", {
-        "command": "a2l experiment sweep --seeds 1000", "commit": "f" * 40, "short": "fffffff",
-        "dirty": False, "started": "2026-12-03 08:00 UTC", "wall_s": 5.0, "workers": 1,
-        "seed_use": None})
+    _done_sweeps(out, rows, None, command="a2l experiment sweep --seeds 1000", commit="f" * 40,
+                 short="fffffff", dirty=False, started="2026-12-03 08:00 UTC", wall_s=5.0,
+                 workers=1)
     assert run_results("full", out=out, root=root, run=False)["dirty"] is False
     assert git_state(root)["dirty"]  # README's block and docs/results/ changed ...
     again = run_results("full", out=out, root=root, run=False)

@@ -39,6 +39,7 @@ from a2l.experiments.push_report import (
     with_heldout,
 )
 from a2l.framework import FrameworkConfig, FrameworkResult, IterationResult, run_framework
+from a2l.framework.presets import preset_of
 from a2l.parallel import Executor
 from a2l.progress import ProgressBars, print_tables
 from a2l.rollout.env import ROBOT_SCENES
@@ -203,7 +204,10 @@ def _metrics(cfg: FrameworkConfig, result: FrameworkResult, history: list[dict[s
         "experiment": "push", "scene": cfg.scene,
         **({"robot": robot["name"]} if (robot := _robot_entry(cfg)) else {}),
         "n_effects": cfg.discretization.n_effects,
-        "seed": cfg.seed, "context_source": context_source(cfg), "iterations": history,
+        "seed": cfg.seed, "context_source": context_source(cfg),
+        # the baseline's rows are told from the defaults' by this (absent: the defaults)
+        **({"preset": preset} if (preset := preset_of(cfg.to_dict())) else {}),
+        "iterations": history,
         "heldout_success": result.heldout_success,
         "heldout_success_rate": result.heldout_success_rate,
         "final_success": next(m.get("success") for m in reversed(history) if m["accepted"]),

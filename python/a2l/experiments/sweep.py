@@ -28,6 +28,7 @@ import numpy as np
 from a2l.atomic import atomic_write_text
 from a2l.experiments.push import final_validation, record_validations, run_push_experiment
 from a2l.framework import FrameworkConfig
+from a2l.framework.presets import preset_of
 from a2l.parallel import Executor
 from a2l.progress import print_tables
 from a2l.rollout.env import LEGACY_SCENES
@@ -219,7 +220,9 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
     Returns
     -------
     dict
-        ``{"rows": [...], "summary": {...}, "run_dir": str}`` (also ``metrics.json``).
+        ``{"rows": [...], "summary": {...}, "run_dir": str}`` (also ``metrics.json``, with
+        ``"preset"``, the preset the configuration is, :func:`a2l.framework.presets.preset_of`,
+        when it is one).
 
     Raises
     ------
@@ -272,7 +275,9 @@ def run_seed_sweep(base: FrameworkConfig | None = None, seeds: Sequence[int] = r
                                     for seed in seeds}, name="a2l experiment sweep")
     summary = summarize_sweep(rows)
     table = _table(rows, summary)
-    write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary})
+    preset = preset_of(cfg0.to_dict())
+    write_json(run_dir / "metrics.json", {"rows": rows, "summary": summary,
+                                          **({"preset": preset} if preset else {})})
     changed = ", ".join(f"`{k} = {v}`" for k, v in (overrides or {}).items()) or "none"
     atomic_write_text(run_dir / "report.md", mark_report(
         "# Seed sweep of the push experiment\n\n"

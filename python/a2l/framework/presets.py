@@ -3,16 +3,17 @@ Python, ``--preset NAME`` on the command line."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
-__all__ = ["PRESETS"]
+__all__ = ["PRESETS", "preset_of"]
 
 #: Named configurations (``FrameworkConfig.preset(name)``, ``--preset NAME``), each the
 #: fields it pins by their dotted names. ``thesis``: the thesis' loop and representation, the
 #: baseline of every push table (the loop validates, accepts, extends and stops on 8
 #: training starts on a 0.2 m circle; planar 5 cm movements; 16 orientation x 3 distance
-#: equal bins over [0.05, 0.20] m; a step cap of 12; neither the clearance nor the revisit
-#: rule); what the thesis left open keeps the package's choices (structure constraints,
+#: equal bins over [0.05, 0.20] m; a step cap of 12; none of the clearance, alignment and
+#: revisit rules); what the thesis left open keeps the package's choices (structure constraints,
 #: smoothing, fallbacks, effect-directed babbling), as the push tables up to this preset
 #: measured them.
 PRESETS: dict[str, dict[str, Any]] = {
@@ -26,3 +27,19 @@ PRESETS: dict[str, dict[str, Any]] = {
         "skill.clearance": 0.0, "skill.align": 0.0, "skill.avoid_revisits": False,
     },
 }
+
+
+def preset_of(config: Mapping[str, Any]) -> str | None:
+    """The name of the first preset (:data:`PRESETS`) whose every field `config` (a
+    configuration's ``to_dict()``, as a run's ``config.json`` holds it) has, or None: how a
+    table tells a baseline run from a run of the defaults, however it was configured."""
+    def value(path: str) -> Any:
+        part, _, name = path.partition(".")
+        got = config.get(part, {}).get(name, value)  # `value` itself: missing
+        return list(got) if isinstance(got, tuple) else got
+
+    for name, fields in PRESETS.items():
+        if all(value(path) == (list(v) if isinstance(v, tuple) else v)
+               for path, v in fields.items()):
+            return name
+    return None

@@ -98,16 +98,32 @@ def _demo(ms: list[dict[str, Any]]) -> str:
 def _push_virtual(ms: list[dict[str, Any]]) -> str:
     from a2l.experiments.sweep import headline_table
 
-    return headline_table(ms[0])
+    if len(ms) == 1:
+        return headline_table(ms[0])
+    return side_by_side("configuration", [_configuration(m) for m in ms],
+                        [headline_table(m) for m in ms])
+
+
+def _configuration(metrics: dict[str, Any]) -> str:
+    """The name a table gives a run by the preset its metrics name (absent: the defaults)."""
+    preset = metrics.get("preset")
+    return f"`--preset {preset}`" if preset else "defaults"
 
 
 def _push_baxter(ms: list[dict[str, Any]]) -> str:
+    """The defaults' runs by context source (:data:`CONTEXTS`), then the baseline's (a
+    preset's) runs, each group labelled in the leading column."""
     from a2l.experiments.push_report import headline_table
 
-    # runs before the metrics named their source read the camera (the default)
-    src = [m.get("context_source", "perceived") for m in ms]
-    return by_context([headline_table([m for m, s in zip(ms, src, strict=True) if s == want])
-                       for want in ("perceived", "ground_truth")])
+    sources = {"perceived": CONTEXTS[0], "ground_truth": CONTEXTS[1]}  # as metrics name them
+    groups: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for m in ms:
+        # runs before the metrics named their source read the camera (the default)
+        key = (m.get("preset") or "", m.get("context_source", "perceived"))
+        groups.setdefault(key, []).append(m)
+    order = sorted(groups, key=lambda k: (k[0], list(sources).index(k[1])))
+    labels = [sources[s] + (f", `--preset {p}`" if p else "") for p, s in order]
+    return side_by_side("context", labels, [headline_table(groups[k]) for k in order])
 
 
 def _push_baxter_misses(run_dirs: Sequence[Path], fig_dir: Path) -> list[str]:
@@ -201,6 +217,12 @@ def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
                  str(effects), "--seed", str(seed), "--quiet", *extra, resume=True)
 
 
+def _thesis(key: str, seed: int, effects: int) -> Run:
+    """The camera run of :func:`_push` with ``--preset thesis``, the baseline of the table."""
+    cam, _ = _push(key, seed, effects)
+    return Run(f"{key}-thesis", (*cam.args[:2], "--preset", "thesis", *cam.args[2:]), True)
+
+
 def _push_on(robot: str, seed: int, *extra: str) -> Run:
     """The 4-effect push run of `seed` on `robot` (a built-in name or a robot file of the
     repository), with the camera."""
@@ -251,12 +273,20 @@ ENTRIES: tuple[Entry, ...] = (
                                    "--quiet"))],
            "full": [Run("sweep", ("experiment", "sweep", "--scene", "virtual",
                                   "--discretization.n_effects", "4", "--seeds", "1003-1032",
-                                  "--quiet"))]},
+                                  "--quiet")),
+                    # the thesis' loop and representation beside the defaults, the same seeds
+                    Run("sweep-thesis", ("experiment", "sweep", "--preset", "thesis",
+                                         "--scene", "virtual", "--discretization.n_effects",
+                                         "4", "--seeds", "1003-1032", "--quiet"))]},
           _push_virtual),
     Entry("push-baxter", "The push experiment on Baxter in PyBullet (a2l experiment push)",
           {"quick": _push("s1003-e4", 1003, 4, "--max_iterations", "3"),
            "full": [*_push("s1003-e4", 1003, 4), *_push("s1004-e4", 1004, 4),
-                    *_push("s1005-e4", 1005, 4), *_push("s1003-e8", 1003, 8)]},
+                    *_push("s1005-e4", 1005, 4), *_push("s1003-e8", 1003, 8),
+                    # the thesis' loop and representation beside them, with the camera
+                    *(_thesis(key, seed, effects) for key, seed, effects in
+                      (("s1003-e4", 1003, 4), ("s1004-e4", 1004, 4), ("s1005-e4", 1005, 4),
+                       ("s1003-e8", 1003, 8)))]},
           _push_baxter, ("trajectories.png", "heldout_trajectories.png"),
           details=_push_baxter_misses),
     Entry("robots", "The push experiment on every built-in robot and on an arm from a robot "
