@@ -83,16 +83,19 @@ _FRAMEWORK = ("babbling around the object, the validation starts and the held-ou
 #: What the push experiments (push, sweep, discretization, heldout) share: their block of
 #: evaluation seeds, the tuning seeds their defaults were chosen on, and the evaluation seeds
 #: looked at before a choice (the exported skill's step cap of 16 was tried after seed
-#: 1001's misses, docs/experiments/push.md, whose analysis covered seeds 1000-1002).
+#: 1001's misses, whose analysis covered seeds 1000-1002; the alignment rule after the
+#: off-centre pushes of seeds 1003-1005's runs; docs/experiments/push.md).
 _PUSH_SEEDS: dict[str, Any] = {
-    "evaluation": (1003, 1999),
+    "evaluation": (1006, 1999),
     "tuned_on": ("the push defaults (FrameworkConfig: bins, structure, smoothing, "
                  "effect-directed babbling) were chosen on virtual seeds 0-29 and Baxter "
                  "seeds 0-2 (docs/framework.md), Baxter's fallback on seeds 3 and 4 "
                  "(docs/experiments/push.md); the exported skill's step cap on Baxter seeds "
-                 "0, 5 and 6 and virtual seeds 0-9, after looking at seeds 1000-1002 (tuning "
-                 "seeds of these experiments since)"),
-    "looked_at": (1000, 1001, 1002),
+                 "0, 5 and 6 and virtual seeds 0-9, after looking at seeds 1000-1002; the "
+                 "alignment rule on Baxter seeds 5, 6 and 1000-1002, the Panda's and the "
+                 "UR5's seed 5 and virtual seeds 0-9, after looking at seeds 1003-1005 "
+                 "(tuning seeds of these experiments since)"),
+    "looked_at": (1000, 1001, 1002, 1003, 1004, 1005),
 }
 _LFD_STREAMS = ("demonstrations: seeds 0 .. 2 n_demos - 1 of each skill (training data drawn "
                 "by the scripted demonstrator; never a trial seed)")
