@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "a2l/bundle.hpp"
+#include "a2l/skill.hpp"
 
 namespace a2l::testing {
 
@@ -198,6 +199,25 @@ inline a2l::Skill load_skill(const BundleParts& p) {
   const a2l::Result r = a2l::load_bundle_from_memory(bytes.data(), bytes.size(), s, "test");
   EXPECT_TRUE(r.ok()) << r.message;
   return s;
+}
+
+//! `a` and `b` answer each of `n` random contexts (eef within 0.25 m of the object in the
+//! table plane, the four push effects in turn) with the same status, movement and
+//! probability: a rule that is off changes nothing.
+inline void expect_same_answers(const a2l::Skill& a, const a2l::Skill& b, int n = 2000) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> coord(-0.25, 0.25);
+  for (int i = 0; i < n; ++i) {
+    a2l::Context c;
+    c.object = {0.7, 0.0, 0.04};
+    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), 0.0);
+    c.effect = i % 4;
+    a2l::SkillState sa(a), sb(b);
+    a2l::StepOutput oa, ob;
+    ASSERT_EQ(a2l::step(a, sa, c, oa), a2l::step(b, sb, c, ob)) << "context " << i;
+    EXPECT_EQ(oa.movement, ob.movement) << "context " << i;
+    EXPECT_EQ(oa.probability, ob.probability) << "context " << i;
+  }
 }
 
 //! Each of `bad` as the value of `execution.<key>` in sample_parts(): loading is a

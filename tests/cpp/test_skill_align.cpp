@@ -133,22 +133,14 @@ TEST(Align, ACornerPushOfTheRightEffectGoesSidewaysFirst) {
   EXPECT_EQ(answer({0.06, -0.07, 0.0}), diagonal);
 }
 
-TEST(Align, OffWithoutClearanceAndByDefault) {
+TEST(Align, OffWithoutClearanceOrAtZero) {
   const BundleParts p = sample_parts(6, 0.1, true);
-  const a2l::Skill plain = load(p);
-  const a2l::Skill no_clearance = load(with_rules(p, 0.0, kAlign));
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> coord(-0.2, 0.2);
-  for (int i = 0; i < 2000; ++i) {
-    a2l::Context c;
-    c.object = {0.7, 0.0, 0.04};
-    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), 0.0);
-    c.effect = i % 4;
-    a2l::SkillState s0(plain), s1(no_clearance);
-    a2l::StepOutput o0, o1;
-    ASSERT_EQ(a2l::step(plain, s0, c, o0), a2l::step(no_clearance, s1, c, o1));
-    EXPECT_EQ(o0.movement, o1.movement);
-  }
+  // without a clearance the rule never acts
+  a2l::testing::expect_same_answers(load(p), load(with_rules(p, 0.0, kAlign)));
+  // written as 0: the same as absent
+  BundleParts zero = with_rules(p, kClearance, 0.0);
+  zero.manifest["execution"]["align"] = 0.0;
+  a2l::testing::expect_same_answers(load(with_rules(p, kClearance, 0.0)), load(zero));
 }
 
 TEST(Align, ANegativeOrNonNumericAlignmentIsAParseError) {

@@ -134,21 +134,7 @@ TEST(Clearance, ALowerBarYieldsMoreOften) {
 
 TEST(Clearance, OffByDefaultAndTheSameAnswersAtZero) {
   const BundleParts p = sample_parts(6, 0.1, true);
-  const a2l::Skill plain = load(p);
-  const a2l::Skill zero = load(with_clearance(p, 0.0));
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> coord(-0.25, 0.25);
-  for (int i = 0; i < 2000; ++i) {
-    a2l::Context c;
-    c.object = {0.7, 0.0, 0.04};
-    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), 0.0);
-    c.effect = i % 4;
-    a2l::SkillState s0(plain), s1(zero);
-    a2l::StepOutput o0, o1;
-    ASSERT_EQ(a2l::step(plain, s0, c, o0), a2l::step(zero, s1, c, o1));
-    EXPECT_EQ(o0.movement, o1.movement);
-    EXPECT_EQ(o0.probability, o1.probability);
-  }
+  a2l::testing::expect_same_answers(load(p), load(with_clearance(p, 0.0)));
 }
 
 TEST(Clearance, PushDirectionsComeFromTheEffectNames) {
