@@ -201,6 +201,22 @@ inline a2l::Skill load_skill(const BundleParts& p) {
   return s;
 }
 
+//! A context for sample_parts() skills: the object at (0.7, 0, 0.04), the end-effector at
+//! most `half` (m) from it along x and y and `z_low`..`z_high` above it, one of the four push
+//! effects and the light (high-level variable 4), all drawn from `rng`.
+inline a2l::Context random_push_context(std::mt19937_64& rng, double half, double z_low = 0.0,
+                                        double z_high = 0.0) {
+  std::uniform_real_distribution<double> coord(-half, half), z(z_low, z_high);
+  std::uniform_int_distribution<int> effect(0, 3), light(0, 1);
+  a2l::Context c;
+  c.object = {0.7, 0.0, 0.04};
+  const double x = coord(rng), y = coord(rng);
+  c.eef = c.object + Eigen::Vector3d(x, y, z_high > z_low ? z(rng) : z_low);
+  c.effect = effect(rng);
+  c.high_level[4] = light(rng);
+  return c;
+}
+
 //! `a` and `b` answer each of `n` random contexts (eef within 0.25 m of the object in the
 //! table plane, the four push effects in turn) with the same status, movement and
 //! probability: a rule that is off changes nothing.

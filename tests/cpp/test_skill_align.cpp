@@ -68,15 +68,9 @@ TEST(Align, AMoveIntoTheObjectOffThePushLineBecomesOneOntoIt) {
   EXPECT_EQ(plain.settings().align, 0.0);
   EXPECT_EQ(skill.settings().align, kAlign);
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> coord(-0.2, 0.2);
-  std::uniform_int_distribution<int> effect(0, 3), light(0, 1);
   int changed = 0, off_line_kept = 0;
   for (int i = 0; i < 40000; ++i) {
-    a2l::Context c;
-    c.object = {0.7, 0.0, 0.04};
-    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), 0.0);
-    c.effect = effect(rng);
-    c.high_level[4] = light(rng);
+    const a2l::Context c = a2l::testing::random_push_context(rng, 0.2);
     a2l::SkillState s0(plain), s1(skill);
     a2l::StepOutput o0, o1;
     const Status st0 = a2l::step(plain, s0, c, o0);

@@ -53,15 +53,9 @@ void check_rule(double ratio) {
   EXPECT_EQ(skill.settings().clearance, kClearance);
   EXPECT_EQ(skill.settings().clearance_ratio, bar);
   std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> coord(-0.25, 0.25), z(-0.02, 0.06);
-  std::uniform_int_distribution<int> effect(0, 3), light(0, 1);
   int changed = 0, kept_near = 0, pushing = 0;
   for (int i = 0; i < 20000; ++i) {
-    a2l::Context c;
-    c.object = {0.7, 0.0, 0.04};
-    c.eef = c.object + Eigen::Vector3d(coord(rng), coord(rng), z(rng));
-    c.effect = effect(rng);
-    c.high_level[4] = light(rng);
+    const a2l::Context c = a2l::testing::random_push_context(rng, 0.25, -0.02, 0.06);
     a2l::SkillState s0(plain), s1(skill);
     a2l::StepOutput o0, o1;
     const Status st0 = a2l::step(plain, s0, c, o0);
