@@ -282,25 +282,28 @@ bool on_pushing_side(const Skill& skill, const Eigen::Vector3d& r, int effect) n
   return -planar.dot(u) >= kCos45 * n;
 }
 
-// The clearance rule (SkillSettings::clearance): away from the pushing side, a `chosen`
-// movement ending nearer the object than the clearance gives way to the best-scored allowed
-// one that does not (by `score`, at least SkillSettings::clearance_ratio of the chosen's; not
-// `excluded`), into `chosen` and `prob`; unchanged if there is none.
-void keep_clearance(const Skill& skill, const Context& context, const Reach& reach,
-                    const Excluded& excluded, const double* score, int& chosen,
-                    double& prob) noexcept {
+// How far from the object, in the table plane, movement `m` ends from `r` = eef - object
+// (what the clearance and alignment rules compare with the clearance).
+double end_distance(const Skill& skill, const Eigen::Vector3d& r, int m) noexcept {
+  const Eigen::Vector3d e = r + skill.movements().displacement(m);
+  return std::hypot(e.x(), e.y());
+}
+
+// The clearance rule (SkillSettings::clearance): away from the pushing side (`pushing`:
+// on_pushing_side()), a `chosen` movement ending nearer the object than the clearance gives
+// way to the best-scored allowed one that does not (by `score`, at least
+// SkillSettings::clearance_ratio of the chosen's; not `excluded`), into `chosen` and `prob`;
+// unchanged if there is none.
+void keep_clearance(const Skill& skill, bool pushing, const Reach& reach, const Excluded& excluded,
+                    const double* score, int& chosen, double& prob) noexcept {
   const double c = skill.settings().clearance;
-  if (c <= 0.0 || on_pushing_side(skill, reach.r, context.effect)) return;
-  auto end_distance = [&](int m) noexcept {
-    const Eigen::Vector3d e = reach.r + skill.movements().displacement(m);
-    return std::hypot(e.x(), e.y());
-  };
-  if (end_distance(chosen) >= c) return;
+  if (c <= 0.0 || pushing) return;
+  if (end_distance(skill, reach.r, chosen) >= c) return;
   const double bar = skill.settings().clearance_ratio * score[chosen];
   int alt = -1;
   for (int m = 0; m < skill.n_moves(); ++m) {
     if (m == chosen || score[m] < bar || score[m] <= 0.0 || excluded(skill, m)) continue;
-    if (!reach.allows(skill, m) || end_distance(m) < c) continue;
+    if (!reach.allows(skill, m) || end_distance(skill, reach.r, m) < c) continue;
     if (alt < 0 || score[m] > score[alt]) alt = m;
   }
   if (alt >= 0) {
@@ -309,17 +312,17 @@ void keep_clearance(const Skill& skill, const Context& context, const Reach& rea
   }
 }
 
-// The alignment rule (SkillSettings::align): on the pushing side, a `chosen` movement towards
-// the object along the push direction that would end nearer it than the clearance, started
-// more than the alignment off the push line through the object's centre, gives way to the
-// allowed movement (not `excluded`) that does not approach along the push direction and ends
-// nearest that line, if nearer than the start (into `chosen` and `prob`, by `score`);
-// unchanged if there is none.
-void align_push(const Skill& skill, const Context& context, const Reach& reach,
+// The alignment rule (SkillSettings::align): on the pushing side (`pushing`), a `chosen`
+// movement towards the object along the push direction that would end nearer it than the
+// clearance, started more than the alignment off the push line through the object's centre,
+// gives way to the allowed movement (not `excluded`) that does not approach along the push
+// direction and ends nearest that line, if nearer than the start (into `chosen` and `prob`,
+// by `score`); unchanged if there is none.
+void align_push(const Skill& skill, const Context& context, bool pushing, const Reach& reach,
                 const Excluded& excluded, const double* score, int& chosen, double& prob) noexcept {
   const double a = skill.settings().align;
   const double c = skill.settings().clearance;
-  if (a <= 0.0 || c <= 0.0 || !on_pushing_side(skill, reach.r, context.effect)) return;
+  if (a <= 0.0 || c <= 0.0 || !pushing) return;
   const Eigen::Vector2d u = skill.push_direction(context.effect);
   if (u.norm() <= 0.0) return;
   const Eigen::Vector2d v(-u.y(), u.x());  // across the push line
@@ -330,7 +333,9 @@ void align_push(const Skill& skill, const Context& context, const Reach& reach,
     return Eigen::Vector2d(d.x(), d.y());
   };
   constexpr double kEps = 1e-9;
-  if (lateral <= a || planar(chosen).dot(u) <= kEps || (r + planar(chosen)).norm() >= c) return;
+  if (lateral <= a || planar(chosen).dot(u) <= kEps || end_distance(skill, reach.r, chosen) >= c) {
+    return;
+  }
   int alt = -1;
   double alt_lateral = lateral;
   for (int m = 0; m < skill.n_moves(); ++m) {
@@ -396,8 +401,11 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   if (!approach) {
     const double* score = smooth ? state.average_.data() : skill.table().posterior_row(row);
     avoid_excluded(skill, reach, excluded, score, chosen, prob);
-    keep_clearance(skill, context, reach, excluded, score, chosen, prob);
-    align_push(skill, context, reach, excluded, score, chosen, prob);
+    // which side of the object the end-effector is on, for the clearance and alignment rules
+    const bool pushing =
+        skill.settings().clearance > 0.0 && on_pushing_side(skill, reach.r, context.effect);
+    keep_clearance(skill, pushing, reach, excluded, score, chosen, prob);
+    align_push(skill, context, pushing, reach, excluded, score, chosen, prob);
   }
   ++state.steps_;
   state.remember(reach.r, chosen);
