@@ -56,11 +56,8 @@ void check_rule(double ratio) {
   int changed = 0, kept_near = 0, pushing = 0;
   for (int i = 0; i < 20000; ++i) {
     const a2l::Context c = a2l::testing::random_push_context(rng, 0.25, -0.02, 0.06);
-    a2l::SkillState s0(plain), s1(skill);
     a2l::StepOutput o0, o1;
-    const Status st0 = a2l::step(plain, s0, c, o0);
-    ASSERT_EQ(a2l::step(skill, s1, c, o1), st0);
-    if (st0 != Status::ok) continue;
+    if (!a2l::testing::step_both(plain, skill, c, o0, o1)) continue;
     const Eigen::Vector3d r = c.eef - c.object;
     int bins[a2l::kMaxVariables];
     ASSERT_EQ(skill.discretizer().discretize(c, bins), Status::ok);
