@@ -142,11 +142,15 @@ rest; True if the box moved more than ``moved_threshold`` in the table plane.
       .def_readwrite("workspace_min", &ExecutorOptions::workspace_min)
       .def_readwrite("workspace_max", &ExecutorOptions::workspace_max)
       .def_readwrite("watchdog_ticks", &ExecutorOptions::watchdog_ticks)
-      .def_readwrite("max_angular_speed", &ExecutorOptions::max_angular_speed);
+      .def_readwrite("max_angular_speed", &ExecutorOptions::max_angular_speed)
+      .def_readwrite("scale_velocity", &ExecutorOptions::scale_velocity,
+                     "Scale a command over a joint's velocity limit down to it (default) "
+                     "instead of refusing it.");
 
   py::class_<Executor>(m, "Executor", R"doc(
 Differential-IK executor: end-effector position targets -> joint commands, one tick at a
-time, with joint velocity, joint limit and workspace checks.
+time, with joint velocity, joint limit and workspace checks (a command over a joint's
+velocity limit is scaled down to it: the end-effector slows and keeps its direction).
 
 Parameters
 ----------
@@ -174,7 +178,9 @@ options : ExecutorOptions
       .def_property_readonly("target", &Executor::target)
       .def_property_readonly("orientation",
                              [](const Executor& e) { return Eigen::Matrix3d(e.orientation()); })
-      .def_property_readonly("ticks", &Executor::ticks);
+      .def_property_readonly("ticks", &Executor::ticks)
+      .def_property_readonly("scaled_ticks", &Executor::scaled_ticks,
+                             "Ticks since reset whose command was scaled to the velocity limits.");
 }
 
 }  // namespace a2l::bindings

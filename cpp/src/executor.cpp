@@ -65,6 +65,7 @@ Status Executor::reset(const Eigen::Ref<const Eigen::VectorXd>& q0) noexcept {
   hold_ = pose_.linear();
   target_ = reference_ = pose_.translation();
   ticks_ = 0;
+  scaled_ticks_ = 0;
   reached_ = true;
   return Status::ok;
 }
@@ -118,8 +119,13 @@ Status Executor::tick() noexcept {
   JointVector dq = jac_.transpose() * y;
   if (!dq.allFinite()) return Status::internal_error;
   const int n = kin_->n_joints();
+  double scale = 1.0;  // the largest share of dq within every joint's velocity limit
   for (int i = 0; i < n; ++i) {
-    if (std::abs(dq[i]) > max_step_[i]) return Status::velocity_limit;
+    if (std::abs(dq[i]) > max_step_[i]) scale = std::min(scale, max_step_[i] / std::abs(dq[i]));
+  }
+  if (scale < 1.0) {
+    if (!options_.scale_velocity) return Status::velocity_limit;
+    dq *= scale;
   }
   JointVector q = q_ + dq;
   for (int i = 0; i < n; ++i) {
@@ -132,7 +138,9 @@ Status Executor::tick() noexcept {
   q_ = q;
   pose_ = pose;
   jac_ = jac;
-  reference_ = reference;
+  // a scaled command: the reference waits, advancing by the share the arm was given
+  reference_ = scale < 1.0 ? Eigen::Vector3d(reference_ + scale * to_target) : reference;
+  if (scale < 1.0) ++scaled_ticks_;
   reached_ = (target_ - pose_.translation()).norm() <= options_.position_tolerance &&
              (target_ - reference_).norm() <= options_.position_tolerance;
   return Status::ok;

@@ -230,6 +230,43 @@ TEST_F(ExecutorTest, TurnsTowardASetOrientationAtMostMaxAngularSpeed) {
   EXPECT_EQ(unbound.set_orientation(aim), Status::not_initialized);
 }
 
+TEST_F(ExecutorTest, ScalesACommandOverTheVelocityLimitsAndKeepsTheDirection) {
+  // A fifth of the URDF's joint velocity limits: the 0.25 m/s reference asks more of the
+  // joints than that, so the commands are scaled, every joint by the same factor.
+  a2l::ExecutorOptions o;
+  o.velocity_margin = 0.2;
+  a2l::Executor ex;
+  ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
+  const V start = ex.position();
+  const V target = start + V(0.05, 0.0, 0.0);
+  ASSERT_EQ(ex.set_target(target), Status::ok);
+  Eigen::VectorXd prev = ex.q();
+  double progress = 0.0;  // along the line from start to target
+  while (!ex.reached()) {
+    ASSERT_EQ(ex.tick(), Status::ok) << ex.ticks();
+    for (int i = 0; i < 7; ++i) {
+      EXPECT_LE(std::abs(ex.q()[i] - prev[i]), 0.2 * kin_.velocity_limits()[i] * 1e-3 + 1e-12);
+    }
+    // it keeps to the straight line and never goes back along it
+    const V p = ex.position() - start;
+    EXPECT_LT(std::hypot(p.y(), p.z()), 1e-3) << ex.ticks();
+    EXPECT_GE(p.x(), progress - 1e-9) << ex.ticks();
+    progress = p.x();
+    prev = ex.q();
+    ASSERT_LT(ex.ticks(), 10000);
+  }
+  EXPECT_LT((ex.position() - target).norm(), 2e-4);
+  EXPECT_GT(ex.scaled_ticks(), 0);
+  // slower than the 200 ticks of the unscaled motion
+  EXPECT_GT(ex.ticks(), 250);
+  // the default (full limits) scales nothing on this motion, and reset() clears the count
+  ASSERT_TRUE(ex.init(kin_, q0_).ok());
+  EXPECT_EQ(ex.scaled_ticks(), 0);
+  ASSERT_EQ(ex.set_target(target), Status::ok);
+  while (!ex.reached()) ASSERT_EQ(ex.tick(), Status::ok);
+  EXPECT_EQ(ex.scaled_ticks(), 0);
+}
+
 TEST_F(ExecutorTest, SafetyChecks) {
   a2l::ExecutorOptions o;
   a2l::Executor ex;
@@ -241,16 +278,18 @@ TEST_F(ExecutorTest, SafetyChecks) {
   ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
   EXPECT_EQ(ex.set_target(p0 + V(0.2, 0, 0)), Status::workspace_limit);
   EXPECT_EQ(ex.set_target(V(std::nan(""), 0, 0)), Status::workspace_limit);
-  // Velocity limits: a margin so small that any motion exceeds it.
+  // Velocity limits, with scaling off: a margin so small that any motion exceeds it.
   o = a2l::ExecutorOptions();
   o.velocity_margin = 1e-6;
+  o.scale_velocity = false;
   ASSERT_TRUE(ex.init(kin_, q0_, o).ok());
   ASSERT_EQ(ex.set_target(p0 + V(0.05, 0, 0)), Status::ok);
   const Eigen::VectorXd before = ex.q();
   EXPECT_EQ(ex.tick(), Status::velocity_limit);
   EXPECT_EQ(Eigen::VectorXd(ex.q()), before);  // the command was refused
-  // A target beyond reach: the arm stretches until a command is refused (joint or velocity
-  // limit near the singularity) or the watchdog fires; it never leaves the limits.
+  EXPECT_EQ(ex.scaled_ticks(), 0);
+  // A target beyond reach: the arm stretches until a command is refused (joint limit near
+  // the singularity) or the watchdog fires; it never leaves the limits.
   o = a2l::ExecutorOptions();
   o.watchdog_ticks = 3000;
   ASSERT_TRUE(ex.init(kin_, q0_, o).ok());

@@ -278,6 +278,20 @@ TEST(ExecutorNoAlloc, TickAllocatesNothing) {
     EXPECT_LT((pose.translation() - targets[k]).norm(), 1e-5) << "movement " << k;
     EXPECT_LT((reached_at[k] - targets[k]).norm(), 1e-5) << "movement " << k;
   }
+  // The same movements with commands scaled down to a fifth of the velocity limits.
+  a2l::ExecutorOptions slow;
+  slow.velocity_margin = 0.2;
+  ASSERT_TRUE(ex.init(kin, q0, slow).ok());
+  {
+    a2l::test::AllocationGuard guard;
+    for (int k = 0; k < kMoves; ++k) {
+      ASSERT_EQ(ex.set_target(targets[k]), Status::ok);
+      while (!ex.reached()) ASSERT_EQ(ex.tick(), Status::ok);
+    }
+    EXPECT_EQ(guard.allocations(), 0u);
+  }
+  EXPECT_GT(ex.scaled_ticks(), 0);
+  EXPECT_LT((ex.position() - p0).norm(), 1e-5);
 }
 
 }  // namespace

@@ -97,3 +97,24 @@ def test_runtime_executor_steps_within_limits() -> None:
     opts.workspace_max = p0 + 0.1
     ex = _core.Executor(kin, np.array(arm.neutral), opts)
     assert ex.set_target(p0 + [0.3, 0.0, 0.0]) == Status.workspace_limit
+
+
+def test_runtime_executor_scales_a_command_over_the_velocity_limits() -> None:
+    arm = arm_spec("baxter", "right")
+    kin = _core.Kinematics(arm.urdf, arm.base_link, arm.tip_link)
+    opts = _core.ExecutorOptions()
+    assert opts.scale_velocity  # the default
+    opts.velocity_margin = 0.2  # a fifth of the URDF's limits: the 0.25 m/s asks more
+    ex = _core.Executor(kin, np.array(arm.neutral), opts)
+    target = ex.position + [0.0, 0.05, 0.0]
+    assert ex.set_target(target) == Status.ok
+    while not ex.reached:
+        assert ex.tick() == Status.ok
+        assert ex.ticks < 10000
+    assert ex.scaled_ticks > 0 and ex.ticks > 250  # slowed down, and got there
+    np.testing.assert_allclose(ex.position, target, atol=1e-6)
+    opts.scale_velocity = False  # refused instead
+    ex = _core.Executor(kin, np.array(arm.neutral), opts)
+    assert ex.set_target(target) == Status.ok
+    assert ex.tick() == Status.velocity_limit
+    np.testing.assert_allclose(ex.q, arm.neutral)

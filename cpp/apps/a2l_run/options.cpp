@@ -17,9 +17,9 @@ Load a skill bundle and run it in closed loop against a C++ scene. Each episode 
 end-effector around the object (at its height for a push, above it for a grasp or a press),
 asks the skill for a movement (a2l::step on the compiled table, or a2l::step_ds on the DS
 phases with --mode ds), executes it as joint commands by differential IK on the robot's arm
-(one command per control tick, with joint-limit, joint-velocity and workspace checks), moves
-the scene, and stops when an effect was produced (success if it is the wanted one), at the
-step cap, or on an unknown context. Actions: open/close move the gripper (the high-level
+(one command per control tick, slowed to the joint velocity limits, with joint-limit and
+workspace checks), moves the scene, and stops when an effect was produced (success if it is
+the wanted one), at the step cap, or on an unknown context. Actions: open/close move the gripper (the high-level
 state `gripper`), stay holds still. Prints success per effect, steps per action and
 step-time percentiles.
 

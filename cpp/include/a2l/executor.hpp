@@ -6,10 +6,13 @@
 //! solves the damped least-squares problem dq = J^T (J J^T + lambda^2 I)^-1 [dp; w] for the
 //! position error dp and the orientation error w (the orientation at reset() is held, or the one
 //! set_orientation() aims at; its correction per tick at most max_angular_speed * period).
-//! Before a command is issued, it is checked against the joint velocity limits, the joint
-//! position limits and the workspace bounds; a target that is not reached within the
-//! watchdog's tick budget stops with `unreachable`. tick() allocates nothing and throws
-//! nothing (fixed-capacity Eigen objects).
+//! A command over a joint's velocity limit is scaled down, every joint by the same factor (the
+//! end-effector keeps its direction and slows down; the reference point advances by the same
+//! share), as a robot's controller slows a motion near a singularity; with
+//! ExecutorOptions::scale_velocity off it is refused instead (`velocity_limit`). A command is
+//! checked against the joint position limits and the target against the workspace bounds; a
+//! target that is not reached within the watchdog's tick budget stops with `unreachable`. tick()
+//! allocates nothing and throws nothing (fixed-capacity Eigen objects).
 #pragma once
 
 #include <Eigen/Core>
@@ -40,6 +43,10 @@ struct ExecutorOptions {
   //! most rotation the orientation correction asks for per second (rad/s); infinity: only
   //! orientation_gain limits it
   double max_angular_speed = std::numeric_limits<double>::infinity();
+  //! a command over a joint's velocity limit is scaled down to it (every joint by the same
+  //! factor: the end-effector slows and keeps its direction); false: it is refused
+  //! (`velocity_limit`)
+  bool scale_velocity = true;
 };
 
 //! Differential-IK executor of end-effector position targets for one arm.
@@ -69,7 +76,9 @@ class Executor {
   Status set_target(const Eigen::Vector3d& position) noexcept;
 
   //! One control tick: the next joint command into q() (unchanged on failure).
-  //! \return `ok`, or `velocity_limit` / `joint_limit` (the command was refused),
+  //! \return `ok` (scaled to the velocity limits if it was over them), or `velocity_limit`
+  //!         (over them, with ExecutorOptions::scale_velocity off) / `joint_limit` (the
+  //!         command was refused),
   //!         `unreachable` (watchdog), `not_initialized`, `internal_error` (kinematics).
   Status tick() noexcept;
 
@@ -87,6 +96,8 @@ class Executor {
   const Eigen::Vector3d& target() const noexcept { return target_; }
   //! Ticks since the last set_target().
   int ticks() const noexcept { return ticks_; }
+  //! Ticks since reset() whose command was scaled down to the joint velocity limits.
+  long scaled_ticks() const noexcept { return scaled_ticks_; }
   //! The options.
   const ExecutorOptions& options() const noexcept { return options_; }
 
@@ -100,6 +111,7 @@ class Executor {
   Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d reference_ = Eigen::Vector3d::Zero();
   int ticks_ = 0;
+  long scaled_ticks_ = 0;
   bool reached_ = true;
 };
 
