@@ -1,6 +1,6 @@
 // step(): one step of a skill's policy table (skill.hpp): the context's row (or its fallback
-// row), the reach of a fallback step, the approach fallback, smoothing, no undo, the revisit
-// rule, the clearance rule and the alignment rule.
+// row), the reach of a fallback step, the approach fallback, smoothing, then the rules of
+// skill_rules.hpp (no undo, the revisit rule, the clearance rule, the alignment rule).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,10 +8,14 @@
 
 #include "a2l/skill.hpp"
 #include "rt_guard.hpp"
+#include "skill_rules.hpp"
 
 namespace a2l {
 
 namespace {
+
+using detail::Excluded;
+using detail::Reach;
 
 // The top two movements of `p` (lowest index on ties).
 void top_two(const double* p, int n, int& first, int& second) noexcept {
@@ -26,36 +30,6 @@ void top_two(const double* p, int n, int& first, int& second) noexcept {
     }
   }
 }
-
-// Whether movement `m` undoes movement `last` (their displacements cancel; an action,
-// with no displacement, undoes nothing).
-bool undoes(const Skill& skill, int m, int last) noexcept {
-  if (last < 0) return false;
-  const Eigen::Vector3d& back = skill.movements().displacement(last);
-  return back.norm() > 0.0 && (skill.movements().displacement(m) + back).norm() < 1e-9;
-}
-
-// Whether movement `m` ends between `near` and `limit` from the object, from `r` = eef -
-// object (a fallback step's restriction, Skill::fallback_reach and Skill::fallback_near).
-bool within_reach(const Skill& skill, const Eigen::Vector3d& r, double near, double limit,
-                  int m) noexcept {
-  const double d = (r + skill.movements().displacement(m)).norm();
-  return d <= limit + 1e-12 && d >= near - 1e-12;
-}
-
-// Where a step may end. A fallback step (`limited`) ends between min(|r|, near) and
-// max(|r|, reach) from the object (Skill::fallback_near, Skill::fallback_reach); any other
-// step anywhere.
-struct Reach {
-  Eigen::Vector3d r;  // eef - object
-  bool limited;
-  double limit, near;
-
-  // Whether movement `m` ends where the step may end.
-  bool allows(const Skill& skill, int m) const noexcept {
-    return !limited || within_reach(skill, r, near, limit, m);
-  }
-};
 
 Reach reach_of(const Skill& skill, const Context& context, bool fallback) noexcept {
   Reach reach;
@@ -114,45 +88,6 @@ int previous_movement(const Skill& skill, const SkillState& state) noexcept {
              ? state.trace(state.trace_size() - 1).movement
              : -1;
 }
-
-// The revisit rule (SkillSettings::avoid_revisits): into `spent` (n_moves) the movements this
-// run chose at the points of its path (SkillState's, eef - object) within half a movement of
-// `r` that it has left since (a step that did not move, e.g. a held arm, is no return);
-// whether there is one (`spent` untouched when the rule is off).
-bool mark_spent(const Skill& skill, const SkillState& state, const Eigen::Vector3d& r,
-                char* spent) noexcept {
-  if (!skill.settings().avoid_revisits) return false;
-  const int nm = skill.n_moves();
-  for (int m = 0; m < nm; ++m) spent[m] = 0;
-  const double radius = 0.5 * skill.movements().step();
-  auto near = [&](std::size_t j) noexcept { return (state.path_point(j) - r).norm() < radius; };
-  std::size_t left = 0;  // the points before the last one away from r
-  for (std::size_t j = state.path_size(); j-- > 0;) {
-    if (!near(j)) {
-      left = j;
-      break;
-    }
-  }
-  bool any = false;
-  for (std::size_t j = 0; j < left; ++j) {
-    const int m = state.path_movement(j);
-    if (m < 0 || m >= nm || !near(j)) continue;
-    spent[m] = 1;
-    any = true;
-  }
-  return any;
-}
-
-// The movements a step may not take when another is allowed: the one undoing the previous
-// movement (`last`) and those the revisit rule spent (`spent`, n_moves, or null).
-struct Excluded {
-  int last;
-  const char* spent;
-
-  bool operator()(const Skill& skill, int m) const noexcept {
-    return undoes(skill, m, last) || (spent != nullptr && spent[m] != 0);
-  }
-};
 
 // Row `row`'s argmax `am` if the reach allows it, else the most probable movement it allows
 // (`am` if it allows none).
@@ -253,109 +188,6 @@ int smoothed_move(const Skill& skill, const Context& context, const Reach& reach
   return chosen;
 }
 
-// No undo and the revisit rule: if `chosen` is excluded, the best-scored allowed movement
-// that is not (by `score`, into `chosen` and `prob`); unchanged if there is none.
-void avoid_excluded(const Skill& skill, const Reach& reach, const Excluded& excluded,
-                    const double* score, int& chosen, double& prob) noexcept {
-  if (!excluded(skill, chosen)) return;
-  int alt = -1;
-  for (int m = 0; m < skill.n_moves(); ++m) {
-    if (m == chosen || excluded(skill, m)) continue;
-    if (!reach.allows(skill, m)) continue;
-    if (alt < 0 || score[m] > score[alt]) alt = m;
-  }
-  if (alt >= 0) {
-    chosen = alt;
-    prob = score[alt];
-  }
-}
-
-// Whether the end-effector, at `r` = eef - object, is within 45 degrees of the side push
-// effect `effect` pushes from (opposite the object's motion); true for an effect that is
-// not a push (the rule then never applies) or a point at the object.
-bool on_pushing_side(const Skill& skill, const Eigen::Vector3d& r, int effect) noexcept {
-  const Eigen::Vector2d u = skill.push_direction(effect);
-  const Eigen::Vector2d planar(r.x(), r.y());
-  const double n = planar.norm() * u.norm();
-  if (n <= 0.0) return true;
-  constexpr double kCos45 = 0.70710678118654752440;  // the side's half-angle, 45 degrees
-  return -planar.dot(u) >= kCos45 * n;
-}
-
-// How far from the object, in the table plane, movement `m` ends from `r` = eef - object
-// (what the clearance and alignment rules compare with the clearance).
-double end_distance(const Skill& skill, const Eigen::Vector3d& r, int m) noexcept {
-  const Eigen::Vector3d e = r + skill.movements().displacement(m);
-  return std::hypot(e.x(), e.y());
-}
-
-// The clearance rule (SkillSettings::clearance): away from the pushing side (`pushing`:
-// on_pushing_side()), a `chosen` movement ending nearer the object than the clearance gives
-// way to the best-scored allowed one that does not (by `score`, at least
-// SkillSettings::clearance_ratio of the chosen's; not `excluded`), into `chosen` and `prob`;
-// unchanged if there is none.
-void keep_clearance(const Skill& skill, bool pushing, const Reach& reach, const Excluded& excluded,
-                    const double* score, int& chosen, double& prob) noexcept {
-  const double c = skill.settings().clearance;
-  if (c <= 0.0 || pushing) return;
-  if (end_distance(skill, reach.r, chosen) >= c) return;
-  const double bar = skill.settings().clearance_ratio * score[chosen];
-  int alt = -1;
-  for (int m = 0; m < skill.n_moves(); ++m) {
-    if (m == chosen || score[m] < bar || score[m] <= 0.0 || excluded(skill, m)) continue;
-    if (!reach.allows(skill, m) || end_distance(skill, reach.r, m) < c) continue;
-    if (alt < 0 || score[m] > score[alt]) alt = m;
-  }
-  if (alt >= 0) {
-    chosen = alt;
-    prob = score[alt];
-  }
-}
-
-// The alignment rule (SkillSettings::align): on the pushing side (`pushing`), a `chosen`
-// movement towards the object along the push direction that would end nearer it than the
-// clearance, started more than the alignment off the push line through the object's centre,
-// gives way to the allowed movement (not `excluded`) that does not approach along the push
-// direction and ends nearest that line, if nearer than the start (into `chosen` and `prob`,
-// by `score`); unchanged if there is none.
-void align_push(const Skill& skill, const Context& context, bool pushing, const Reach& reach,
-                const Excluded& excluded, const double* score, int& chosen, double& prob) noexcept {
-  const double a = skill.settings().align;
-  const double c = skill.settings().clearance;
-  if (a <= 0.0 || c <= 0.0 || !pushing) return;
-  const Eigen::Vector2d u = skill.push_direction(context.effect);
-  if (u.norm() <= 0.0) return;
-  const Eigen::Vector2d v(-u.y(), u.x());  // across the push line
-  const Eigen::Vector2d r(reach.r.x(), reach.r.y());
-  const double lateral = std::abs(r.dot(v));
-  auto planar = [&](int m) noexcept {
-    const Eigen::Vector3d& d = skill.movements().displacement(m);
-    return Eigen::Vector2d(d.x(), d.y());
-  };
-  constexpr double kEps = 1e-9;
-  if (lateral <= a || planar(chosen).dot(u) <= kEps || end_distance(skill, reach.r, chosen) >= c) {
-    return;
-  }
-  int alt = -1;
-  double alt_lateral = lateral;
-  for (int m = 0; m < skill.n_moves(); ++m) {
-    const Eigen::Vector2d d = planar(m);
-    if (d.dot(u) > kEps || d.norm() <= kEps || excluded(skill, m) || !reach.allows(skill, m)) {
-      continue;
-    }
-    const double l = std::abs((r + d).dot(v));
-    if (l < alt_lateral - kEps ||
-        (alt >= 0 && l < alt_lateral + kEps && d.dot(u) > planar(alt).dot(u))) {
-      alt = m;
-      alt_lateral = l;
-    }
-  }
-  if (alt >= 0) {
-    chosen = alt;
-    prob = score[alt];
-  }
-}
-
 // The chosen movement into the step's output and record.
 void emit(const Skill& skill, int chosen, double prob, StepOutput& out) noexcept {
   out.movement = chosen;
@@ -388,7 +220,7 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   int chosen = best_within_reach(skill, reach, row, am);
   double tx = 0.0, ty = 0.0;
   const bool approach = out.record.fallback && skill.fallback_target(cell, tx, ty);
-  const bool any_spent = mark_spent(skill, state, reach.r, state.spent_.data());
+  const bool any_spent = detail::mark_spent(skill, state, reach.r, state.spent_.data());
   const Excluded excluded{previous_movement(skill, state),
                           any_spent ? state.spent_.data() : nullptr};
   if (approach) chosen = approach_move(skill, reach, excluded, tx, ty);
@@ -400,12 +232,12 @@ Status step(const Skill& skill, SkillState& state, const Context& context,
   }
   if (!approach) {
     const double* score = smooth ? state.average_.data() : skill.table().posterior_row(row);
-    avoid_excluded(skill, reach, excluded, score, chosen, prob);
+    detail::avoid_excluded(skill, reach, excluded, score, chosen, prob);
     // which side of the object the end-effector is on, for the clearance and alignment rules
     const bool pushing =
-        skill.settings().clearance > 0.0 && on_pushing_side(skill, reach.r, context.effect);
-    keep_clearance(skill, pushing, reach, excluded, score, chosen, prob);
-    align_push(skill, context, pushing, reach, excluded, score, chosen, prob);
+        skill.settings().clearance > 0.0 && detail::on_pushing_side(skill, reach.r, context.effect);
+    detail::keep_clearance(skill, pushing, reach, excluded, score, chosen, prob);
+    detail::align_push(skill, context, pushing, reach, excluded, score, chosen, prob);
   }
   ++state.steps_;
   state.remember(reach.r, chosen);
