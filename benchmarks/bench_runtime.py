@@ -9,8 +9,10 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
+from a2l.framework.parts import SkillConfig
 from a2l.robot import robots_dir
 from a2l.skills import (
     Discretizer,
@@ -39,12 +41,21 @@ def _a2l_run() -> str:
 
 
 def _bundles(tmp: Path) -> dict[str, tuple[Path, str]]:
-    """Two learned push skills: the planar one a2l-run runs, and a 3-D one (26 movements)."""
+    """Learned push skills: the planar one a2l-run runs, the same with the push framework's
+    step rules (clearance, alignment, revisits: what its exported skills run with), and a
+    3-D one (26 movements)."""
     out = {}
     disc = Discretizer(movements=MovementRepertoire(planar=True))
     net = learn_network(disc.discretize(push_dataset(5000, seed=0, radius=RADIUS)), "hc-k2")
     spec = make_skill_spec(compile_policy(net, "move", disc.evidence), disc, name="push")
     out["planar"] = (save_bundle(spec, tmp / "planar.a2lb"), _describe(spec))
+    rules = SkillConfig()  # the framework's defaults
+    ruled = replace(spec, clearance=rules.clearance, clearance_ratio=rules.clearance_ratio,
+                    align=rules.align, avoid_revisits=rules.avoid_revisits)
+    out["planar, rules"] = (
+        save_bundle(ruled, tmp / "planar_rules.a2lb"),
+        f"the planar skill with the push framework's step rules (clearance {rules.clearance} m, "
+        f"bar {rules.clearance_ratio}, alignment {rules.align} m, revisit rule)")
     disc3 = Discretizer()
     net3 = learn_network(disc3.discretize(push_dataset(5000, seed=1, radius=RADIUS)), "hand-coded")
     spec3 = make_skill_spec(compile_policy(net3, "move", disc3.evidence), disc3, name="push3d")
@@ -165,7 +176,8 @@ def run() -> str:
 
     lines = [
         "Skills learned here from synthetic push babbling (`push_dataset`, start circle "
-        f"{RADIUS} m): **planar** = hill-climbing + K2, {bundles['planar'][1]}; **3-D** = "
+        f"{RADIUS} m): **planar** = hill-climbing + K2, {bundles['planar'][1]}; "
+        f"**planar, rules** = {bundles['planar, rules'][1]}; **3-D** = "
         f"hand-coded structure, {bundles['3-D'][1]}. Google Benchmark (`bench_skill`): mean "
         "per call over contexts on a 0.25 m disc around the box (most of them known); the "
         "*latency* rows time every call of 10^6 with `steady_clock` (its own cost, "
