@@ -145,7 +145,13 @@ rest; True if the box moved more than ``moved_threshold`` in the table plane.
       .def_readwrite("max_angular_speed", &ExecutorOptions::max_angular_speed)
       .def_readwrite("scale_velocity", &ExecutorOptions::scale_velocity,
                      "Scale a command over a joint's velocity limit down to it (default) "
-                     "instead of refusing it.");
+                     "instead of refusing it.")
+      .def_readwrite("limit_band", &ExecutorOptions::limit_band,
+                     "Share of each joint's range next to a limit where it is pushed back "
+                     "(default 0.1; chains of more than 6 joints).")
+      .def_readwrite("limit_avoidance", &ExecutorOptions::limit_avoidance,
+                     "How fast a joint at its limit is pushed back, in the task's null space, "
+                     "as a share of its velocity limit (default 0.5; 0: off).");
 
   py::class_<Executor>(m, "Executor", R"doc(
 Differential-IK executor: end-effector position targets -> joint commands, one tick at a

@@ -24,12 +24,14 @@ Result Executor::init(const Kinematics& kinematics, const Eigen::Ref<const Eigen
       !(options.position_tolerance > 0.0) || !(options.velocity_margin > 0.0) ||
       !(options.limit_margin >= 0.0) || options.watchdog_ticks < 1 ||
       !(options.orientation_gain >= 0.0 && options.orientation_gain <= 1.0) ||
-      !(options.max_angular_speed > 0.0)) {
+      !(options.max_angular_speed > 0.0) ||
+      !(options.limit_avoidance >= 0.0 && options.limit_avoidance <= 1.0) ||
+      !(options.limit_band >= 0.0 && options.limit_band < 0.5)) {
     return Result::failure(Status::invalid_argument,
                            "executor: options out of their domain (period, max_speed, "
                            "position_tolerance, velocity_margin and max_angular_speed > 0; "
-                           "damping, limit_margin >= 0; orientation_gain in [0, 1]; "
-                           "watchdog_ticks >= 1)");
+                           "damping, limit_margin >= 0; orientation_gain and limit_avoidance "
+                           "in [0, 1]; limit_band in [0, 0.5); watchdog_ticks >= 1)");
   }
   kin_ = &kinematics;
   options_ = options;
@@ -115,10 +117,31 @@ Status Executor::tick() noexcept {
 
   Eigen::Matrix<double, 6, 6> a = jac_ * jac_.transpose();
   a.diagonal().array() += options_.damping * options_.damping;
-  const Eigen::Matrix<double, 6, 1> y = a.ldlt().solve(err);
-  JointVector dq = jac_.transpose() * y;
-  if (!dq.allFinite()) return Status::internal_error;
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(a);
+  JointVector dq = jac_.transpose() * ldlt.solve(err);
   const int n = kin_->n_joints();
+  // Away from the joint limits, in the task's null space (a chain of more than 6 joints): a
+  // joint inside the band next to a limit is pushed back, the deeper the faster (at most
+  // limit_avoidance of its velocity limit), through (I - J^T (J J^T + lambda^2 I)^-1 J), which
+  // leaves the end-effector's motion as it is. Nothing is added while every joint is outside
+  // the bands.
+  if (options_.limit_avoidance > 0.0 && n > 6) {  // a null space beside the 6-D task
+    JointVector away = JointVector::Zero(n);
+    bool any = false;
+    for (int i = 0; i < n; ++i) {
+      const double band = options_.limit_band * (upper_[i] - lower_[i]);
+      if (!(band > 0.0) || !std::isfinite(band)) continue;
+      double depth = 0.0;  // in [-1, 1]: how deep into a band, signed toward the interior
+      if (q_[i] < lower_[i] + band) depth = std::min(1.0, (lower_[i] + band - q_[i]) / band);
+      if (q_[i] > upper_[i] - band) depth = -std::min(1.0, (q_[i] - (upper_[i] - band)) / band);
+      if (depth == 0.0) continue;
+      const double rate = std::isfinite(max_step_[i]) ? max_step_[i] : options_.period;
+      away[i] = options_.limit_avoidance * depth * rate;
+      any = true;
+    }
+    if (any) dq += away - jac_.transpose() * ldlt.solve(jac_ * away);
+  }
+  if (!dq.allFinite()) return Status::internal_error;
   double scale = 1.0;  // the largest share of dq within every joint's velocity limit
   for (int i = 0; i < n; ++i) {
     if (std::abs(dq[i]) > max_step_[i]) scale = std::min(scale, max_step_[i] / std::abs(dq[i]));

@@ -267,6 +267,42 @@ TEST_F(ExecutorTest, ScalesACommandOverTheVelocityLimitsAndKeepsTheDirection) {
   EXPECT_EQ(ex.scaled_ticks(), 0);
 }
 
+TEST_F(ExecutorTest, MovesAJointOutOfItsLimitBandWithoutMovingTheEndEffector) {
+  // Baxter's shoulder s0 at 4 % of its range above the lower limit (inside the default band
+  // of 10 %), the end-effector held where it is: the self-motion turns s0 toward the
+  // interior (slower as it leaves the band), and the end-effector stays within a millimetre
+  // and keeps its orientation.
+  Eigen::VectorXd q = q0_;
+  const double lo = kin_.lower()[0], hi = kin_.upper()[0];
+  q[0] = lo + 0.04 * (hi - lo);
+  a2l::Executor ex;
+  ASSERT_TRUE(ex.init(kin_, q).ok());
+  const Eigen::Isometry3d start = ex.pose();
+  ASSERT_EQ(ex.set_target(start.translation()), Status::ok);
+  double prev = ex.q()[0];
+  for (int k = 0; k < 2000; ++k) {
+    ASSERT_EQ(ex.tick(), Status::ok) << k;
+    EXPECT_GE(ex.q()[0], prev - 1e-12) << k;  // never toward the limit
+    prev = ex.q()[0];
+    EXPECT_LT((ex.position() - start.translation()).norm(), 1e-3) << k;
+  }
+  EXPECT_GT(ex.q()[0], q[0] + 0.03);  // 2 s of self-motion: 0.065 rad at this depth
+  EXPECT_LT(Eigen::AngleAxisd(start.linear() * ex.pose().linear().transpose()).angle(), 1e-2);
+  // off: nothing moves
+  a2l::ExecutorOptions off;
+  off.limit_avoidance = 0.0;
+  ASSERT_TRUE(ex.init(kin_, q, off).ok());
+  ASSERT_EQ(ex.set_target(start.translation()), Status::ok);
+  for (int k = 0; k < 200; ++k) ASSERT_EQ(ex.tick(), Status::ok);
+  EXPECT_LT((Eigen::VectorXd(ex.q()) - q).norm(), 1e-9);
+  // out of their domain
+  off.limit_avoidance = 1.5;
+  EXPECT_EQ(ex.init(kin_, q, off).status, Status::invalid_argument);
+  off.limit_avoidance = 0.5;
+  off.limit_band = 0.5;
+  EXPECT_EQ(ex.init(kin_, q, off).status, Status::invalid_argument);
+}
+
 TEST_F(ExecutorTest, SafetyChecks) {
   a2l::ExecutorOptions o;
   a2l::Executor ex;

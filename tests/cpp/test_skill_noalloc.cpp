@@ -292,6 +292,17 @@ TEST(ExecutorNoAlloc, TickAllocatesNothing) {
   }
   EXPECT_GT(ex.scaled_ticks(), 0);
   EXPECT_LT((ex.position() - p0).norm(), 1e-5);
+  // A joint inside its limit band: the self-motion away from the limit, held in place.
+  Eigen::VectorXd q_band = q0;
+  q_band[0] = kin.lower()[0] + 0.04 * (kin.upper()[0] - kin.lower()[0]);
+  ASSERT_TRUE(ex.init(kin, q_band).ok());
+  ASSERT_EQ(ex.set_target(ex.position()), Status::ok);
+  {
+    a2l::test::AllocationGuard guard;
+    for (int k = 0; k < 500; ++k) ASSERT_EQ(ex.tick(), Status::ok);
+    EXPECT_EQ(guard.allocations(), 0u);
+  }
+  EXPECT_GT(ex.q()[0], q_band[0]);  // it moved away from the limit
 }
 
 }  // namespace

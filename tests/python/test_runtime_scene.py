@@ -113,6 +113,17 @@ def test_runtime_executor_scales_a_command_over_the_velocity_limits() -> None:
         assert ex.ticks < 10000
     assert ex.scaled_ticks > 0 and ex.ticks > 250  # slowed down, and got there
     np.testing.assert_allclose(ex.position, target, atol=1e-6)
+    # a joint inside its limit band is pushed back while the hand holds still, unless off
+    q = np.array(arm.neutral)
+    q[0] = kin.lower[0] + 0.04 * (kin.upper[0] - kin.lower[0])
+    for avoidance, moved in ((0.5, True), (0.0, False)):
+        band = _core.ExecutorOptions()
+        band.limit_avoidance = avoidance
+        ex = _core.Executor(kin, q, band)
+        assert ex.set_target(ex.position) == Status.ok
+        for _ in range(100):
+            assert ex.tick() == Status.ok
+        assert (ex.q[0] > q[0] + 1e-4) == moved
     opts.scale_velocity = False  # refused instead
     ex = _core.Executor(kin, np.array(arm.neutral), opts)
     assert ex.set_target(target) == Status.ok

@@ -9,7 +9,9 @@
 //! A command over a joint's velocity limit is scaled down, every joint by the same factor (the
 //! end-effector keeps its direction and slows down; the reference point advances by the same
 //! share), as a robot's controller slows a motion near a singularity; with
-//! ExecutorOptions::scale_velocity off it is refused instead (`velocity_limit`). A command is
+//! ExecutorOptions::scale_velocity off it is refused instead (`velocity_limit`). On a chain of
+//! more than 6 joints, a joint within ExecutorOptions::limit_band of a limit is pushed back
+//! toward the interior in the task's null space (the end-effector's motion unchanged). A command is
 //! checked against the joint position limits and the target against the workspace bounds; a
 //! target that is not reached within the watchdog's tick budget stops with `unreachable`. tick()
 //! allocates nothing and throws nothing (fixed-capacity Eigen objects).
@@ -47,6 +49,12 @@ struct ExecutorOptions {
   //! factor: the end-effector slows and keeps its direction); false: it is refused
   //! (`velocity_limit`)
   bool scale_velocity = true;
+  //! share of the range next to each joint limit where the joint is pushed back toward the
+  //! interior, in the task's null space (the end-effector's motion unchanged)
+  double limit_band = 0.1;
+  //! how fast a joint at its limit is pushed back, as a share of its velocity limit (0: off);
+  //! in [0, 1]
+  double limit_avoidance = 0.5;
 };
 
 //! Differential-IK executor of end-effector position targets for one arm.
