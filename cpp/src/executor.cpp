@@ -96,6 +96,25 @@ Status Executor::set_target(const Eigen::Vector3d& position) noexcept {
   return Status::ok;
 }
 
+bool Executor::limit_push(JointVector& away) const noexcept {
+  const int n = kin_->n_joints();
+  away.setZero(n);
+  if (!(options_.limit_avoidance > 0.0) || n <= 6) return false;  // no null space beside 6-D
+  bool any = false;
+  for (int i = 0; i < n; ++i) {
+    const double band = options_.limit_band * (upper_[i] - lower_[i]);
+    if (!(band > 0.0) || !std::isfinite(band)) continue;
+    double depth = 0.0;  // in [-1, 1]: how deep into a band, signed toward the interior
+    if (q_[i] < lower_[i] + band) depth = std::min(1.0, (lower_[i] + band - q_[i]) / band);
+    if (q_[i] > upper_[i] - band) depth = -std::min(1.0, (q_[i] - (upper_[i] - band)) / band);
+    if (depth == 0.0) continue;
+    const double rate = std::isfinite(max_step_[i]) ? max_step_[i] : options_.period;
+    away[i] = options_.limit_avoidance * depth * rate;
+    any = true;
+  }
+  return any;
+}
+
 Status Executor::tick() noexcept {
   [[maybe_unused]] const detail::RealTimeSection rt;
   if (kin_ == nullptr) return Status::not_initialized;
@@ -120,27 +139,10 @@ Status Executor::tick() noexcept {
   const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(a);
   JointVector dq = jac_.transpose() * ldlt.solve(err);
   const int n = kin_->n_joints();
-  // Away from the joint limits, in the task's null space (a chain of more than 6 joints): a
-  // joint inside the band next to a limit is pushed back, the deeper the faster (at most
-  // limit_avoidance of its velocity limit), through (I - J^T (J J^T + lambda^2 I)^-1 J), which
-  // leaves the end-effector's motion as it is. Nothing is added while every joint is outside
-  // the bands.
-  if (options_.limit_avoidance > 0.0 && n > 6) {  // a null space beside the 6-D task
-    JointVector away = JointVector::Zero(n);
-    bool any = false;
-    for (int i = 0; i < n; ++i) {
-      const double band = options_.limit_band * (upper_[i] - lower_[i]);
-      if (!(band > 0.0) || !std::isfinite(band)) continue;
-      double depth = 0.0;  // in [-1, 1]: how deep into a band, signed toward the interior
-      if (q_[i] < lower_[i] + band) depth = std::min(1.0, (lower_[i] + band - q_[i]) / band);
-      if (q_[i] > upper_[i] - band) depth = -std::min(1.0, (q_[i] - (upper_[i] - band)) / band);
-      if (depth == 0.0) continue;
-      const double rate = std::isfinite(max_step_[i]) ? max_step_[i] : options_.period;
-      away[i] = options_.limit_avoidance * depth * rate;
-      any = true;
-    }
-    if (any) dq += away - jac_.transpose() * ldlt.solve(jac_ * away);
-  }
+  // Away from the joint limits, in the task's null space (limit_push()), through
+  // (I - J^T (J J^T + lambda^2 I)^-1 J), which leaves the end-effector's motion as it is.
+  JointVector away(n);
+  if (limit_push(away)) dq += away - jac_.transpose() * ldlt.solve(jac_ * away);
   if (!dq.allFinite()) return Status::internal_error;
   double scale = 1.0;  // the largest share of dq within every joint's velocity limit
   for (int i = 0; i < n; ++i) {
@@ -162,7 +164,7 @@ Status Executor::tick() noexcept {
   pose_ = pose;
   jac_ = jac;
   // a scaled command: the reference waits, advancing by the share the arm was given
-  reference_ = scale < 1.0 ? Eigen::Vector3d(reference_ + scale * to_target) : reference;
+  reference_ += scale * to_target;
   if (scale < 1.0) ++scaled_ticks_;
   reached_ = (target_ - pose_.translation()).norm() <= options_.position_tolerance &&
              (target_ - reference_).norm() <= options_.position_tolerance;

@@ -110,6 +110,13 @@ class Executor {
   const ExecutorOptions& options() const noexcept { return options_; }
 
  private:
+  //! The push away from the joint limits into `away` (n): a joint inside the band next to a
+  //! limit (ExecutorOptions::limit_band) is pushed toward the interior, the deeper the faster
+  //! (at most ExecutorOptions::limit_avoidance of its velocity limit); false (`away` zero)
+  //! when no joint is in a band, the push is off, or the chain has no null space beside the
+  //! 6-D task (6 joints or fewer).
+  bool limit_push(JointVector& away) const noexcept;
+
   const Kinematics* kin_ = nullptr;
   ExecutorOptions options_;
   JointVector q_, lower_, upper_, max_step_;
