@@ -1,20 +1,29 @@
 """Deep RL beside a2l on panda-gym's PandaPush-v3: TQC + HER with rl-baselines3-zoo's panda
 hyperparameters, and ``a2l experiment panda-gym``, judged by the same evaluation (the
-environment's own episodes from evaluation seed 1500, its ``is_success``, its 50 steps).
+environment's own episodes from evaluation seed 1502, its ``is_success``, its 50 steps).
 
-The RL side is resumable: each seed's run (``<dir>/tqc-<seed>/``) keeps, at every budget
-reached, its model, its replay buffer and its evaluation (``results.json``); a second call
-continues from the last budget reached. The seeds run side by side, one process each (one
-torch thread each). The a2l side is one ``a2l experiment panda-gym`` run per seed
-(``<dir>/a2l-<seed>/``, kept). The extra ``a2l[rl]`` (torch on the CPU, stable-baselines3,
-sb3-contrib); never part of ``make test``.
+The seeds are those of a2l's published run (learning seeds 1002 and 1003, evaluation seed
+1502; docs/gym.md): the a2l side is that run made again on this commit, the RL side learns
+with the same seeds.
+
+The RL side is resumable: each seed's run (``<dir>/tqc-<seed>/``) saves its model and its
+replay buffer every :data:`CHUNK` env steps (``latest.zip``, ``replay.pkl``) and, at every
+budget reached, the model of that budget and its evaluation (``results.json``); a second call
+continues from the last chunk saved (the episode under way is cut there, as SB3 does when it
+loads a HER buffer: resumed training is not bitwise the one uninterrupted). The seeds run side
+by side, one process each (one torch thread each); the CPU seconds of training are kept
+beside the wall seconds, so that a run that shared its cores still reports its cost. The a2l
+side is one ``a2l experiment panda-gym`` run per seed (``<dir>/a2l-<seed>/``, kept). The
+extra ``a2l[rl]`` (torch on the CPU, stable-baselines3, sb3-contrib); never part of
+``make test``.
 
 Cost: one env step with the zoo's networks (3 x 512, two critics of 25 quantiles, batches of
-2,048) took 0.54 s of one core here (December 2026, load 3 on 2 cores): 100,000 steps are
-about 15 hours a seed.
+2,048) takes 0.6-0.7 s of one core here (December 2026): 50,000 steps are about 9 hours of CPU
+a seed, 100,000 about 18.
 
-Standalone: ``python benchmarks/bench_rl.py [--budgets 10000,25000] [--seeds 1000,1001]
-[--episodes 500] [--dir build/bench-rl]`` prints the section's Markdown.
+Standalone: ``python benchmarks/bench_rl.py [--budgets 10000,25000] [--seeds 1002,1003]
+[--episodes 500] [--dir build/bench-rl]`` prints the section's Markdown; ``--worker SEED``
+trains one seed only (what the section starts per seed).
 """
 
 from __future__ import annotations
@@ -32,16 +41,19 @@ TITLE = "Deep RL beside a2l on panda-gym's PandaPush-v3 (TQC + HER, the same eva
 PACKAGES = ("torch", "stable-baselines3", "sb3-contrib", "gymnasium", "panda-gym")
 
 ENV_ID = "PandaPush-v3"
-#: rl-baselines3-zoo's ``her-defaults`` of ``PandaPush-v1`` (hyperparams/tqc.yml); the
-#: buffer holds every transition of the largest budget (the zoo's 1e6 never fills before).
+#: rl-baselines3-zoo's ``her-defaults`` of ``PandaPush-v1`` (hyperparams/tqc.yml), with its
+#: ``env_wrapper`` (:func:`make_env`); the buffer holds every transition of the largest budget
+#: (the zoo's 1e6 never fills before).
 ZOO: dict[str, Any] = {
     "batch_size": 2048, "gamma": 0.95, "learning_rate": 1e-3, "tau": 0.05,
     "policy_kwargs": {"net_arch": [512, 512, 512], "n_critics": 2},
     "replay_buffer_kwargs": {"goal_selection_strategy": "future", "n_sampled_goal": 4},
 }
 BUDGETS = (10_000, 25_000, 50_000, 100_000)
-SEEDS = (1000, 1001)
-EVAL_SEED = 1500
+SEEDS = (1002, 1003)
+EVAL_SEED = 1502
+#: Env steps between two saves of a run (model and replay buffer).
+CHUNK = 1_000
 EPISODES = 500
 DIR = Path(__file__).resolve().parents[1] / "build" / "bench-rl"
 #: The published figure, with its source.
@@ -57,14 +69,22 @@ def _write(path: Path, data: Any) -> None:
     os.replace(tmp, path)
 
 
+def make_env() -> Any:
+    """``PandaPush-v3`` in the zoo's wrapper: the time left in the episode as one more
+    feature of the observation (sb3-contrib's ``TimeFeatureWrapper``)."""
+    import gymnasium
+    import panda_gym  # noqa: F401 - registers the environment
+    from sb3_contrib.common.wrappers import TimeFeatureWrapper
+
+    return TimeFeatureWrapper(gymnasium.make(ENV_ID))
+
+
 def evaluate_policy(model: Any, seeds: list[int]) -> dict[str, float]:
     """Success of `model`'s deterministic policy on the episodes reset with `seeds`, the
     median steps of an episode, and the evaluation's wall time."""
-    import gymnasium
     import numpy as np
-    import panda_gym  # noqa: F401 - registers the environment
 
-    env = gymnasium.make(ENV_ID)
+    env = make_env()
     t0, wins, steps = time.perf_counter(), 0, []
     for s in seeds:
         obs, info = env.reset(seed=s)
@@ -80,13 +100,24 @@ def evaluate_policy(model: Any, seeds: list[int]) -> dict[str, float]:
             "eval_s": time.perf_counter() - t0}
 
 
-def train_seed(seed: int, budgets: tuple[int, ...], directory: Path, episodes: int) -> None:
-    """TQC + HER for `seed` up to each budget, continuing from the last budget reached."""
-    import gymnasium
-    import panda_gym  # noqa: F401
-    import torch
+def _load_or_start(d: Path, env: Any, seed: int, buffer_size: int) -> tuple[Any, dict]:
+    """The run's model where it stopped (its last chunk) and its progress, or a new one."""
     from sb3_contrib import TQC
     from stable_baselines3 import HerReplayBuffer
+
+    state = d / "progress.json"
+    if (d / "latest.zip").is_file() and state.is_file():
+        model = TQC.load(d / "latest.zip", env=env, device="cpu")
+        model.load_replay_buffer(d / "replay.pkl")  # cuts the episode under way
+        return model, json.loads(state.read_text())
+    model = TQC("MultiInputPolicy", env, buffer_size=buffer_size, seed=seed,
+                replay_buffer_class=HerReplayBuffer, device="cpu", verbose=0, **ZOO)
+    return model, {"env_steps": 0, "train_s": 0.0, "train_cpu_s": 0.0}
+
+
+def train_seed(seed: int, budgets: tuple[int, ...], directory: Path, episodes: int) -> None:
+    """TQC + HER for `seed` up to each budget, continuing from the last chunk saved."""
+    import torch
 
     from a2l.experiments.panda_gym_eval import episode_seeds
 
@@ -95,28 +126,28 @@ def train_seed(seed: int, budgets: tuple[int, ...], directory: Path, episodes: i
     d.mkdir(parents=True, exist_ok=True)
     path = d / "results.json"
     results = json.loads(path.read_text()) if path.is_file() else {}
-    env = gymnasium.make(ENV_ID)
-    reached = [b for b in budgets if str(b) in results and (d / f"model_{b}.zip").is_file()]
-    if reached:
-        model = TQC.load(d / f"model_{reached[-1]}.zip", env=env, device="cpu")
-        model.load_replay_buffer(d / "replay.pkl")
-    else:
-        model = TQC("MultiInputPolicy", env, buffer_size=max(budgets), seed=seed,
-                    replay_buffer_class=HerReplayBuffer, device="cpu", verbose=0, **ZOO)
+    if all(str(b) in results for b in budgets):
+        return
+    env = make_env()
+    model, progress = _load_or_start(d, env, seed, max(budgets))
     seeds = episode_seeds(EVAL_SEED, episodes)
     for b in budgets:
         if str(b) in results:
             continue
-        t0 = time.perf_counter()
-        model.learn(b - model.num_timesteps, reset_num_timesteps=False)
-        train_s = time.perf_counter() - t0
+        while model.num_timesteps < b:
+            t0, c0 = time.perf_counter(), time.process_time()
+            model.learn(min(CHUNK, b - model.num_timesteps), reset_num_timesteps=False)
+            progress = {"env_steps": int(model.num_timesteps),
+                        "train_s": progress["train_s"] + time.perf_counter() - t0,
+                        "train_cpu_s": progress["train_cpu_s"] + time.process_time() - c0}
+            model.save(d / "latest.zip")
+            model.save_replay_buffer(d / "replay.pkl")
+            _write(d / "progress.json", progress)
         model.save(d / f"model_{b}.zip")
-        model.save_replay_buffer(d / "replay.pkl")
-        results[str(b)] = {"env_steps": int(model.num_timesteps), "train_s": train_s,
-                           "episodes": episodes, **evaluate_policy(model, seeds)}
+        results[str(b)] = {**progress, "episodes": episodes, **evaluate_policy(model, seeds)}
         _write(path, results)
         print(f"[bench rl] seed {seed}: {b:,} steps, success {results[str(b)]['success']:.1%}"
-              f" ({train_s:.0f} s of training)", flush=True)
+              f" ({progress['train_cpu_s']:.0f} s of CPU in training)", flush=True)
 
 
 def a2l_runs(seeds: tuple[int, ...], directory: Path, episodes: int) -> dict[int, Any]:
@@ -170,16 +201,19 @@ def markdown(a2l: dict[int, Any], rl: dict[int, Any], figure: str | None) -> str
              "the deterministic policy), the environment's `is_success` and 50-step limit. "
              f"RL: TQC + HER with rl-baselines3-zoo's hyperparameters ({json.dumps(ZOO)}); "
              f"for scale, {PUBLISHED}.", "",
-             "| side | seed | env steps | success | episodes | learning wall (s) |",
-             "|---|---|---|---|---|---|"]
+             "RL's learning CPU seconds are its process's (it may have shared its core); a2l's "
+             "run comes after the RL runs, on cores of its own.", "",
+             "| side | seed | env steps | success | episodes | learning wall (s) "
+             "| learning CPU (s) |",
+             "|---|---|---|---|---|---|---|"]
     for s, m in a2l.items():
         lines.append(f"| a2l | {s} | {m['env_steps_learning']:,} | {m['success_rate']:.1%} | "
-                     f"{m['eval_episodes']} | {m['wall_s']['learning']:.0f} |")
+                     f"{m['eval_episodes']} | {m['wall_s']['learning']:.0f} | – |")
     for s, r in rl.items():
         for b in sorted(r, key=int):
             v = r[b]
             lines.append(f"| TQC + HER | {s} | {v['env_steps']:,} | {v['success']:.1%} | "
-                         f"{v['episodes']} | {v['train_s']:.0f} |")
+                         f"{v['episodes']} | {v['train_s']:.0f} | {v['train_cpu_s']:.0f} |")
     for s in a2l:
         a = _steps_to([(p["env_steps"], p["success"]) for p in a2l[s]["learning_curve"]], 0.9)
         r = _steps_to([(v["env_steps"], v["success"]) for v in rl.get(s, {}).values()], 0.9)

@@ -135,9 +135,11 @@ REGISTRY: dict[str, ExperimentSeeds] = {e.experiment: e for e in (
                     _LFD_STREAMS),
     ExperimentSeeds("panda-gym", "the framework's draws inside panda-gym (" + _FRAMEWORK
                     + "); --eval_seed draws the evaluation episodes' resets from a stream "
-                    "of its own", (1000, 1999), "its framework settings (a2l.experiments."
+                    "of its own", (1002, 1999), "its framework settings (a2l.experiments."
                     "panda_gym.SETTINGS) and the goal controller's keep and transit were "
-                    "chosen on learning seeds 0-2 with evaluation seed 500 (docs/gym.md)"),
+                    "chosen on learning seeds 0-2 with evaluation seed 500 (docs/gym.md); the "
+                    "transit after looking at the misses of learning seeds 1000 and 1001 "
+                    "(evaluation seed 1500; tuning seeds since)", looked_at=(1000, 1001)),
     ExperimentSeeds("tasks", "each trial's set-up and its fault", (7000, 7999),
                     "the planning and transit settings were set without trial seeds of this "
                     "block", _LFD_STREAMS),

@@ -105,3 +105,15 @@ def test_a_push_run_on_a_tuning_seed_says_so_in_its_report(tmp_path: Path, seed:
     assert ("**Tuning seeds**" in report) == tuning
     if tuning:
         assert "not an evaluation result" in report
+
+
+@pytest.mark.parametrize(("seed", "eval_seed"), [(0, 500), (500, 501), (1000, 500),
+                                                  (1001, 500), (1002, 1502), (1502, 1503)])
+def test_panda_gym_evaluates_a_looked_at_learning_seed_on_the_tuning_episodes(
+        seed: int, eval_seed: int) -> None:
+    # learning seeds 1000 and 1001 were looked at before the transit: tuning seeds, judged
+    # on the tuning episodes (500); an evaluation seed on 1502 (never the learning seed)
+    from a2l.experiments.panda_gym import PandaGymConfig
+
+    assert seeds.is_tuning(seed, "panda-gym") == (eval_seed < 1000)
+    assert PandaGymConfig(seed=seed).evaluation_seed == eval_seed

@@ -42,7 +42,7 @@ from a2l.progress import ProgressBars
 from a2l.rollout.approach import Transit
 from a2l.rollout.env import scene_env
 from a2l.rundir import command_line, make_run_dir, write_json
-from a2l.seeds import EVALUATION_FIRST, mark_report, seed_record
+from a2l.seeds import is_tuning, mark_report, seed_record
 
 if TYPE_CHECKING:
     from a2l.gym.scene import GymScene
@@ -96,8 +96,9 @@ class PandaGymConfig:
         The learning seed (every draw of the framework).
     eval_seed : int or None
         The evaluation episodes' seed (:func:`a2l.experiments.panda_gym_eval.episode_seeds`);
-        None: 500 for a tuning learning seed, 1500 for an evaluation one (never the learning
-        seed itself).
+        None: 500 for a tuning learning seed (seeds 1000 and 1001 included: looked at before a
+        choice, ``docs/seeds.md``), 1502 for an evaluation one (1500's episodes were looked at
+        with seeds 1000 and 1001; never the learning seed itself).
     eval_episodes : int
         Episodes of the final evaluation.
     curve_episodes : int
@@ -154,7 +155,7 @@ class PandaGymConfig:
         """`eval_seed`, or its default."""
         if self.eval_seed is not None:
             return self.eval_seed
-        base = 500 if self.seed < EVALUATION_FIRST else 1500
+        base = 500 if is_tuning(self.seed, "panda-gym") else 1502
         return base + 1 if base == self.seed else base
 
 
