@@ -122,10 +122,12 @@ REGISTRY: dict[str, ExperimentSeeds] = {e.experiment: e for e in (
                     "(held-out DTW, no random starts), reported on the other 20; the "
                     "schedules, map placement and K were set earlier on all 30 shapes with "
                     "starts from seeds 0-29", "the tuning split of the shapes: seed 0"),
-    ExperimentSeeds("lfd-skills", "each trial's set-up (object and arm start)", (1000, 4999),
+    ExperimentSeeds("lfd-skills", "each trial's set-up (object and arm start)", (1040, 4999),
                     "the LfD defaults come from the parametrization study (trial seeds "
-                    "500-539); the sideways pushes' turned gripper from trial seeds 500-579",
-                    _LFD_STREAMS),
+                    "500-539); the sideways pushes' turned gripper from trial seeds 500-579; "
+                    "the Panda's grasp opening (its gripper's grasp_open) from trial seeds "
+                    "500-579, after looking at the Panda's grasp on trials 1000-1039 (tuning "
+                    "seeds since)", _LFD_STREAMS, looked_at=tuple(range(1000, 1040))),
     ExperimentSeeds("parametrization", "each trial's set-up (object and arm start)",
                     (1000, 4999), "a tuning study: it runs on seeds 500-539 by default, and "
                     "its choice became the LfD defaults", _LFD_STREAMS),

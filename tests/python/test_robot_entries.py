@@ -155,6 +155,11 @@ def test_a_robot_file_of_an_arm_not_built_in_loads(tmp_path: Path) -> None:
     spec = entry.arm_spec()
     assert (spec.base_link, spec.tip_link, spec.neutral) == ("link00", "gripperStator",
                                                              entry.neutral)
+    # no grasp_open: a grasp opens the gripper as far as a push does
+    assert entry.gripper.grasp_open is None and entry.gripper.opening(True) == (-1.0,)
+    wide = robot_entry(_write(tmp_path, {**Z1, "gripper": {**Z1["gripper"],
+                                                           "grasp_open": [-1.2]}}, "z1w.yaml"))
+    assert (wide.gripper.opening(False), wide.gripper.opening(True)) == ((-1.0,), (-1.2,))
 
 
 def test_a_json_robot_file_with_a_relative_urdf_loads(tmp_path: Path) -> None:
@@ -229,7 +234,12 @@ BAD_FILES = [
     ("urdf", "package://nowhere_description/urdf/x.urdf", "urdf",
      r"cannot resolve 'package://nowhere_description/urdf/x.urdf'"),
     ("urdf", 3, "urdf", r"must be a non-empty string, got 3"),
-    ("gripper", ["jointGripper"], "gripper", r"must be a mapping of joints, open, closed"),
+    ("gripper.grasp_open", [-1.0, 0.0], "gripper.grasp_open",
+     r"2 values for the 1 gripper.joints"),
+    ("gripper.grasp_open", [0.5], "gripper.grasp_open", r"joint 'jointGripper' at 0.5 is "
+     r"outside"),
+    ("gripper", ["jointGripper"], "gripper", r"must be a mapping of joints, open, closed, "
+     r"grasp_open"),
     ("rest", {"jointGrip": 0.0}, "rest.jointGrip", r"unknown joint: '.*z1.urdf' has the "
      r"joints .*jointGripper"),
     ("rest", [0.0], "rest", r"must map joint names to positions"),

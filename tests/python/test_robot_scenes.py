@@ -162,6 +162,24 @@ def test_the_grasp_scene_refuses_an_arm_without_gripper() -> None:
         make_scene("grasp", seed=0, robot="ur5")
 
 
+def test_the_panda_grasps_with_its_fingers_wide_open_and_pushes_with_them_half_open() -> None:
+    import pybullet as p
+
+    widths = {}
+    for name in ("push", "grasp", "grasp_light"):
+        scene = make_scene(name, seed=0, robot="panda")
+        try:
+            scene.reset()
+            widths[name] = sum(p.getJointState(scene._robot, j, physicsClientId=scene._client)[0]
+                               for j in scene._fingers)
+        finally:
+            scene.close()
+    # between the fingers: 4 cm to push, 8 cm (the stop) to grasp (docs/robots.md)
+    assert widths["push"] == pytest.approx(0.04, abs=2e-3)
+    assert widths["grasp"] == pytest.approx(0.08, abs=2e-3)
+    assert widths["grasp_light"] == pytest.approx(0.08, abs=2e-3)
+
+
 def test_an_unknown_robot_is_named() -> None:
     with pytest.raises(A2LValueError, match="unknown robot 'kuka'"):
         make_config("push", robot="kuka")

@@ -30,7 +30,7 @@ def test_the_split_and_its_edges() -> None:
     with pytest.raises(ValueError, match="seed: must be >= 0"):
         seeds.is_tuning(-1)
     # seeds looked at before a choice are tuning seeds of their experiment only
-    assert seeds.is_tuning(1001, "push") and not seeds.is_tuning(1001, "lfd-skills")
+    assert seeds.is_tuning(1001, "push") and not seeds.is_tuning(1001, "babbling")
     assert seeds.is_tuning(1005, "push") and not seeds.is_tuning(1006, "push")
     assert not seeds.is_tuning(1001) and seed_use([1001, 1006], "push") == "mixed"
     record = seed_record("sweep", [1000, 1006])

@@ -4,7 +4,7 @@ Each skill of :data:`a2l.lfd.library.SKILLS` is demonstrated by its scripted dem
 (demonstration seeds ``0 .. n_demos - 1``), learned with its configuration
 (:func:`a2l.lfd.library.skill_config`: :data:`a2l.lfd.config.DEFAULT` for the push skills),
 and run in closed loop through the C++ step from ``trials`` trial set-ups drawn from seeds
-``seed, seed + 1, ...`` (default 1000: no demonstration and no tuning used them), in the
+``seed, seed + 1, ...`` (default 1040: no demonstration and no tuning used them), in the
 recipes' PyBullet scenes on a robot (scene ``bullet`` with ``robot``, Baxter by default: a
 built-in name or a robot file; the objects stand at its work point and the bundles record
 it), or in the C++ virtual scene (``virtual``: no robot). ``baxter``, the earlier name of
@@ -258,7 +258,7 @@ def resolve_scene(scene: str | None, robot: str) -> str:
 
 
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
-                   trials: int = 20, seed: int = 1000, scene: str | None = None,
+                   trials: int = 20, seed: int = 1040, scene: str | None = None,
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
                    quiet: bool = False, context_source: str = "perceived",
                    record: str | os.PathLike[str] | None = None,

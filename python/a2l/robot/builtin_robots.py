@@ -57,13 +57,16 @@ def _panda() -> RobotEntry:
     # on a stand level with the table top, 0.10 m before the near edge of a 0.7 m deep table;
     # open: 4 cm between the fingers as Baxter's (at its 8 cm stop the fingers straddled the
     # 8.5 cm push box and clipped it 10 cm off the tool point: 68 of 128 held-out pushes of a
-    # tuning run moved it the wrong way)
+    # tuning run moved it the wrong way); opened for a grasp to its stop, 8 cm: with 4 cm a
+    # finger landed on the 3 cm block when the hand came down 1-2 cm off its centre and
+    # pushed it away (the demonstrated grasp, tuning trial seeds 500-579: 70 of 80, with 8
+    # cm 79 of 80; Baxter's fingers open 4.2 cm at their stop: 76)
     return RobotEntry(
         name="panda", urdf=panda_urdf(), base_link="panda_link0", tool_link="panda_hand_tcp",
         neutral=(0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785), mount=Mount((-0.45, 0.0, 0.0)),
         tool_down=tuple(map(tuple, PANDA_DOWN.tolist())),  # type: ignore[arg-type]
         gripper=Gripper(("panda_finger_joint1", "panda_finger_joint2"), (0.02, 0.02),
-                        (0.0, 0.0)))
+                        (0.0, 0.0), grasp_open=(0.04, 0.04)))
 
 
 def _ur5() -> RobotEntry:

@@ -54,17 +54,30 @@ class Gripper:
         Joint names in the URDF, shape (m,). Joints that mimic another are listed too, with
         their own values: PyBullet does not follow a URDF's ``<mimic>``.
     open, closed : tuple of float
-        Joint positions (rad or m), shape (m,), of the open and of the closed gripper.
+        Joint positions (rad or m), shape (m,), of the open and of the closed gripper. The
+        scenes hold it `open` while the arm moves and pushes.
+    grasp_open : tuple of float or None
+        Joint positions, shape (m,), of the gripper opened for a grasp, in the scenes that
+        grasp a block (``grasp``, ``grasp_light``); None: `open`. A gripper that pushes half
+        open can grasp wide open (the Panda's).
     """
 
     joints: tuple[str, ...]
     open: tuple[float, ...]
     closed: tuple[float, ...]
+    grasp_open: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(str(j) for j in self.joints))
         object.__setattr__(self, "open", _floats(self.open))
         object.__setattr__(self, "closed", _floats(self.closed))
+        if self.grasp_open is not None:
+            object.__setattr__(self, "grasp_open", _floats(self.grasp_open))
+
+    def opening(self, grasp: bool) -> tuple[float, ...]:
+        """The open positions, shape (m,): `grasp_open` in a scene that grasps (when given),
+        else `open`."""
+        return self.grasp_open if grasp and self.grasp_open is not None else self.open
 
 
 @dataclass(frozen=True)

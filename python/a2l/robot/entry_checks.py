@@ -164,12 +164,18 @@ def _check_values(entry: RobotEntry, src: str) -> None:
     if g is not None:
         if not g.joints:
             raise RobotEntryError(src, "gripper.joints", "names no joint")
-        for key, values in (("gripper.open", g.open), ("gripper.closed", g.closed)):
+        for key, values in _gripper_positions(g):
             if len(values) != len(g.joints):
                 raise RobotEntryError(src, key, f"{len(values)} values for the "
                                       f"{len(g.joints)} gripper.joints")
             if not all(math.isfinite(v) for v in values):
                 raise RobotEntryError(src, key, f"values must be finite, got {values}")
+
+
+def _gripper_positions(g: Gripper) -> list[tuple[str, tuple[float, ...]]]:
+    """The gripper's position sets with their robot-file keys (`grasp_open` when given)."""
+    sets = [("gripper.open", g.open), ("gripper.closed", g.closed)]
+    return sets + ([("gripper.grasp_open", g.grasp_open)] if g.grasp_open is not None else [])
 
 
 def _check_gripper(g: Gripper, tree: UrdfTree, chain: set[str], urdf: Path, src: str) -> None:
@@ -183,7 +189,7 @@ def _check_gripper(g: Gripper, tree: UrdfTree, chain: set[str], urdf: Path, src:
             raise RobotEntryError(src, "gripper.joints", f"'{joint}' is a joint of the arm's "
                                   "chain, not of the gripper")
         _, lo, hi = tree.joints[joint]
-        for key, values in (("gripper.open", g.open), ("gripper.closed", g.closed)):
+        for key, values in _gripper_positions(g):
             if not lo - LIMIT_SLACK <= values[i] <= hi + LIMIT_SLACK:
                 raise RobotEntryError(src, key, f"joint '{joint}' at {values[i]:g} is outside "
                                       f"its limits [{lo:g}, {hi:g}]")

@@ -12,6 +12,7 @@ A robot file is a mapping (``docs/robots.md`` has an example)::
       joints: [jointGripper]
       open: [-1.0]
       closed: [0.0]
+      grasp_open: [-1.2]                           # optional: opened for a grasp
     mount: {xyz: [-0.4, 0.0, 0.0], yaw: 0.0}       # degrees
     work_point: [0.0, -0.1]                        # optional: where the objects stand
     rest: {jointGripper: 0.0}                      # optional: joints outside the chain
@@ -22,8 +23,9 @@ otherwise ``robots/PKG/PATH`` of the installed ``example-robot-data``, then ``PK
 the file's folder. ``work_point`` is in the table frame (:mod:`a2l.robot.entries`); without
 it the scenes put their objects where the arm reaches best (:func:`a2l.robot.table_layout`).
 Every key but ``name``, ``tool_down``, ``gripper``, ``work_point`` and ``rest`` is required,
-and both ``mount.xyz`` and ``mount.yaw``: nothing is guessed. The entry is then checked against its
-URDF (:func:`a2l.robot.check_entry`).
+and both ``mount.xyz`` and ``mount.yaw``, and a gripper's ``joints``, ``open`` and ``closed``
+(``grasp_open``, the opening of the scenes that grasp, defaults to ``open``): nothing is
+guessed. The entry is then checked against its URDF (:func:`a2l.robot.check_entry`).
 """
 
 from __future__ import annotations
@@ -48,7 +50,8 @@ __all__ = ["ROBOT_FILE_KEYS", "ROBOT_FILE_SUFFIXES", "arm_entry", "load_robot", 
 ROBOT_FILE_KEYS = ("urdf", "base_link", "tool_link", "neutral", "mount", "name", "tool_down",
                    "gripper", "work_point", "rest")
 _REQUIRED = ROBOT_FILE_KEYS[:5]
-_GRIPPER_KEYS = ("joints", "open", "closed")
+_GRIPPER_KEYS = ("joints", "open", "closed", "grasp_open")
+_GRIPPER_REQUIRED = ("joints", "open", "closed")
 _MOUNT_KEYS = ("xyz", "yaw")
 #: The file name suffixes of a robot file.
 ROBOT_FILE_SUFFIXES = (".yaml", ".yml", ".json")
@@ -87,10 +90,12 @@ def load_robot(path: str | os.PathLike[str]) -> RobotEntry:
     _check_keys(data, ROBOT_FILE_KEYS, _REQUIRED, "", src)
     gripper = data.get("gripper")
     if gripper is not None:
-        _check_keys(gripper, _GRIPPER_KEYS, _GRIPPER_KEYS, "gripper.", src)
+        _check_keys(gripper, _GRIPPER_KEYS, _GRIPPER_REQUIRED, "gripper.", src)
+        wide = gripper.get("grasp_open")
         gripper = Gripper(_strings(gripper["joints"], "gripper.joints", src),
                           _numbers(gripper["open"], "gripper.open", src),
-                          _numbers(gripper["closed"], "gripper.closed", src))
+                          _numbers(gripper["closed"], "gripper.closed", src),
+                          None if wide is None else _numbers(wide, "gripper.grasp_open", src))
     mount = data["mount"]
     _check_keys(mount, _MOUNT_KEYS, _MOUNT_KEYS, "mount.", src)
     tool_down = data.get("tool_down")

@@ -50,6 +50,8 @@ class BuildMixin:
     _bodies: BodyCache
     _objects: dict[str, SceneObject]
     config: Any
+    #: The scene grasps a block: its gripper opens to the entry's ``grasp_open``.
+    grasps: bool = False
 
     def _build_world(self) -> None:
         c, cfg = self._client, self.config
@@ -151,12 +153,13 @@ class BuildMixin:
         return self._joint_index[name]
 
     def _build_gripper(self) -> None:
-        """The gripper's joints, their open and closed positions, and the links they move
-        (grip friction 1.5 on every one of them)."""
+        """The gripper's joints, their open (:meth:`a2l.robot.Gripper.opening`: wide in a
+        scene that grasps) and closed positions, and the links they move (grip friction 1.5
+        on every one of them)."""
         c, gripper = self._client, self.robot_entry.gripper
         self._fingers = [self._named_joint(n, "gripper") for n in
                          (gripper.joints if gripper else ())]
-        self._finger_open = tuple(gripper.open) if gripper else ()
+        self._finger_open = gripper.opening(self.grasps) if gripper else ()
         self._finger_closed = tuple(gripper.closed) if gripper else ()
         self._finger_links = self._moved_by(set(self._fingers))
         for link in sorted(self._finger_links):

@@ -31,6 +31,7 @@ class GraspScene(BulletScene):
 
     name = "grasp"
     primary_object = "block"
+    grasps = True
     config: GraspConfig
 
     def _build_objects(self) -> None:
