@@ -209,6 +209,12 @@ def _both(key: str, *args: str, resume: bool = False) -> list[Run]:
             Run(f"{key}-gt", (*args, "--context_source", "ground_truth"), resume)]
 
 
+#: The full profile's Baxter push runs: (key, seed, effects), each run with the defaults
+#: (camera and ground truth) and with ``--preset thesis`` (camera).
+BAXTER_PUSH_RUNS: tuple[tuple[str, int, int], ...] = (
+    ("s1006-e4", 1006, 4), ("s1007-e4", 1007, 4), ("s1008-e4", 1008, 4), ("s1006-e8", 1006, 8))
+
+
 def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
     """The Baxter push run of `seed` with the camera and with the ground truth (the runs of
     scene ``baxter``, its earlier name, are the same)."""
@@ -281,12 +287,9 @@ ENTRIES: tuple[Entry, ...] = (
           _push_virtual),
     Entry("push-baxter", "The push experiment on Baxter in PyBullet (a2l experiment push)",
           {"quick": _push("s1006-e4", 1006, 4, "--max_iterations", "3"),
-           "full": [*_push("s1006-e4", 1006, 4), *_push("s1007-e4", 1007, 4),
-                    *_push("s1008-e4", 1008, 4), *_push("s1006-e8", 1006, 8),
+           "full": [*(r for run in BAXTER_PUSH_RUNS for r in _push(*run)),
                     # the thesis' loop and representation beside them, with the camera
-                    *(_thesis(key, seed, effects) for key, seed, effects in
-                      (("s1006-e4", 1006, 4), ("s1007-e4", 1007, 4), ("s1008-e4", 1008, 4),
-                       ("s1006-e8", 1006, 8)))]},
+                    *(_thesis(*run) for run in BAXTER_PUSH_RUNS)]},
           _push_baxter, ("trajectories.png", "heldout_trajectories.png"),
           details=_push_baxter_misses),
     Entry("robots", "The push experiment on every built-in robot and on an arm from a robot "
