@@ -244,7 +244,7 @@ def test_lfd_skills_records_a_command_that_reproduces_its_configuration(tmp_path
     path, ns, _ = parse(shlex.split(config["command"])[1:])
     assert path == ("experiment", "lfd-skills") and config_from(ns.lfd, LfDConfig) == cfg
     assert (ns.skills, ns.trials, ns.seed, ns.scene, ns.mode) == (
-        "push_right", 1, 1000, "virtual", "table")
+        "push_right", 1, 1040, "virtual", "table")
 
 
 def test_a_preset_sets_its_fields_in_place_and_later_options_override_it(
