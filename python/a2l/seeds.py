@@ -94,7 +94,9 @@ _PUSH_SEEDS: dict[str, Any] = {
                  "0, 5 and 6 and virtual seeds 0-9, after looking at seeds 1000-1002; the "
                  "alignment rule on Baxter seeds 5, 6 and 1000-1002, the Panda's and the "
                  "UR5's seed 5 and virtual seeds 0-9, after looking at seeds 1003-1005 "
-                 "(tuning seeds of these experiments since)"),
+                 "(tuning seeds of these experiments since); the SO-101's jaw pushing "
+                 "closed from its geometry, after looking at its run on seed 1006 (a choice "
+                 "for that robot only: its row runs on seed 1009)"),
     "looked_at": (1000, 1001, 1002, 1003, 1004, 1005),
 }
 _LFD_STREAMS = ("demonstrations: seeds 0 .. 2 n_demos - 1 of each skill (training data drawn "

@@ -180,6 +180,30 @@ def test_the_panda_grasps_with_its_fingers_wide_open_and_pushes_with_them_half_o
     assert widths["grasp_light"] == pytest.approx(0.08, abs=2e-3)
 
 
+def test_the_so101_pushes_with_its_jaw_closed_and_opens_it_to_grasp() -> None:
+    import pybullet as p
+
+    reach, jaw = {}, {}
+    for name in ("push", "grasp"):
+        scene = make_scene(name, seed=0, robot="so101")
+        try:
+            scene.reset()
+            c, r, g = scene._client, scene._robot, scene._fingers[0]
+            jaw[name] = p.getJointState(r, g, physicsClientId=c)[0]
+            link = next(j for j in range(p.getNumJoints(r, physicsClientId=c)) if p.getJointInfo(
+                r, j, physicsClientId=c)[12].decode() == "moving_jaw_so101_v1_link")
+            lo, hi = p.getAABB(r, link, physicsClientId=c)
+            tool = scene.eef_position()
+            reach[name] = max(abs(lo[1] - tool[1]), abs(hi[1] - tool[1]))
+        finally:
+            scene.close()
+    assert jaw["push"] == pytest.approx(-0.1745, abs=0.01)
+    assert jaw["grasp"] == pytest.approx(0.6, abs=0.01)
+    # open, the moving jaw reaches 8.9 cm beside the tool point: farther than the scaled push
+    # box (4.5 cm wide) needs, it swept the box from 8 cm off (docs/robots.md)
+    assert reach["push"] < 0.055 < 0.08 < reach["grasp"]
+
+
 def test_an_unknown_robot_is_named() -> None:
     with pytest.raises(A2LValueError, match="unknown robot 'kuka'"):
         make_config("push", robot="kuka")

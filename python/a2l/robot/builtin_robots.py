@@ -85,13 +85,15 @@ def _ur5() -> RobotEntry:
 def _so101() -> RobotEntry:
     # on the table top, 0.05 m inside its near edge; tool 5 cm above the table (the wrist
     # flex limit keeps a pointing-down tool low); the jaw: closed at its lower limit, where
-    # the jaw tips meet, open 0.6 rad (about 6 cm between the tips)
+    # the jaw tips meet, opened for a grasp 0.6 rad (about 6 cm between the tips). It pushes
+    # closed: open 0.6 rad, the moving jaw reaches 8.9 cm to the side of the tool point (5.0
+    # closed; the scaled push box is 4.5 cm wide) and swept the box from 8 cm off
     return RobotEntry(
         name="so101", urdf=robots_dir() / "so_arm_description" / "urdf" / "so101.urdf",
         base_link="base_link", tool_link="gripper_frame_link",
         neutral=(0.0, -0.26, 0.47, 1.36, -1.52), mount=Mount((-0.30, 0.0, 0.0)),
         tool_down=((0.0, 1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, -1.0)),
-        gripper=Gripper(("gripper",), (0.6,), (-0.174533,)))
+        gripper=Gripper(("gripper",), (-0.174533,), (-0.174533,), grasp_open=(0.6,)))
 
 
 def _pr2() -> RobotEntry:
