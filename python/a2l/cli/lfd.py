@@ -12,6 +12,7 @@ from jsonargparse import Namespace
 from a2l.cli.args import UsageError, check_record, comma_list
 from a2l.cli.parser import Parser, add_config_fields, add_config_option, config_from
 from a2l.errors import ConfigError
+from a2l.experiments.lfd_skills import DEFAULT_SEED as LFD_FIRST_SEED
 from a2l.experiments.lfd_skills import SCENES
 from a2l.experiments.perturbations import CONDITIONS, DEFAULT_SEED
 from a2l.lfd.config import DEFAULT, LfDConfig
@@ -68,8 +69,8 @@ def _lfd_skills_parser() -> Parser:
     p.add_argument("--skills", default=None,
                    help="comma-separated skill names (default: the push skills)")
     p.add_argument("--trials", type=int, default=20, help="trials per skill (default 20)")
-    p.add_argument("--seed", type=int, default=1040, help="first trial seed (default 1040, "
-                   "the first evaluation seed: docs/seeds.md)")
+    p.add_argument("--seed", type=int, default=LFD_FIRST_SEED, help=f"first trial seed "
+                   f"(default {LFD_FIRST_SEED}, the first evaluation seed: docs/seeds.md)")
     add_robot_options(p)
     p.add_argument("--mode", choices=("table", "ds"), default="table")
     p.add_argument("--context_source", choices=("perceived", "ground_truth"),

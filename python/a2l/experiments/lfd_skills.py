@@ -28,9 +28,10 @@ from a2l.errors import A2LError, ConfigError
 from a2l.lfd.config import LfDConfig
 from a2l.progress import print_tables, progress_bar
 from a2l.robot import DEFAULT_ROBOT
+from a2l.seeds import experiment_seeds
 
-__all__ = ["SCENES", "LfdTrial", "evaluate", "resolve_scene", "results_table", "scale_note",
-           "run_lfd_skills", "trial_task"]
+__all__ = ["DEFAULT_SEED", "SCENES", "LfdTrial", "evaluate", "resolve_scene", "results_table",
+           "scale_note", "run_lfd_skills", "trial_task"]
 
 #: The scenes the trials run in: the PyBullet scenes of any robot, the C++ virtual scene (an
 #: earlier name, :data:`a2l.rollout.env.LEGACY_SCENES`, is read by :func:`resolve_scene`).
@@ -57,6 +58,10 @@ def check_package(package: str) -> None:
         raise RuntimeError(f"this worker imported a2l from {package_dir()}, the parent from "
                            f"{package}: start the experiment with the interpreter of the "
                            "package under test")
+
+
+#: First trial seed by default: the first evaluation seed of the registry (docs/seeds.md).
+DEFAULT_SEED = experiment_seeds("lfd-skills").evaluation[0]
 
 
 @dataclass(frozen=True)
@@ -258,7 +263,7 @@ def resolve_scene(scene: str | None, robot: str) -> str:
 
 
 def run_lfd_skills(out: str | os.PathLike[str], skills: Sequence[str] | None = None,
-                   trials: int = 20, seed: int = 1040, scene: str | None = None,
+                   trials: int = 20, seed: int = DEFAULT_SEED, scene: str | None = None,
                    mode: str = "table", workers: int = 1, cfg: LfDConfig | None = None,
                    quiet: bool = False, context_source: str = "perceived",
                    record: str | os.PathLike[str] | None = None,

@@ -78,7 +78,7 @@ __all__ = ["CONDITIONS", "DEFAULT_SEED", "HOLD_RANGE", "MODES", "MOVE_RANGE", "P
            "skill_cfg", "trial_task"]
 
 #: First trial seed by default (held out: demonstrations use 0 .. n_demos - 1,
-#: ``a2l experiment lfd-skills`` 1000 ...).
+#: ``a2l experiment lfd-skills`` 1040 ...).
 DEFAULT_SEED = 5000
 
 
