@@ -7,7 +7,8 @@ The seeds are those of a2l's published run (learning seeds 1002 and 1003, evalua
 with the same seeds.
 
 The RL side is resumable: each seed's run (``<dir>/tqc-<seed>/``) saves its model and its
-replay buffer every :data:`CHUNK` env steps (``latest.zip``, ``replay.pkl``) and, at every
+replay buffer every :data:`CHUNK` env steps (a folder ``ckpt-<steps>/``, complete before
+``progress.json`` names it: a run stopped while saving resumes from the one before) and, at every
 budget reached, the model of that budget and its evaluation (``results.json``); a second call
 continues from the last chunk saved (the episode under way is cut there, as SB3 does when it
 loads a HER buffer: resumed training is not bitwise the one uninterrupted). The seeds run side
@@ -31,6 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -106,13 +108,36 @@ def _load_or_start(d: Path, env: Any, seed: int, buffer_size: int) -> tuple[Any,
     from stable_baselines3 import HerReplayBuffer
 
     state = d / "progress.json"
-    if (d / "latest.zip").is_file() and state.is_file():
-        model = TQC.load(d / "latest.zip", env=env, device="cpu")
-        model.load_replay_buffer(d / "replay.pkl")  # cuts the episode under way
-        return model, json.loads(state.read_text())
+    progress = json.loads(state.read_text()) if state.is_file() else {}
+    if progress.get("checkpoint"):
+        ckpt = d / progress["checkpoint"]
+        model = TQC.load(ckpt / "model.zip", env=env, device="cpu")
+        model.load_replay_buffer(ckpt / "replay.pkl")  # cuts the episode under way
+        return model, progress
     model = TQC("MultiInputPolicy", env, buffer_size=buffer_size, seed=seed,
                 replay_buffer_class=HerReplayBuffer, device="cpu", verbose=0, **ZOO)
     return model, {"env_steps": 0, "train_s": 0.0, "train_cpu_s": 0.0}
+
+
+def _save_checkpoint(model: Any, d: Path) -> str:
+    """Save `model` and its replay buffer into a new folder of `d`, whole before it is named
+    (a run stopped while saving keeps its previous checkpoint); the folder's name."""
+    name = f"ckpt-{int(model.num_timesteps)}"
+    tmp = d / f"{name}.tmp"
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    model.save(tmp / "model.zip")
+    model.save_replay_buffer(tmp / "replay.pkl")
+    shutil.rmtree(d / name, ignore_errors=True)
+    os.replace(tmp, d / name)
+    return name
+
+
+def _drop_checkpoints(d: Path, keep: str) -> None:
+    """Remove the checkpoints of `d` other than `keep` (the one ``progress.json`` names)."""
+    for old in d.glob("ckpt-*"):
+        if old.name != keep:
+            shutil.rmtree(old, ignore_errors=True)
 
 
 def train_seed(seed: int, budgets: tuple[int, ...], directory: Path, episodes: int) -> None:
@@ -140,9 +165,9 @@ def train_seed(seed: int, budgets: tuple[int, ...], directory: Path, episodes: i
             progress = {"env_steps": int(model.num_timesteps),
                         "train_s": progress["train_s"] + time.perf_counter() - t0,
                         "train_cpu_s": progress["train_cpu_s"] + time.process_time() - c0}
-            model.save(d / "latest.zip")
-            model.save_replay_buffer(d / "replay.pkl")
+            progress["checkpoint"] = _save_checkpoint(model, d)
             _write(d / "progress.json", progress)
+            _drop_checkpoints(d, keep=progress["checkpoint"])
         model.save(d / f"model_{b}.zip")
         results[str(b)] = {**progress, "episodes": episodes, **evaluate_policy(model, seeds)}
         _write(path, results)
