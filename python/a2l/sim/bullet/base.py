@@ -207,17 +207,23 @@ class BulletScene(MotionMixin, TransitMixin, BuildMixin, Scene):
         whether the lamp is lit (None without a lamp)."""
         # every view's top-face points of an object, joined: a face the arm hides in part
         # from one camera is completed by the others (the smallest rectangle around the
-        # union, where the best single view's clipped rectangle was off by up to 1 cm)
+        # union, where the best single view's clipped rectangle was off by up to 1 cm). A
+        # view that sees only the object's sides (the arm hides its top from that camera)
+        # is left out of the join while another sees the top: its points would make the
+        # joined face not flat, and the object never well seen.
         tops: dict[str, list[NDArray[np.float64]]] = {}
+        sides: dict[str, list[NDArray[np.float64]]] = {}
         points: dict[str, list[NDArray[np.float64]]] = {}
         best: dict[str, tuple[tuple[float, float, float], float, NDArray[np.float64]]] = {}
         lit: bool | None = None
         for perception in self.perceptions:
             seen, lamp = perception.segment(*perception.camera.render())
             for name, pts in seen.items():
-                tops.setdefault(name, []).append(perception.top_face(pts))
+                face = perception.top_face(pts)
+                (tops if perception.is_flat(face) else sides).setdefault(name, []).append(face)
                 points.setdefault(name, []).append(pts)
-                top = tops[name][0] if len(tops[name]) == 1 else np.vstack(tops[name])
+                faces = tops.get(name) or sides[name]
+                top = faces[0] if len(faces) == 1 else np.vstack(faces)
                 best[name] = (*perception.estimate(name, top), top)
             if "light_on" in lamp:
                 lit = bool(lit) or lamp["light_on"]
