@@ -84,9 +84,10 @@ _FRAMEWORK = ("babbling around the object, the validation starts and the held-ou
 #: evaluation seeds, the tuning seeds their defaults were chosen on, and the evaluation seeds
 #: looked at before a choice (the exported skill's step cap of 16 was tried after seed
 #: 1001's misses, whose analysis covered seeds 1000-1002; the alignment rule after the
-#: off-centre pushes of seeds 1003-1005's runs; docs/experiments/push.md).
+#: off-centre pushes of seeds 1003-1005's runs; docs/experiments/push.md; the cameras' join
+#: of top faces after the robots table's runs on seeds 1006, 1007 and 1009, docs/robots.md).
 _PUSH_SEEDS: dict[str, Any] = {
-    "evaluation": (1006, 1999),
+    "evaluation": (1010, 1999),
     "tuned_on": ("the push defaults (FrameworkConfig: bins, structure, smoothing, "
                  "effect-directed babbling) were chosen on virtual seeds 0-29 and Baxter "
                  "seeds 0-2 (docs/framework.md), Baxter's fallback on seeds 3 and 4 "
@@ -95,9 +96,11 @@ _PUSH_SEEDS: dict[str, Any] = {
                  "alignment rule on Baxter seeds 5, 6 and 1000-1002, the Panda's and the "
                  "UR5's seed 5 and virtual seeds 0-9, after looking at seeds 1003-1005 "
                  "(tuning seeds of these experiments since); the SO-101's jaw pushing "
-                 "closed from its geometry, after looking at its run on seed 1006 (a choice "
-                 "for that robot only: its row runs on seed 1009)"),
-    "looked_at": (1000, 1001, 1002, 1003, 1004, 1005),
+                 "closed from its geometry, after looking at its run on seed 1006; the cameras' "
+                 "join of top faces (a view that sees only the side faces left out, "
+                 "docs/tabletop.md) after looking at the robots table's runs on seeds 1006, "
+                 "1007 and 1009 (tuning seeds since, 1008 with them: the block starts at 1010)"),
+    "looked_at": tuple(range(1000, 1010)),
 }
 _LFD_STREAMS = ("demonstrations: seeds 0 .. 2 n_demos - 1 of each skill (training data drawn "
                 "by the scripted demonstrator; never a trial seed)")

@@ -31,11 +31,11 @@ def test_the_split_and_its_edges() -> None:
         seeds.is_tuning(-1)
     # seeds looked at before a choice are tuning seeds of their experiment only
     assert seeds.is_tuning(1001, "push") and not seeds.is_tuning(1001, "babbling")
-    assert seeds.is_tuning(1005, "push") and not seeds.is_tuning(1006, "push")
-    assert not seeds.is_tuning(1001) and seed_use([1001, 1006], "push") == "mixed"
-    record = seed_record("sweep", [1000, 1006])
-    assert (record["use"], record["tuning"], record["evaluation"]) == ("mixed", "1000", "1006")
-    assert "1000-1005, looked at before a choice" in mark_report("# T\n", record)
+    assert seeds.is_tuning(1009, "push") and not seeds.is_tuning(1010, "push")
+    assert not seeds.is_tuning(1001) and seed_use([1001, 1010], "push") == "mixed"
+    record = seed_record("sweep", [1000, 1010])
+    assert (record["use"], record["tuning"], record["evaluation"]) == ("mixed", "1000", "1010")
+    assert "1000-1009, looked at before a choice" in mark_report("# T\n", record)
     with pytest.raises(ValueError, match="below its block"):
         seeds.ExperimentSeeds("x", "y", (1003, 1100), "z", looked_at=(1003,))
     with pytest.raises(ValueError, match="none given"):
@@ -83,7 +83,7 @@ def test_mark_report_puts_the_note_under_the_title_and_leaves_evaluation_runs_al
     assert "seed(s) 999," in mixed
 
 
-@pytest.mark.parametrize("seed, tuning", [(3, True), (1006, False)])
+@pytest.mark.parametrize("seed, tuning", [(3, True), (1010, False)])
 def test_a_push_run_on_a_tuning_seed_says_so_in_its_report(tmp_path: Path, seed: int,
                                                           tuning: bool) -> None:
     from a2l.experiments.push import run_push_experiment

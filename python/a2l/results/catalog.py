@@ -212,7 +212,7 @@ def _both(key: str, *args: str, resume: bool = False) -> list[Run]:
 #: The full profile's Baxter push runs: (key, seed, effects), each run with the defaults
 #: (camera and ground truth) and with ``--preset thesis`` (camera).
 BAXTER_PUSH_RUNS: tuple[tuple[str, int, int], ...] = (
-    ("s1006-e4", 1006, 4), ("s1007-e4", 1007, 4), ("s1008-e4", 1008, 4), ("s1006-e8", 1006, 8))
+    ("s1010-e4", 1010, 4), ("s1011-e4", 1011, 4), ("s1012-e4", 1012, 4), ("s1010-e8", 1010, 8))
 
 
 def _push(key: str, seed: int, effects: int, *extra: str) -> list[Run]:
@@ -275,18 +275,18 @@ ENTRIES: tuple[Entry, ...] = (
     Entry("push-virtual", "The push experiment in the virtual scene: iterations to score 100 "
           "per seed (a2l experiment sweep)",
           {"quick": [Run("sweep", ("experiment", "sweep", "--scene", "virtual",
-                                   "--discretization.n_effects", "4", "--seeds", "1006-1015",
+                                   "--discretization.n_effects", "4", "--seeds", "1010-1019",
                                    "--quiet"))],
            "full": [Run("sweep", ("experiment", "sweep", "--scene", "virtual",
-                                  "--discretization.n_effects", "4", "--seeds", "1006-1035",
+                                  "--discretization.n_effects", "4", "--seeds", "1010-1039",
                                   "--quiet")),
                     # the thesis' loop and representation beside the defaults, the same seeds
                     Run("sweep-thesis", ("experiment", "sweep", "--preset", "thesis",
                                          "--scene", "virtual", "--discretization.n_effects",
-                                         "4", "--seeds", "1006-1035", "--quiet"))]},
+                                         "4", "--seeds", "1010-1039", "--quiet"))]},
           _push_virtual),
     Entry("push-baxter", "The push experiment on Baxter in PyBullet (a2l experiment push)",
-          {"quick": _push("s1006-e4", 1006, 4, "--max_iterations", "3"),
+          {"quick": _push("s1010-e4", 1010, 4, "--max_iterations", "3"),
            "full": [*(r for run in BAXTER_PUSH_RUNS for r in _push(*run)),
                     # the thesis' loop and representation beside them, with the camera
                     *(_thesis(*run) for run in BAXTER_PUSH_RUNS)]},
@@ -294,11 +294,10 @@ ENTRIES: tuple[Entry, ...] = (
           details=_push_baxter_misses),
     Entry("robots", "The push experiment on every built-in robot and on an arm from a robot "
           "file (a2l experiment push --scene bullet --robot; camera context)",
-          {"quick": [_push_on("panda", 1006, "--max_iterations", "3")],
-           "full": [_push_on("panda", 1006), _push_on("panda", 1007), _push_on("ur5", 1006),
-                    # the SO-101's jaw opening was chosen after its run on 1006 was seen
-                    _push_on("so101", 1009), _push_on("pr2", 1006),
-                    _push_on(XARM_FILE, 1006)]},
+          {"quick": [_push_on("panda", 1010, "--max_iterations", "3")],
+           "full": [_push_on("panda", 1010), _push_on("panda", 1011), _push_on("ur5", 1010),
+                    _push_on("so101", 1010), _push_on("pr2", 1010),
+                    _push_on(XARM_FILE, 1010)]},
           _push_robots, ("trajectories.png", "heldout_trajectories.png"),
           details=_push_baxter_misses),
     Entry("robots-lfd", "Skills learned from demonstrations on the Panda beside Baxter "
