@@ -244,6 +244,10 @@ def _resolution_section() -> str:
         "",
         "### Perception error vs camera resolution (planar error of the object's centre, mm)",
         "",
+        f"Each resolution on the same {N_SPOTS} spots (seed 1) of each scene; the default's error "
+        "over the 200 positions of `examples/perception_error.py` (seed 0) is in "
+        "docs/tabletop.md.",
+        "",
         f"| camera (pixels) | push: median, p95, max ({N_SPOTS} spots) | grasp: median, p95, "
         f"max ({N_SPOTS} spots) | push, gripper in front (median, max) | ms / perceived "
         "frame, push (CPU, median) |",

@@ -122,7 +122,9 @@ def assemble(sections: dict[str, Path], directory: Path = SECTIONS) -> str:
     """
     parts = [
         "# a2l benchmarks\n",
-        "Written by `make bench` (`benchmarks/run.py`); every figure below was measured on the "
+        "Written by `make bench` (`benchmarks/run.py`), but for the sections that say they were "
+        "assembled by hand from a benchmark's own runs (each names the command that writes it "
+        "whole); every figure below was measured on the "
         "machine named in its section, and ratios compare figures measured in the same run. "
         "This machine is shared and noisy: read medians and tails, not single runs.\n",
     ]
