@@ -284,3 +284,34 @@ def test_what_a2l_results_writes_itself_does_not_make_the_tree_dirty(tmp_path: P
     assert run_results("quick", out=out, root=root, run=False)["dirty"] is False
     (root / "README.md").write_text((root / "README.md").read_text() + "more\n")
     assert run_results("full", out=out, root=root, run=False)["dirty"] is True
+
+
+def test_a_run_another_process_finished_meanwhile_is_not_made_again(tmp_path: Path,
+                                                                     monkeypatch) -> None:
+    """Runs of one table made by two processes into one ``--out`` (a long run beside the
+    rest): the runner's to-do list is read at its start, and a run whose record appears
+    later is skipped, not resumed over its finished record."""
+    from a2l.results import run as runmod
+
+    root = tmp_path / "repo"
+    (root / "docs").mkdir(parents=True)
+    _git(root, "init", "-q")
+    _git(root, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "--allow-empty",
+         "-m", "empty")
+    out = tmp_path / "runs"
+    robots = next(e for e in ENTRIES if e.name == "robots")
+    keys = [r.key for r in robots.runs["full"]]
+    made = []
+
+    def make_run(entry, run, base, workers, state):
+        made.append(run.key)
+        if len(made) == 1:  # the other process finishes the table's last run meanwhile
+            done = base / entry.name / f"{keys[-1]}.done.json"
+            done.parent.mkdir(parents=True, exist_ok=True)
+            done.write_text("{}")
+        return {"wall_s": 0.0}
+
+    monkeypatch.setattr(runmod, "_make_run", make_run)
+    result = run_results("full", out=out, root=root, only=["robots"], quiet=True)
+    assert made == keys[:-1]
+    assert result["missing"] == ["robots"]  # the fake runs wrote no record of their own

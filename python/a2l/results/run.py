@@ -214,7 +214,8 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
                 root: str | os.PathLike[str] = ".", only: Sequence[str] | None = None,
                 workers: int = 2, run: bool = True, quiet: bool = False) -> dict[str, Any]:
     """Run the entries of `profile` (those not done yet), write ``docs/results/`` and copy
-    the blocks.
+    the blocks. A run whose record appears while earlier runs are made (another process
+    made it into the same `out`) is not made again.
 
     Parameters
     ----------
@@ -259,6 +260,9 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
             for i, (entry, r) in enumerate(todo):
                 bars.update(f"results ({profile})", i, len(todo),
                             f"{entry.name}/{r.key}: {' '.join(r.args[:2])}")
+                if _done_path(base, entry, r).is_file():  # finished meanwhile by another
+                    bars.print(f"{entry.name}/{r.key}: done meanwhile, not made again")
+                    continue
                 rec = _make_run(entry, r, base, workers, state)
                 bars.print(f"{entry.name}/{r.key}: {rec['wall_s']:.0f} s")
             bars.update(f"results ({profile})", len(todo), len(todo), "done")
