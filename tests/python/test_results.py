@@ -178,6 +178,14 @@ def _git(root: Path, *args: str) -> None:
     subprocess.run(["git", "-C", str(root), *args], check=True, capture_output=True)
 
 
+def _empty_repo(root: Path) -> None:
+    """A git repository at `root` with ``docs/`` and one empty commit."""
+    (root / "docs").mkdir(parents=True)
+    _git(root, "init", "-q")
+    _git(root, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "--allow-empty",
+         "-m", "empty")
+
+
 def _done_sweeps(out: Path, rows: list[dict[str, Any]], seed_use: Any,
                  **done: Any) -> None:
     """The full profile's two push-virtual runs done in `out` (the defaults' sweep and the
@@ -198,11 +206,8 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     ``docs/results/push-virtual.md`` with the table, the commit (dirty: the README was
     edited after the commit) and the command, and copies the table into the README."""
     root = tmp_path / "repo"
-    (root / "docs").mkdir(parents=True)
+    _empty_repo(root)
     (root / "README.md").write_text("# r\n\n" + block("push-virtual", "typed 100\n") + "\n")
-    _git(root, "init", "-q")
-    _git(root, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "--allow-empty",
-         "-m", "empty")
     _git(root, "add", "README.md")
     state = git_state(root)
     assert state["dirty"] and state["changed"] == ["README.md"]
@@ -294,10 +299,7 @@ def test_a_run_another_process_finished_meanwhile_is_not_made_again(tmp_path: Pa
     from a2l.results import run as runmod
 
     root = tmp_path / "repo"
-    (root / "docs").mkdir(parents=True)
-    _git(root, "init", "-q")
-    _git(root, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "--allow-empty",
-         "-m", "empty")
+    _empty_repo(root)
     out = tmp_path / "runs"
     robots = next(e for e in ENTRIES if e.name == "robots")
     keys = [r.key for r in robots.runs["full"]]

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from a2l.lfd.library import make_skill_scene, reset_for_trial
+from a2l.results.catalog import XARM_FILE
 from a2l.sim import make_scene
 from a2l.sim.tracking import TOLERANCE, Footprint
 
@@ -104,8 +105,7 @@ def test_a_camera_that_sees_only_the_sides_does_not_spoil_the_top_the_others_see
     when the arm then hides more of it: one movement toward -x put it 25.6 mm off when
     the side faces were joined to the top (a face not flat, never well seen)."""
     root = Path(__file__).resolve().parents[2]
-    scene = make_scene("push", seed=0, robot=str(root / "examples/robots/xarm7.yaml"))
-    try:
+    with make_scene("push", seed=0, robot=str(root / XARM_FILE)) as scene:
         box = np.asarray(scene.ground_truth()["objects"]["box"])
         scene.reset(eef=box + [0.057, -0.109, 0.0])
         flat = []
@@ -119,5 +119,3 @@ def test_a_camera_that_sees_only_the_sides_does_not_spoil_the_top_the_others_see
         seen = scene.perceive()["objects"]["box"]
         truth = scene.ground_truth()["objects"]["box"]
         assert np.linalg.norm(np.subtract(seen, truth)[:2]) < 0.005
-    finally:
-        scene.close()
