@@ -93,7 +93,7 @@ def test_every_run_is_a_command_on_evaluation_seeds(profile: str) -> None:
 
     assert [e.name for e in ENTRIES if not e.evaluation] == ["demo"]
     for entry in ENTRIES:
-        assert entry.runs[profile], entry.name
+        assert entry.runs["full"], entry.name  # every table is published (quick: a check)
         for run in entry.runs[profile]:
             path, ns, _ = parse([*run.args, "--out", "x", "--workers", "2"])
             if not entry.evaluation:  # the demo: `make demo`'s own command and seed
@@ -317,3 +317,16 @@ def test_a_run_another_process_finished_meanwhile_is_not_made_again(tmp_path: Pa
     result = run_results("full", out=out, root=root, only=["robots"], quiet=True)
     assert made == keys[:-1]
     assert result["missing"] == ["robots"]  # the fake runs wrote no record of their own
+
+
+def test_a_table_without_runs_in_a_profile_is_not_part_of_it(tmp_path: Path) -> None:
+    """The PR2's push run (hours) has no quick form: the quick profile neither makes nor
+    misses its table; the full profile misses it until its run is done."""
+    root = tmp_path / "repo"
+    _empty_repo(root)
+    pr2 = next(e for e in ENTRIES if e.name == "robots-pr2")
+    assert pr2.runs["quick"] == [] and len(pr2.runs["full"]) == 1
+    quick = run_results("quick", out=tmp_path / "q", root=root, only=["robots-pr2"], run=False)
+    assert quick["pages"] == [] and quick["missing"] == []
+    full = run_results("full", out=tmp_path / "f", root=root, only=["robots-pr2"], run=False)
+    assert full["pages"] == [] and full["missing"] == ["robots-pr2"]

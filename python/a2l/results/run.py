@@ -247,7 +247,7 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
     root = Path(root)
     base = Path(out) if out is not None else root / "runs" / f"results-{profile}"
     docs = pages_dir(root, profile)
-    chosen = entries(only)
+    chosen = [e for e in entries(only) if e.runs[profile]]  # a table of this profile
     state = _tree_state(root, pages_dir(root, "full"))
     todo = [(e, r) for e in chosen for r in e.runs[profile]
             if not _done_path(base, e, r).is_file()]
