@@ -22,6 +22,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 PY := $(VENV)/bin/python
 PIP := $(PY) -m pip --disable-pip-version-check
+comma := ,
 
 APT_PACKAGES := build-essential git libeigen3-dev libbullet-dev liborocos-kdl-dev liburdfdom-dev \
   libompl-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev zlib1g-dev libssl-dev \
@@ -44,6 +45,10 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # Every C++ build goes through ccache when it is installed: the Python module's build and the
 # test build compile the same core sources with the same flags, so the second one reuses them.
 LAUNCHER = -DCMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true)
+# Paths under the build tree reach ccache relative to the compiler's directory: the unity
+# batches (CMakeLists.txt) of the module build and of the test build, each in its own tree,
+# are then the same entry.
+export CCACHE_BASEDIR := $(abspath $(BUILD))
 # One compiler name for every gcc build ($(CXX): make's default g++ unless the environment
 # names another): ccache keys on it, and CMake alone would pick c++ for the tests, g++ for the
 # module.
@@ -81,15 +86,25 @@ $(STAMP_APT):
 $(STAMP_VENV): $(STAMP_APT)
 	@$(call CLOCK,venv)
 	@[ -x $(PY) ] || { echo "[setup] creating $(VENV)"; python3 -m venv $(VENV); }
-	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools wheel
+	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools \
+	  wheel "uv>=0.5"
 	@$(call LAP,venv,set-up: virtual environment and build tools) && touch $@
 
+# a2l's dependencies (pyproject.toml: the package's own, and the extras dev, ros and gym) are
+# installed by uv: it downloads side by side, pip one after the other (3 min against 1 on a fresh
+# machine, the same versions). pip then builds and installs a2l itself, editable (every change
+# to the C++ sources rebuilds it; its dependencies are already there).
+EXTRAS := dev,ros,gym
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
-	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
+	@echo "[setup] installing a2l's dependencies into $(VENV) (uv)"
 	@$(call CLOCK,install)
+	@$(VENV)/bin/uv pip install -q --python $(PY) -r pyproject.toml \
+	  $(foreach e,$(subst $(comma), ,$(EXTRAS)),--extra $(e))
+	@$(call LAP,install,set-up: a2l's dependencies) && $(call CLOCK,install)
+	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
 	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py \
-	  -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true) -e ".[dev,ros,gym]"
-	@$(call LAP,install,set-up: pip dependencies and the Python module's C++ build) && touch $@
+	  -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true) -e ".[$(EXTRAS)]"
+	@$(call LAP,install,set-up: the Python module's C++ build) && touch $@
 
 setup: $(STAMP_INSTALL)
 
