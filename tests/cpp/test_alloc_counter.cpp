@@ -30,30 +30,30 @@ void* __libc_valloc(std::size_t size);
 void* __libc_pvalloc(std::size_t size);
 }
 
-namespace {
+namespace test_alloc_counter {
 // Constant-initialized: valid before any constructor runs (the loader allocates early).
 std::atomic<std::size_t> g_allocations{0};
 
 inline void count() noexcept { g_allocations.fetch_add(1, std::memory_order_relaxed); }
-}  // namespace
+}  // namespace test_alloc_counter
 
 // The C allocator of the whole executable: the executable's definitions interpose on libc's,
 // so libstdc++'s operator new, Eigen and every library call land here.
 extern "C" {
 void* malloc(std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_malloc(size);
 }
 void* calloc(std::size_t n, std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_calloc(n, size);
 }
 void* realloc(void* p, std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_realloc(p, size);
 }
 void* reallocarray(void* p, std::size_t n, std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   if (size != 0 && n > SIZE_MAX / size) {
     errno = ENOMEM;
     return nullptr;
@@ -62,15 +62,15 @@ void* reallocarray(void* p, std::size_t n, std::size_t size) noexcept {
 }
 void free(void* p) noexcept { __libc_free(p); }
 void* memalign(std::size_t alignment, std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_memalign(alignment, size);
 }
 void* aligned_alloc(std::size_t alignment, std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_memalign(alignment, size);
 }
 int posix_memalign(void** out, std::size_t alignment, std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   if (alignment % sizeof(void*) != 0 || (alignment & (alignment - 1)) != 0 || alignment == 0)
     return EINVAL;
   void* p = __libc_memalign(alignment, size);
@@ -79,20 +79,22 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t size) noexcept
   return 0;
 }
 void* valloc(std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_valloc(size);
 }
 void* pvalloc(std::size_t size) noexcept {
-  count();
+  test_alloc_counter::count();
   return __libc_pvalloc(size);
 }
 }  // extern "C"
 
 namespace a2l::test {
-std::size_t allocation_count() noexcept { return g_allocations.load(std::memory_order_relaxed); }
+std::size_t allocation_count() noexcept {
+  return test_alloc_counter::g_allocations.load(std::memory_order_relaxed);
+}
 }  // namespace a2l::test
 
-namespace {
+namespace test_alloc_counter {
 
 using a2l::test::AllocationGuard;
 
@@ -272,4 +274,4 @@ TEST(AllocationCounterEigenGuard, AbortsOnAHeapAllocationInARealTimeSection) {
 }
 #endif
 
-}  // namespace
+}  // namespace test_alloc_counter

@@ -14,7 +14,7 @@
 #include "a2l/effects.hpp"
 #include "alloc_counter.hpp"
 
-namespace {
+namespace test_bins_noalloc {
 
 using a2l::Discretizer;
 using a2l::Variable;
@@ -179,4 +179,4 @@ TEST(BinsNoAlloc, ContextBinAndClassifyEffectAllocateNothingThrowNothing) {
   EXPECT_GT(effects, 10000);
 }
 
-}  // namespace
+}  // namespace test_bins_noalloc

@@ -12,7 +12,7 @@
 #include "a2l/bundle.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_bundle {
 
 using a2l::Status;
 using a2l::testing::build;
@@ -388,4 +388,4 @@ TEST(Bundle, RandomBytesNeverLoad) {
   EXPECT_EQ(failures, 300);  // every byte is covered by a check or a checksum, which is named
 }
 
-}  // namespace
+}  // namespace test_bundle

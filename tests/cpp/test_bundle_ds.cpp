@@ -15,7 +15,7 @@
 #include "a2l/diffeo.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_bundle_ds {
 
 using a2l::DiffeoMaps;
 using a2l::Status;
@@ -303,4 +303,4 @@ TEST(BundleDs, LoadedMapsBuildTheDs) {
   EXPECT_EQ(back.target, m.target);
 }
 
-}  // namespace
+}  // namespace test_bundle_ds

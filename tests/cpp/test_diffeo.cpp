@@ -14,7 +14,7 @@
 #include "a2l/diffeo.hpp"
 #include "alloc_counter.hpp"
 
-namespace {
+namespace test_diffeo {
 
 using a2l::DiffeoDS;
 using a2l::DiffeoIntegrator;
@@ -594,4 +594,4 @@ TEST(Diffeo, TimingReportsOrderedPercentiles) {
   EXPECT_EQ(a2l::time_velocity<2>(ds, pts.data(), 200, 1, t).status, Status::invalid_argument);
 }
 
-}  // namespace
+}  // namespace test_diffeo

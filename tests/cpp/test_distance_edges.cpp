@@ -15,7 +15,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_distance_edges {
 
 using a2l::Discretizer;
 using a2l::Status;
@@ -225,4 +225,4 @@ TEST(DistanceEdges, TheLoaderRefusesMalformedEdges) {
   }
 }
 
-}  // namespace
+}  // namespace test_distance_edges

@@ -13,7 +13,7 @@
 #include "a2l/movement_repertoire.hpp"
 #include "alloc_counter.hpp"
 
-namespace {
+namespace test_effects {
 
 using V = Eigen::Vector3d;
 using V2 = Eigen::Vector2d;
@@ -131,4 +131,4 @@ TEST(DefaultDirections, AxisMovesFirstThenDiagonals) {
   EXPECT_EQ(r.size(), 8);
 }
 
-}  // namespace
+}  // namespace test_effects

@@ -8,7 +8,7 @@
 
 #include "a2l/file_hash.hpp"
 
-namespace {
+namespace test_file_hash {
 
 std::string temp_file(const std::string& name, const std::string& bytes) {
   const auto path = std::filesystem::temp_directory_path() / name;
@@ -50,4 +50,4 @@ TEST(FileHash, MissingFileIsAFileError) {
   EXPECT_EQ(hex, "unchanged");
 }
 
-}  // namespace
+}  // namespace test_file_hash

@@ -14,7 +14,7 @@
 #include "a2l/urdf_to_kdl.hpp"
 #include "alloc_counter.hpp"
 
-namespace {
+namespace test_kinematics {
 
 std::string robots_dir() {
   const char* d = std::getenv("A2L_ROBOTS_DIR");
@@ -236,4 +236,4 @@ TEST(KinematicsErrors, UnreachableTargetIsReportedWithinLimits) {
   EXPECT_TRUE(kin.within_limits(sol)) << "the best effort stays within the limits";
 }
 
-}  // namespace
+}  // namespace test_kinematics

@@ -12,7 +12,7 @@
 
 #include "a2l/resolved_robot.hpp"
 
-namespace {
+namespace test_resolved_robot {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -168,4 +168,4 @@ TEST(ResolvedRobot, RefusesAMissingFileAndTextThatIsNotJson) {
   EXPECT_NE(res.message.find("must hold a JSON object, got array"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace test_resolved_robot

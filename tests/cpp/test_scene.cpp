@@ -9,7 +9,7 @@
 #include "a2l/scene/bullet.hpp"
 #include "a2l/scene/virtual.hpp"
 
-namespace {
+namespace test_scene {
 
 using a2l::Status;
 using V = Eigen::Vector3d;
@@ -344,4 +344,4 @@ TEST_F(ExecutorTest, SafetyChecks) {
   EXPECT_EQ(unbound.tick(), Status::not_initialized);
 }
 
-}  // namespace
+}  // namespace test_scene

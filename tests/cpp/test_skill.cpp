@@ -10,7 +10,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill {
 
 using a2l::Status;
 using a2l::testing::build;
@@ -319,4 +319,4 @@ TEST(Step, SmoothingLeavesUniformNeighboursOut) {
   EXPECT_EQ(a2l::step(skill, state, c, out), Status::unknown_context);
 }
 
-}  // namespace
+}  // namespace test_skill

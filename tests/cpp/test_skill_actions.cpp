@@ -12,7 +12,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_actions {
 
 using a2l::MovementAction;
 using a2l::Status;
@@ -201,4 +201,4 @@ TEST(MovementActions, LightToggleMidActionSwitchesTheBehaviourInTheCppStep) {
   EXPECT_EQ(state.trace(2).movement, kStay);
 }
 
-}  // namespace
+}  // namespace test_skill_actions

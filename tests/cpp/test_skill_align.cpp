@@ -13,7 +13,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_align {
 
 using a2l::Status;
 using a2l::testing::BundleParts;
@@ -138,4 +138,4 @@ TEST(Align, ANegativeOrNonNumericAlignmentIsAParseError) {
   a2l::testing::expect_execution_refused("align", {-0.01, "0.05", nullptr});
 }
 
-}  // namespace
+}  // namespace test_skill_align

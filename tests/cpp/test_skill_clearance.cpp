@@ -12,7 +12,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_clearance {
 
 using a2l::Status;
 using a2l::testing::BundleParts;
@@ -147,4 +147,4 @@ TEST(Clearance, ANegativeOrNonNumericClearanceIsAParseError) {
   a2l::testing::expect_execution_refused("clearance", {-0.01, "0.1", nullptr});
 }
 
-}  // namespace
+}  // namespace test_skill_clearance

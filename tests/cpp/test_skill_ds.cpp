@@ -16,7 +16,7 @@
 #include "alloc_counter.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_ds {
 
 using a2l::MovementAction;
 using a2l::Status;
@@ -329,4 +329,4 @@ TEST(StepDSNoAlloc, RandomInputsAllocateNothingThrowNothing) {
   EXPECT_GT(actions, 0);
 }
 
-}  // namespace
+}  // namespace test_skill_ds

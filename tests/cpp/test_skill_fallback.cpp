@@ -11,7 +11,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_fallback {
 
 using a2l::Status;
 using a2l::testing::build;
@@ -428,4 +428,4 @@ TEST(Fallback, AnUnknownRuleIsAParseError) {
   EXPECT_NE(r.message.find("execution.fallback"), std::string::npos) << r.message;
 }
 
-}  // namespace
+}  // namespace test_skill_fallback

@@ -16,7 +16,7 @@
 #include "alloc_counter.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_noalloc {
 
 using a2l::Status;
 
@@ -305,4 +305,4 @@ TEST(ExecutorNoAlloc, TickAllocatesNothing) {
   EXPECT_GT(ex.q()[0], q_band[0]);  // it moved away from the limit
 }
 
-}  // namespace
+}  // namespace test_skill_noalloc

@@ -11,7 +11,7 @@
 #include "a2l/skill.hpp"
 #include "bundle_builder.hpp"
 
-namespace {
+namespace test_skill_revisit {
 
 using a2l::Status;
 using a2l::testing::BundleParts;
@@ -136,4 +136,4 @@ TEST(Revisit, ANonBooleanSettingIsAParseError) {
   a2l::testing::expect_execution_refused("avoid_revisits", {1, "true", nullptr});
 }
 
-}  // namespace
+}  // namespace test_skill_revisit

@@ -11,7 +11,7 @@
 #include "a2l/transit.hpp"
 
 #if A2L_HAVE_BULLET && A2L_HAVE_OMPL
-namespace {
+namespace test_transit {
 
 // base (box) -> j1 (z) -> link1 (cylinder along x) -> j2 (z) -> link2 (mesh cube) -> tip
 const char* kArm = R"(<?xml version="1.0"?>
@@ -267,7 +267,7 @@ TEST(TransitPlanner, StartInCollisionNamesThePair) {
   EXPECT_EQ(r.message, "the start collides: 'link2'/'post'");
 }
 
-}  // namespace
+}  // namespace test_transit
 #endif
 
 TEST(TimeParameterize, RestToRestWithinLimits) {
