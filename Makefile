@@ -92,18 +92,23 @@ $(STAMP_VENV): $(STAMP_APT)
 
 # a2l's dependencies (pyproject.toml: the package's own, and the extras dev, ros and gym) are
 # installed by uv: it downloads side by side, pip one after the other (3 min against 1 on a fresh
-# machine, the same versions). pip then builds and installs a2l itself, editable (every change
-# to the C++ sources rebuilds it; its dependencies are already there).
+# machine, the same versions), and compiles their bytecode as pip does (where
+# PYTHONDONTWRITEBYTECODE is set, as on this project's CI machines, Python writes none, and
+# every process would compile every import again: the tests ran 1.7 times slower). pip builds and
+# installs a2l itself, editable (every change to the C++ sources rebuilds it; its dependencies
+# are already there); a2l's own bytecode is compiled beside its sources (0.2 s less for each of
+# the tests' many processes that import it; a stale file is only recompiled in memory).
 EXTRAS := dev,ros,gym
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] installing a2l's dependencies into $(VENV) (uv)"
 	@$(call CLOCK,install)
-	@$(VENV)/bin/uv pip install -q --python $(PY) -r pyproject.toml \
+	@$(VENV)/bin/uv pip install -q --compile-bytecode --python $(PY) -r pyproject.toml \
 	  $(foreach e,$(subst $(comma), ,$(EXTRAS)),--extra $(e))
 	@$(call LAP,install,set-up: a2l's dependencies) && $(call CLOCK,install)
 	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
 	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py \
 	  -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$$(command -v ccache || true) -e ".[$(EXTRAS)]"
+	@$(PY) -m compileall -q python/a2l >/dev/null
 	@$(call LAP,install,set-up: the Python module's C++ build) && touch $@
 
 setup: $(STAMP_INSTALL)
