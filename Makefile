@@ -86,8 +86,7 @@ $(STAMP_APT):
 $(STAMP_VENV): $(STAMP_APT)
 	@$(call CLOCK,venv)
 	@[ -x $(PY) ] || { echo "[setup] creating $(VENV)"; python3 -m venv $(VENV); }
-	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools \
-	  wheel "uv>=0.5"
+	@$(PIP) install -q "scikit-build-core>=0.10" "pybind11>=2.13" "cmake>=3.20" ninja setuptools wheel
 	@$(call LAP,venv,set-up: virtual environment and build tools) && touch $@
 
 # a2l's dependencies (pyproject.toml: the package's own, and the extras dev, ros and gym) are
@@ -102,6 +101,7 @@ EXTRAS := dev,ros,gym
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] installing a2l's dependencies into $(VENV) (uv)"
 	@$(call CLOCK,install)
+	@[ -x $(VENV)/bin/uv ] || $(PIP) install -q "uv>=0.5"
 	@$(VENV)/bin/uv pip install -q --compile-bytecode --python $(PY) -r pyproject.toml \
 	  $(foreach e,$(subst $(comma), ,$(EXTRAS)),--extra $(e))
 	@$(call LAP,install,set-up: a2l's dependencies) && $(call CLOCK,install)
