@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from a2l.atomic import atomic_write_text
+from a2l.errors import ConfigError
 from a2l.progress import ProgressBars
 from a2l.results.blocks import block, fill_blocks, pages_with_blocks, read_blocks
 from a2l.results.catalog import PROFILES, Entry, Run, entries
@@ -226,7 +227,7 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
     root : path
         The repository (its ``docs/results/``, README and docs are written).
     only : sequence of str, optional
-        Entry names (default: all).
+        Entry names (default: all). A name whose table has no runs in `profile` is an error.
     workers : int
         Worker processes of each experiment.
     run : bool
@@ -248,6 +249,10 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
     base = Path(out) if out is not None else root / "runs" / f"results-{profile}"
     docs = pages_dir(root, profile)
     chosen = [e for e in entries(only) if e.runs[profile]]  # a table of this profile
+    if only is not None and len(chosen) < len(entries(only)):
+        none = [e.name for e in entries(only) if not e.runs[profile]]
+        raise ConfigError("only", f"{', '.join(none)}: no runs in the {profile} profile "
+                          f"(tables of {', '.join(p for p in PROFILES if p != profile)} only)")
     state = _tree_state(root, pages_dir(root, "full"))
     todo = [(e, r) for e in chosen for r in e.runs[profile]
             if not _done_path(base, e, r).is_file()]
