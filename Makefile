@@ -94,16 +94,19 @@ $(STAMP_VENV): $(STAMP_APT)
 # machine, the same versions), and compiles their bytecode as pip does (where
 # PYTHONDONTWRITEBYTECODE is set, as on this project's CI machines, Python writes none, and
 # every process would compile every import again: the tests ran 1.7 times slower). pip builds and
-# installs a2l itself, editable (every change to the C++ sources rebuilds it; its dependencies
-# are already there); a2l's own bytecode is compiled beside its sources (0.2 s less for each of
-# the tests' many processes that import it; a stale file is only recompiled in memory).
+# installs a2l itself, editable (every change to the C++ sources rebuilds it); it finds the
+# dependencies there, or installs them when uv could not. a2l's own bytecode is compiled beside
+# its sources (0.2 s less for each of the tests' many processes that import it; a stale file is
+# only recompiled in memory).
 EXTRAS := dev,ros,gym
 $(STAMP_INSTALL): $(STAMP_VENV) pyproject.toml $(CXX_SOURCES) $(PY_MODULES)
 	@echo "[setup] installing a2l's dependencies into $(VENV) (uv)"
 	@$(call CLOCK,install)
-	@[ -x $(VENV)/bin/uv ] || $(PIP) install -q "uv>=0.5"
-	@$(VENV)/bin/uv pip install -q --compile-bytecode --python $(PY) -r pyproject.toml \
-	  $(foreach e,$(subst $(comma), ,$(EXTRAS)),--extra $(e))
+	@{ [ -x $(VENV)/bin/uv ] || $(PIP) install -q "uv>=0.5"; } && \
+	$(VENV)/bin/uv pip install -q --compile-bytecode --python $(PY) -r pyproject.toml \
+	  $(foreach e,$(subst $(comma), ,$(EXTRAS)),--extra $(e)) || \
+	echo "[setup] uv could not install them (it reads UV_INDEX_URL, not pip's configuration):" \
+	  "pip installs them with a2l below, one after the other"
 	@$(call LAP,install,set-up: a2l's dependencies) && $(call CLOCK,install)
 	@echo "[setup] building and installing a2l into $(VENV) (C++ core + Python package)"
 	@$(PIP) install -q --no-build-isolation -C build-dir=$(BUILD)/py \
