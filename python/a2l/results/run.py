@@ -248,9 +248,10 @@ def run_results(profile: str = "quick", out: str | os.PathLike[str] | None = Non
     root = Path(root)
     base = Path(out) if out is not None else root / "runs" / f"results-{profile}"
     docs = pages_dir(root, profile)
-    chosen = [e for e in entries(only) if e.runs[profile]]  # a table of this profile
-    if only is not None and len(chosen) < len(entries(only)):
-        none = [e.name for e in entries(only) if not e.runs[profile]]
+    picked = entries(only)
+    chosen = [e for e in picked if e.runs[profile]]  # a table of this profile
+    none = [e.name for e in picked if not e.runs[profile]]
+    if only is not None and none:
         raise ConfigError("only", f"{', '.join(none)}: no runs in the {profile} profile "
                           f"(tables of {', '.join(p for p in PROFILES if p != profile)} only)")
     state = _tree_state(root, pages_dir(root, "full"))
