@@ -287,9 +287,10 @@ def check_recording(path: Path, n: int) -> None:
 
 class FakeRobot:
     """A kinematic arm in the test process: publishes Baxter's right arm joints and the box
-    (or a NaN box, or none), jumps to the end of each joint trajectory it receives."""
+    (or a NaN box, or none), jumps to the end of each joint trajectory it receives (with
+    `listen` False it takes no commands: no driver runs)."""
 
-    def __init__(self, box: str = "ok", nan_after: int = 3) -> None:
+    def __init__(self, box: str = "ok", nan_after: int = 3, listen: bool = True) -> None:
         import rclpy
         from geometry_msgs.msg import PoseStamped
         from sensor_msgs.msg import JointState
@@ -311,10 +312,13 @@ class FakeRobot:
         self.jump = True  # carry out a trajectory at once (False: ignore it)
         self.commands: list[float] = []
         self.final: float | None = None
+        self.final_step = -1  # the steps the node took, from its final trace record
         self.msgs = (JointState, PoseStamped)
         self.pub_js = self.node.create_publisher(JointState, "joint_states", 10)
         self.pub_box = self.node.create_publisher(PoseStamped, "objects/box/pose", 10)
-        self.node.create_subscription(JointTrajectory, "joint_trajectory", self._on_traj, 10)
+        if listen:
+            self.node.create_subscription(JointTrajectory, "joint_trajectory", self._on_traj,
+                                          10)
         self.node.create_subscription(String, "skill/trace", self._on_trace, 10)
         self.node.create_timer(0.02, self._publish)
 
@@ -324,8 +328,9 @@ class FakeRobot:
             self.q = np.asarray(msg.points[-1].positions, dtype=float)
 
     def _on_trace(self, msg: Any) -> None:
-        if json.loads(msg.data).get("final"):
-            self.final = time.monotonic()
+        record = json.loads(msg.data)
+        if record.get("final"):
+            self.final, self.final_step = time.monotonic(), record["step"]
 
     def _publish(self) -> None:
         js_t, pose_t = self.msgs
@@ -392,6 +397,19 @@ def test_bad_input_ends_the_skill_node_without_a_command_after_it(
     else:
         assert len(robot.commands) >= robot.nan_after  # it ran, then the NaN came
     assert all(t <= robot.final for t in robot.commands)
+
+
+@pytest.mark.timeout(120)
+def test_the_skill_node_waits_for_the_drivers_subscription(bundle: Path, domain: int) -> None:
+    """Inputs flow but nothing subscribes to the commands: the node sends none (it would be
+    lost) and stops at startup_timeout naming both command topics."""
+    robot = FakeRobot(listen=False)
+    code, out, err = run_against(robot, str(bundle), "--effect", "far",
+                                 "--startup_timeout", "4")
+    assert code == 2, out + err
+    assert ("no subscriber on /joint_trajectory or /target_pose within startup_timeout 4.0 s"
+            in err), err
+    assert robot.final is not None and robot.final_step == 0  # no step, so no command
 
 
 @pytest.mark.slow

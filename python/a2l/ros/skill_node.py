@@ -80,7 +80,9 @@ class SkillNodeConfig:
         The frame of poses in and out (the arm's base frame); empty: the robot's base link
         (Baxter's: base).
     startup_timeout : float
-        Seconds to wait for the first message of every input topic.
+        Seconds to wait for the first message of every input topic, and for a subscriber
+        on joint_trajectory or target_pose (the robot's driver: a command sent before it
+        listens would be lost).
     input_timeout : float
         Seconds an input topic may stay silent between two messages.
     movement_timeout : float
@@ -256,26 +258,39 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                 return
             silent = self._silent(now)
             if silent:
-                self.stop(2, "bad_input", f"no message on {silent[0]} within {silent[1]} "
-                          f"{getattr(self.cfg, silent[1])} s")
+                self.stop(2, "bad_input", silent)
 
-        def _silent(self, now: float) -> tuple[str, str] | None:
+        def _silent(self, now: float) -> str | None:
+            """What has been silent too long (an input topic, the robot's driver), or None."""
+            cfg = self.cfg
             last = {self.resolve_topic_name(T.JOINT_STATES): self.js_time,
                     self.resolve_topic_name(T.object_topic(self.object)): self.obj_time}
             for s in self.state_names:
                 last[self.resolve_topic_name(T.state_topic(s))] = self.states.get(
                     s, ("", -1.0))[1]
+            late = now - self.t0 > cfg.startup_timeout
             for topic, t in last.items():
-                if t < 0 and now - self.t0 > self.cfg.startup_timeout:
-                    return topic, "startup_timeout"
-                if t >= 0 and now - t > self.cfg.input_timeout:
-                    return topic, "input_timeout"
+                if t < 0 and late:
+                    return f"no message on {topic} within startup_timeout {cfg.startup_timeout} s"
+                if t >= 0 and now - t > cfg.input_timeout:
+                    return f"no message on {topic} within input_timeout {cfg.input_timeout} s"
+            if late and self.k == 0 and not self._listened():
+                return (f"no subscriber on {self.resolve_topic_name(T.JOINT_TRAJECTORY)} or "
+                        f"{self.resolve_topic_name(T.TARGET_POSE)} within startup_timeout "
+                        f"{cfg.startup_timeout} s (is the robot's driver running?)")
             return None
+
+        def _listened(self) -> bool:
+            """Whether the robot's driver listens for commands: the first command published
+            before its subscription is matched would be lost (the topics keep no history)."""
+            return (self.pub_traj.get_subscription_count() > 0
+                    or self.pub_pose.get_subscription_count() > 0)
 
         # --- the control tick ----------------------------------------------------------
         def _tick(self) -> None:
-            if self.obj is None or any(s not in self.states for s in self.state_names):
-                return  # waiting for the first messages (the watchdog times out)
+            if (self.obj is None or any(s not in self.states for s in self.state_names)
+                    or (self.k == 0 and not self._listened())):
+                return  # waiting for the first messages and the driver (the watchdog times out)
             q = T.joint_positions(self.js, self.joint_names)
             obj = T.pose_position(self.obj, self.frame)
             eef = np.asarray(self.kin.fk(q)[:3, 3], dtype=float)
