@@ -185,11 +185,7 @@ def make_sim_node(params: dict[str, Any], recorder: Any = None) -> Any:
                 xyz = obs["objects"].get(name)
                 if xyz is None:
                     continue  # not seen: no message
-                msg = PoseStamped()
-                msg.header.stamp, msg.header.frame_id = stamp, self.frame
-                p = msg.pose.position
-                p.x, p.y, p.z = (float(v) for v in xyz)
-                msg.pose.orientation.w = 1.0
+                msg = T.pose_stamped(xyz, stamp, self.frame)
                 pub.publish(msg)
                 self._record(T.object_topic(name), msg)
             for s, pub in self.pub_state.items():

@@ -141,7 +141,7 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
     from rclpy.node import Node
     from sensor_msgs.msg import JointState
     from std_msgs.msg import Bool, String
-    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+    from trajectory_msgs.msg import JointTrajectory
 
     class SkillNode(Node):
         def __init__(self) -> None:
@@ -360,22 +360,9 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                 self.stop(1, name, f"target {_xyz(target)}: {name}")
                 return
             stamp = self.get_clock().now().to_msg()
-            traj = JointTrajectory()
-            traj.header.stamp, traj.header.frame_id = stamp, self.frame
-            traj.joint_names = self.joint_names
-            dt = self.cfg.trajectory_period
-            for i, qi in enumerate(points, 1):
-                pt = JointTrajectoryPoint(positions=[float(v) for v in qi])
-                pt.time_from_start.sec, pt.time_from_start.nanosec = divmod(
-                    int(round(i * dt * 1e9)), 1_000_000_000)
-                traj.points.append(pt)
-            pose = PoseStamped()
-            pose.header.stamp, pose.header.frame_id = stamp, self.frame
-            pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = map(
-                float, target)
-            w, x, y, z = self.aim.quaternion
-            o = pose.pose.orientation
-            o.w, o.x, o.y, o.z = w, x, y, z
+            traj = T.joint_trajectory(self.joint_names, points, self.cfg.trajectory_period,
+                                      stamp, self.frame)
+            pose = T.pose_stamped(target, stamp, self.frame, self.aim.quaternion)
             self.pub_traj.publish(traj)
             self.pub_pose.publish(pose)
             latency = time.time() - T.stamp_seconds(self.js.header.stamp)

@@ -32,13 +32,14 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from a2l.errors import A2LValueError
 
 __all__ = ["BOOL_STATES", "GRIPPER", "JOINT_STATES", "JOINT_TRAJECTORY", "TARGET_POSE", "TRACE",
-           "bool_to_state", "joint_positions", "object_topic", "pose_position", "state_to_bool",
-           "state_topic", "stamp_seconds", "trace_json"]
+           "bool_to_state", "joint_positions", "joint_trajectory", "object_topic",
+           "pose_position", "pose_stamped", "state_to_bool", "state_topic", "stamp_seconds",
+           "trace_json"]
 
 JOINT_STATES = "joint_states"
 JOINT_TRAJECTORY = "joint_trajectory"
@@ -104,6 +105,37 @@ def pose_position(msg: Any, frame: str) -> NDArray[np.float64]:
     if not np.all(np.isfinite(xyz)):
         raise A2LValueError(f"pose position {tuple(xyz)} is not finite")
     return xyz
+
+
+def pose_stamped(position: ArrayLike, stamp: Any, frame: str,
+                 quaternion: Sequence[float] = (1.0, 0.0, 0.0, 0.0)) -> Any:
+    """A ``geometry_msgs/PoseStamped`` at `position` (3,) in `frame`, orientation
+    `quaternion` (w, x, y, z; default the identity)."""
+    from geometry_msgs.msg import PoseStamped
+
+    msg = PoseStamped()
+    msg.header.stamp, msg.header.frame_id = stamp, frame
+    p, o = msg.pose.position, msg.pose.orientation
+    p.x, p.y, p.z = (float(v) for v in np.asarray(position, dtype=float).reshape(3))
+    o.w, o.x, o.y, o.z = (float(v) for v in quaternion)
+    return msg
+
+
+def joint_trajectory(names: Sequence[str], points: Sequence[ArrayLike], period: float,
+                     stamp: Any, frame: str) -> Any:
+    """A ``trajectory_msgs/JointTrajectory`` through `points` (each (n,), joints `names`),
+    the i-th (from 1) at ``i * period`` seconds from the start."""
+    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+    msg = JointTrajectory()
+    msg.header.stamp, msg.header.frame_id = stamp, frame
+    msg.joint_names = list(names)
+    for i, q in enumerate(points, 1):
+        pt = JointTrajectoryPoint(positions=[float(v) for v in np.asarray(q).reshape(-1)])
+        pt.time_from_start.sec, pt.time_from_start.nanosec = divmod(
+            int(round(i * period * 1e9)), 1_000_000_000)
+        msg.points.append(pt)
+    return msg
 
 
 def joint_positions(msg: Any, names: Sequence[str]) -> NDArray[np.float64]:
