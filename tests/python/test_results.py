@@ -5,6 +5,7 @@ command on evaluation seeds, and a results page records its commit, clean or dir
 from __future__ import annotations
 
 import json
+import os
 import re
 import shlex
 import subprocess
@@ -15,8 +16,9 @@ import pytest
 
 from a2l.results.blocks import block, fill_blocks, pages_with_blocks, read_blocks, stale_blocks
 from a2l.results.catalog import CONTEXTS, ENTRIES, PROFILES, by_context, entries
-from a2l.results.provenance import git_state
+from a2l.results.provenance import git_state, utc_seconds
 from a2l.results.run import copy_blocks, run_results, sources
+from a2l.rundir import read_json, write_json
 from a2l.seeds import is_tuning
 
 ROOT = Path(__file__).parents[2]
@@ -191,7 +193,6 @@ def _done_sweeps(out: Path, rows: list[dict[str, Any]], seed_use: Any,
     """The full profile's two push-virtual runs done in `out` (the defaults' sweep and the
     thesis preset's, the same `rows`), their done records `done`."""
     from a2l.experiments.sweep import summarize_sweep
-    from a2l.rundir import write_json
 
     for key, extra in (("sweep", {}), ("sweep-thesis", {"preset": "thesis"})):
         run_dir = out / "push-virtual" / key
@@ -241,6 +242,35 @@ def test_a_page_is_written_from_done_runs_and_copied_with_its_commit(tmp_path: P
     assert (root / "docs" / "results" / "push-virtual.md").read_text() == page
     quick_page = Path(quick["pages"][0]).read_text()
     assert "--profile quick" in quick_page and "[seeds.md](../../seeds.md)" in quick_page
+
+
+def test_a_run_made_in_parts_says_its_wall_time_is_the_last_parts(tmp_path: Path) -> None:
+    """A run resumed from an interrupted part's work: its record times only the last part,
+    and the page says so (told by the record, or, in records that do not say, by a file of
+    the run directory older than the record's start)."""
+    root = tmp_path / "repo"
+    _empty_repo(root)
+    rows = [{"seed": 1000, "iterations_to_100": 2, "final_score": 100.0, "iterations_run": 2,
+             "wall_s": 5.0, "heldout_success": 1.0}]
+    out = tmp_path / "runs"
+    started = "2026-12-03 08:00 UTC"
+    _done_sweeps(out, rows, {"use": "evaluation", "seeds": "1000"}, command="a2l x",
+                 commit="f" * 40, short="fffffff", dirty=False, started=started,
+                 wall_s=15.0, workers=2)
+
+    def page() -> str:
+        run_results("full", out=out, root=root, only=["push-virtual"], run=False)
+        return (root / "docs" / "results" / "push-virtual.md").read_text()
+
+    assert "last part" not in page()  # every file written after the start: one part
+    old = utc_seconds(started) - 3600
+    os.utime(out / "push-virtual" / "sweep" / "config.json", (old, old))
+    text = page()
+    assert "30 s wall (for sweep: the last part, resumed from an earlier one's work)" in text
+    assert "| 15 (last part) |" in text and text.count("(last part)") == 1
+    done = out / "push-virtual" / "sweep.done.json"
+    write_json(done, {**read_json(done), "resumed": False})  # the record's word wins
+    assert "last part" not in page()
 
 
 def test_a_caption_names_each_seed_use_once_with_its_ranges() -> None:

@@ -10,7 +10,7 @@ import subprocess
 from pathlib import Path
 from typing import Any
 
-__all__ = ["git_state", "machine", "provenance", "utc_now"]
+__all__ = ["git_state", "machine", "provenance", "utc_now", "utc_seconds"]
 
 
 def git_state(root: str | os.PathLike[str] = ".") -> dict[str, Any]:
@@ -62,6 +62,12 @@ def machine() -> str:
 def utc_now() -> str:
     """The time now, UTC, to the minute (``2026-12-03 08:40 UTC``)."""
     return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+
+
+def utc_seconds(text: str) -> float:
+    """A time written by :func:`utc_now` in seconds since the epoch."""
+    return _dt.datetime.strptime(text, "%Y-%m-%d %H:%M UTC").replace(
+        tzinfo=_dt.timezone.utc).timestamp()
 
 
 def provenance(root: str | os.PathLike[str] = ".") -> dict[str, Any]:
