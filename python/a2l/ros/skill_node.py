@@ -274,22 +274,23 @@ def make_skill_node(params: dict[str, Any], recorder: Any = None) -> Any:
                     return f"no message on {topic} within startup_timeout {cfg.startup_timeout} s"
                 if t >= 0 and now - t > cfg.input_timeout:
                     return f"no message on {topic} within input_timeout {cfg.input_timeout} s"
-            if late and self.k == 0 and not self._listened():
+            if late and self._driver_awaited():
                 return (f"no subscriber on {self.resolve_topic_name(T.JOINT_TRAJECTORY)} or "
                         f"{self.resolve_topic_name(T.TARGET_POSE)} within startup_timeout "
                         f"{cfg.startup_timeout} s (is the robot's driver running?)")
             return None
 
-        def _listened(self) -> bool:
-            """Whether the robot's driver listens for commands: the first command published
-            before its subscription is matched would be lost (the topics keep no history)."""
-            return (self.pub_traj.get_subscription_count() > 0
-                    or self.pub_pose.get_subscription_count() > 0)
+        def _driver_awaited(self) -> bool:
+            """Whether the first command still waits for the robot's driver: nothing
+            subscribes to the commands yet (a command published before its subscription is
+            matched would be lost: the topics keep no history)."""
+            return self.k == 0 and (self.pub_traj.get_subscription_count() == 0
+                                    and self.pub_pose.get_subscription_count() == 0)
 
         # --- the control tick ----------------------------------------------------------
         def _tick(self) -> None:
             if (self.obj is None or any(s not in self.states for s in self.state_names)
-                    or (self.k == 0 and not self._listened())):
+                    or self._driver_awaited()):
                 return  # waiting for the first messages and the driver (the watchdog times out)
             q = T.joint_positions(self.js, self.joint_names)
             obj = T.pose_position(self.obj, self.frame)
